@@ -1,19 +1,5 @@
-"""Causes of a drive fault, independent of how each drive family numbers them.
+"""FaultKind lives with the drive data (the tool reads it too); the simulator re-exports it."""
 
-Each profile maps a kind to its own code (MDi alarm number, Kinco 603Fh code, CiA 402 EMCY code).
-"""
+from servodesk_data.fault_kind import FaultKind
 
-from __future__ import annotations
-
-from enum import Enum
-
-
-class FaultKind(Enum):
-    OVERSPEED = "overspeed"
-    FOLLOWING_ERROR = "following_error"
-    POSITIVE_LIMIT = "positive_limit"
-    NEGATIVE_LIMIT = "negative_limit"
-    SYNC_LOST = "sync_lost"
-    HEARTBEAT_LOST = "heartbeat_lost"
-    LIFE_GUARD = "life_guard"
-    HOMING_ERROR = "homing_error"
+__all__ = ["FaultKind"]
