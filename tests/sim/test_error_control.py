@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
+from servodesk_sim.abort_codes import PARAMETER_INCOMPATIBLE as PARAM_INCOMPATIBLE
 from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.error_control import (
-    PARAM_INCOMPATIBLE,
     HeartbeatConsumer,
     HeartbeatProducer,
     NodeGuarding,

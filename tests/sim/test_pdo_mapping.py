@@ -9,12 +9,12 @@ from servodesk_sim.abort_codes import (
     NO_OBJECT,
     NO_SUBINDEX,
     NOT_MAPPABLE,
+    PARAMETER_INCOMPATIBLE,
     PDO_LENGTH_EXCEEDED,
     VALUE_TOO_HIGH,
     SdoAbort,
 )
 from servodesk_sim.pdo_mapping import (
-    PARAMETER_INCOMPATIBLE,
     Direction,
     MapEntry,
     check_cob_id,

@@ -1,0 +1,143 @@
+"""Real-time behaviour of the simulated drives at 1 kHz SYNC.
+
+Four simulated drives share one virtual bus; node 1 (MDi-S1-C) produces SYNC every 1000 µs
+(1005h bit 30, 1006h) and every drive sends two synchronous TPDOs (type 1) on each SYNC. A
+listener on another bus instance records every frame with its send timestamp and prints:
+
+- SYNC period error |period - 1 ms|: p50 / p99 / max
+- SYNC -> TPDO latency (to the last of the 8 TPDOs of that cycle): p50 / p99
+- missed cycles: SYNC periods over 1.5 ms, plus cycles that did not get all 8 TPDOs
+
+Target (issue: simulated drives): p99 period error <= 0.5 ms and no missed cycles.
+Run: `make bench` or `.venv/bin/python bench/sim_realtime.py [--seconds 10]`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import statistics
+import time
+from dataclasses import dataclass
+
+import can
+
+from servodesk_sim.runner import run_drives
+
+CHANNEL = "servodesk-bench-realtime"
+NODES = [(1, "mdi-s1c"), (2, "kinco"), (3, "cia402"), (4, "mdi-s1c")]
+PERIOD_US = 1000
+SYNC_ID = 0x080
+
+
+def sdo_write(bus: can.BusABC, node: int, index: int, sub: int, value: int, size: int) -> None:
+    """Expedited SDO download with raw frames (no canopen client threads in the measurement)."""
+    command = {1: 0x2F, 2: 0x2B, 4: 0x23}[size]
+    payload = bytes([command, index & 0xFF, index >> 8, sub]) + value.to_bytes(4, "little")
+    bus.send(can.Message(arbitration_id=0x600 + node, data=payload, is_extended_id=False))
+    deadline = time.monotonic() + 1.0
+    while time.monotonic() < deadline:
+        reply = bus.recv(0.1)
+        if reply is None or reply.arbitration_id != 0x580 + node:
+            continue
+        if reply.data[0] == 0x80:
+            code = int.from_bytes(reply.data[4:8], "little")
+            raise RuntimeError(f"node {node}: {index:04X}h:{sub} aborted {code:#010x}")
+        return
+    raise TimeoutError(f"node {node}: no SDO answer for {index:04X}h:{sub}")
+
+
+def configure(bus: can.BusABC) -> None:
+    for node, _profile in NODES:
+        for n, mapping in ((0, [0x60410010, 0x60640020]), (1, [0x60610008, 0x606C0020])):
+            comm, maps = 0x1800 + n, 0x1A00 + n
+            cob = (0x180 + 0x100 * n) + node
+            sdo_write(bus, node, comm, 1, 0x80000000 | 0x40000000 | cob, 4)  # TPDO invalid
+            sdo_write(bus, node, comm, 2, 1, 1)  # transmission type 1: every SYNC
+            sdo_write(bus, node, maps, 0, 0, 1)
+            for sub, entry in enumerate(mapping, start=1):
+                sdo_write(bus, node, maps, sub, entry, 4)
+            sdo_write(bus, node, maps, 0, len(mapping), 1)
+            sdo_write(bus, node, comm, 1, 0x40000000 | cob, 4)  # valid
+    sdo_write(bus, 1, 0x1006, 0, PERIOD_US, 4)  # Communication cycle period
+    bus.send(can.Message(arbitration_id=0x000, data=b"\x01\x00", is_extended_id=False))
+
+
+@dataclass
+class Result:
+    syncs: int
+    period_err_ms: list[float]
+    latency_ms: list[float]
+    missed: int
+
+
+def measure(bus: can.BusABC, seconds: float) -> Result:
+    tpdo_ids = {0x180 + node for node, _ in NODES} | {0x280 + node for node, _ in NODES}
+    sync_times: list[float] = []
+    cycle_tpdos: list[list[float]] = []
+    sdo_write(bus, 1, 0x1005, 0, 0x40000080, 4)  # SYNC producer on
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        msg = bus.recv(0.01)
+        if msg is None:
+            continue
+        if msg.arbitration_id == SYNC_ID:
+            sync_times.append(msg.timestamp)
+            cycle_tpdos.append([])
+        elif msg.arbitration_id in tpdo_ids and cycle_tpdos:
+            cycle_tpdos[-1].append(msg.timestamp)
+    sdo_write(bus, 1, 0x1005, 0, 0x80, 4)  # SYNC producer off
+    # Drop the first and last cycles: start-up and the cut at the end.
+    sync_times, cycle_tpdos = sync_times[1:-1], cycle_tpdos[1:-1]
+    periods = [b - a for a, b in itertools.pairwise(sync_times)]
+    period_err = [abs(p - PERIOD_US / 1e6) * 1e3 for p in periods]
+    latency = [
+        (max(tpdos) - t) * 1e3
+        for t, tpdos in zip(sync_times, cycle_tpdos, strict=True)
+        if len(tpdos) == len(tpdo_ids)
+    ]
+    late = sum(1 for p in periods if p > 1.5 * PERIOD_US / 1e6)
+    incomplete = sum(1 for tpdos in cycle_tpdos if len(tpdos) != len(tpdo_ids))
+    return Result(len(sync_times), period_err, latency, late + incomplete)
+
+
+def percentile(values: list[float], q: float) -> float:
+    if not values:
+        return float("nan")
+    return statistics.quantiles(values, n=1000, method="inclusive")[int(q * 10) - 1]
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seconds", type=float, default=10.0)
+    args = parser.parse_args()
+    drive_bus = can.Bus(interface="virtual", channel=CHANNEL)
+    master = can.Bus(interface="virtual", channel=CHANNEL)
+    try:
+        with run_drives(drive_bus, NODES) as sim:
+            time.sleep(0.05)
+            configure(master)
+            result = measure(master, args.seconds)
+            stats = sim.stats
+    finally:
+        master.shutdown()
+        drive_bus.shutdown()
+    p99_err = percentile(result.period_err_ms, 99)
+    print(f"drives: {len(NODES)}, TPDOs per SYNC: {2 * len(NODES)}, period {PERIOD_US} us")
+    print(f"SYNC cycles measured: {result.syncs}")
+    print(
+        f"SYNC period error ms: p50 {percentile(result.period_err_ms, 50):.3f}  "
+        f"p99 {p99_err:.3f}  max {max(result.period_err_ms, default=float('nan')):.3f}"
+    )
+    print(
+        f"SYNC->TPDO latency ms: p50 {percentile(result.latency_ms, 50):.3f}  "
+        f"p99 {percentile(result.latency_ms, 99):.3f}"
+    )
+    print(f"missed cycles: {result.missed}")
+    print(f"runner: {stats}")
+    print(f"p99 period error / target 0.5 ms: {p99_err / 0.5:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
