@@ -15,6 +15,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import TypeVar
 
+from servodesk_data.fault_kind import FaultKind
 from servodesk_data.model import (
     BitrateCode,
     DriveData,
@@ -29,7 +30,6 @@ from servodesk_data.model import (
     SdoLengthCheck,
     TakesEffect,
 )
-from servodesk_data.fault_kind import FaultKind
 
 E = TypeVar("E", bound=Enum)
 

@@ -30,6 +30,10 @@ from servodesk_sim.sync import SyncProducer
 log = logging.getLogger(__name__)
 
 CONTROL_PERIOD = 0.001  # s: the axis runs at a fixed 1 kHz so it is deterministic
+# The runner polls once per control period with some jitter. A SYNC due within half a period
+# is sent at this poll rather than one whole period late, so the two clocks cannot alias into
+# alternating 0 ms / 2 ms SYNC periods.
+SYNC_LEAD = CONTROL_PERIOD / 2
 MAX_STEPS_PER_POLL = 20  # after a long stall, catch up at most this much (a real drive would too)
 
 NMT_COB_ID = 0x000
@@ -61,7 +65,7 @@ class SimDrive:
         self.consumer = HeartbeatConsumer()
         self.guarding = NodeGuarding()
         self.pdo = PdoEngine(self.store, self.config.pdo_rules, lambda: self.nmt.state)
-        self.sync = SyncProducer(self.store, self.config.sync_rules)
+        self.sync = SyncProducer(self.store, self.config.sync_rules, lead=SYNC_LEAD)
         self.faults = FaultManager(
             self.store,
             self.config.emcy_format,

@@ -49,9 +49,13 @@ def sync_counter(frame: Frame) -> int | None:
 class SyncProducer:
     """Produces SYNC when 1005h bit 30 is set, every 1006h µs on absolute deadlines."""
 
-    def __init__(self, store: ObjectStore, rules: SyncRules) -> None:
+    def __init__(self, store: ObjectStore, rules: SyncRules, *, lead: float = 0.0) -> None:
+        """`lead`: a SYNC due within this many seconds after `now` is sent at this poll. A caller
+        polling on a jittery periodic clock passes half its period, so SYNC lands on the poll
+        nearest its deadline instead of flapping between two polls."""
         self._store = store
         self._rules = rules
+        self._lead = lead
         self._next: float | None = None  # deadline of the next SYNC; None: not scheduled
         self._counter = 0
         if store.has(SYNC_COB_ID):
@@ -116,10 +120,11 @@ class SyncProducer:
         if self._next is None:
             self._next = now + period
             return None
-        if now + _EPSILON < self._next:
+        due = now + self._lead + _EPSILON
+        if due < self._next:
             return None
         # Absolute deadlines: no drift. After a stall the missed SYNCs are skipped, not burst.
-        behind = math.floor((now + _EPSILON - self._next) / period)
+        behind = math.floor((due - self._next) / period)
         self._next += (behind + 1) * period
         overflow = self._get(COUNTER_OVERFLOW, 0)
         if overflow < 2:

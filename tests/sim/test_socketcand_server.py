@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import selectors
 import signal
 import socket
@@ -11,12 +10,12 @@ import sys
 import time
 import uuid
 from collections.abc import Callable, Iterator
-from pathlib import Path
 
 import can
+import canopen
 import pytest
 
-import servodesk_sim
+import servodesk_data
 from servodesk_sim.frames import Frame, frame
 from servodesk_sim.runner import SimBus, SimNode
 from servodesk_sim.socketcand_server import (
@@ -427,26 +426,8 @@ def test_stop_disconnects_clients_and_frees_the_port(
 
 # --------------------------------------------------------------------------- second process
 
+
 # Stand-in drives for the CLI in a subprocess; the real ones replace them with `--node 4:mdi-s1c`.
-ECHO_CLI = """
-import sys
-from servodesk_sim.cli import main
-from servodesk_sim.frames import Frame
-
-class Echo:
-    def __init__(self, node_id):
-        self.node_id = node_id
-    def boot(self, now):
-        return [Frame(0x700 + self.node_id, b"\\x00")]
-    def on_frame(self, f, now):
-        return [Frame(0x580 + self.node_id, f.data)] if f.can_id == 0x600 + self.node_id else []
-    def poll(self, now):
-        return []
-
-sys.exit(main(sys.argv[1:], make_node=lambda i, _p: Echo(i), profile_names=["echo"]))
-"""
-
-
 def read_line_with(
     proc: subprocess.Popen[str], prefix: str, lines: list[str], timeout: float = 20.0
 ) -> str:
@@ -468,26 +449,34 @@ def read_line_with(
 
 
 def test_the_cli_serves_drives_to_another_process() -> None:
-    sim_root = str(Path(servodesk_sim.__file__).resolve().parents[1])
-    env = {
-        **os.environ,
-        "PYTHONPATH": os.pathsep.join([sim_root, os.environ.get("PYTHONPATH", "")]),
-    }
-    command = [sys.executable, "-c", ECHO_CLI, "--node", "4:echo", "--serve", "127.0.0.1:0"]
-    proc = subprocess.Popen(
-        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
-    )
+    """`servodesk-sim --serve` in its own process; python-canopen joins through python-can's
+    socketcand interface and reads the MDi's device name with a segmented SDO upload."""
+    command = [
+        sys.executable,
+        "-m",
+        "servodesk_sim.cli",
+        "--node",
+        "4:mdi-s1c",
+        "--node",
+        "5:kinco",
+        "--serve",
+        "127.0.0.1:0",
+    ]
+    proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         lines: list[str] = []
         host_port = read_line_with(proc, "listening on ", lines).split()[2]
         host, port = host_port.rsplit(":", 1)
-        client = can.Bus(interface="socketcand", host=host, port=int(port), channel="can0")
+        network = canopen.Network()
+        network.connect(interface="socketcand", host=host, port=int(port), channel="can0")
         try:
-            client.send(msg(0x604, "40 00 10 00 00 00 00 00"))
-            answer = recv_frame(client, 0x584, timeout=10.0)
-            assert bytes(answer.data) == bytes.fromhex("40 00 10 00 00 00 00 00")
+            mdi = network.add_node(4, str(servodesk_data.eds_path("mdi-s1c")))
+            kinco = network.add_node(5, str(servodesk_data.eds_path("kinco")))
+            assert mdi.sdo[0x1008].raw == "DVS_CANOPEN"
+            assert mdi.sdo[0x2006][8].raw == 6000  # max speed (seed 000 table 2.31)
+            assert kinco.sdo[0x6041].raw & 0x4F == 0x40  # switch on disabled
         finally:
-            client.shutdown()
+            network.disconnect()
         proc.send_signal(signal.SIGTERM)
         out, err = proc.communicate(timeout=20)
     finally:
