@@ -1,0 +1,55 @@
+"""Domain errors. Services raise these; the API maps them to HTTP in one place (api/errors.py)
+and the CLI prints them. Every SDO abort keeps its raw code beside the words."""
+
+from __future__ import annotations
+
+from servodesk.sdo_aborts import abort_meaning
+
+
+class ServodeskError(Exception):
+    """Base class: a failure a user can understand and act on."""
+
+
+class SdoAbortError(ServodeskError):
+    """The drive refused an SDO transfer with an abort code (CiA 301 §7.2.4.3.17)."""
+
+    def __init__(self, code: int, node_id: int, index: int, subindex: int) -> None:
+        self.code = code
+        self.node_id = node_id
+        self.index = index
+        self.subindex = subindex
+        self.meaning = abort_meaning(code)
+        super().__init__(
+            f"node {node_id} {index:04X}h:{subindex:02X}h: SDO abort {code:#010x} ({self.meaning})"
+        )
+
+    @property
+    def code_hex(self) -> str:
+        return f"0x{self.code:08X}"
+
+
+class CommTimeoutError(ServodeskError):
+    """No answer from the node in time (it may be off, at another bitrate or another node id)."""
+
+    def __init__(self, node_id: int, what: str) -> None:
+        self.node_id = node_id
+        super().__init__(f"node {node_id}: no answer to {what}")
+
+
+class NodeNotFoundError(ServodeskError):
+    def __init__(self, node_id: int) -> None:
+        self.node_id = node_id
+        super().__init__(f"node {node_id} is not known; scan the bus first")
+
+
+class BusNotConnectedError(ServodeskError):
+    def __init__(self, detail: str = "the CAN bus is not connected") -> None:
+        super().__init__(detail)
+
+
+class InvalidValueError(ServodeskError):
+    """User input that cannot be written (wrong type, out of range, unknown parameter)."""
+
+
+class ConfirmationRequiredError(ServodeskError):
+    """An action that changes stored drive data needs an explicit confirmation."""

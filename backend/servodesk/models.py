@@ -1,0 +1,318 @@
+"""The data the services return and the API sends, as one set of pydantic models (docs/api.md).
+
+Services build these directly so the HTTP layer stays a thin mapping with no second copy of
+every shape; the TypeScript client is generated from the OpenAPI schema they produce.
+"""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from typing import Any, Literal
+
+from pydantic import BaseModel, Field
+
+Value = int | float | str | None
+
+
+class BusState(StrEnum):
+    CONNECTED = "connected"
+    DISCONNECTED = "disconnected"
+    CONNECTING = "connecting"
+    ERROR = "error"
+
+
+class NmtStateName(StrEnum):
+    INITIALISING = "initialising"
+    PRE_OPERATIONAL = "pre-operational"
+    OPERATIONAL = "operational"
+    STOPPED = "stopped"
+    UNKNOWN = "unknown"
+
+
+class NmtCommandName(StrEnum):
+    START = "start"
+    STOP = "stop"
+    PRE_OPERATIONAL = "pre-operational"
+    RESET_NODE = "reset-node"
+    RESET_COMMUNICATION = "reset-communication"
+
+
+class BusConfig(BaseModel):
+    interface: str | None = None
+    channel: str | None = None
+    bitrate: int | None = None
+    options: dict[str, Any] = Field(default_factory=dict)
+    simulated: bool = False
+
+
+class BusStatus(BaseModel):
+    state: BusState
+    interface: str | None = None
+    channel: str | None = None
+    bitrate: int | None = None
+    simulated: bool = False
+    error: str | None = None
+    rx_frames: int = 0
+    tx_frames: int = 0
+    error_frames: int = 0
+    bus_errors: int = 0
+    reconnects: int = 0
+    since: float | None = None
+
+
+class InterfaceInfo(BaseModel):
+    name: str
+    label: str
+    needs_channel: bool
+    example_channel: str
+
+
+class NodeInfo(BaseModel):
+    node: int
+    name: str | None = None
+    vendor_id: int | None = None
+    product_code: int | None = None
+    revision: int | None = None
+    serial: int | None = None
+    device_type: int | None = None
+    profile: str
+    profile_label: str
+    nmt_state: NmtStateName = NmtStateName.UNKNOWN
+    online: bool = False
+    heartbeat_age_ms: int | None = None
+    last_seen: float | None = None
+    od_source: Literal["profile", "upload"] = "profile"
+    od_filename: str = ""
+    od_warnings: int = 0
+
+
+class ScanRequest(BaseModel):
+    sdo_sweep: bool = True
+    timeout_ms: int = Field(default=50, ge=5, le=2000)
+
+
+class ScanResult(BaseModel):
+    nodes: list[NodeInfo]
+    duration_ms: int
+
+
+class NmtRequest(BaseModel):
+    command: NmtCommandName
+
+
+class HeartbeatConfig(BaseModel):
+    producer_ms: int = Field(ge=0, le=65535)
+
+
+class SyncConfig(BaseModel):
+    producing: bool = False
+    period_us: int | None = Field(default=None, ge=0)
+
+
+class LintWarningModel(BaseModel):
+    file: str
+    line: int | None
+    section: str | None
+    key: str | None
+    code: str
+    message: str
+    severity: Literal["info", "warning", "error"]
+
+
+class OdEntry(BaseModel):
+    index: int
+    subindex: int
+    name: str
+    data_type: int
+    data_type_name: str
+    access: str
+    pdo_mappable: bool
+    default: Value = None
+    low: int | float | None = None
+    high: int | float | None = None
+    unit: str = ""
+    description: str = ""
+
+
+class OdObject(BaseModel):
+    index: int
+    index_hex: str
+    name: str
+    object_type: str
+    subs: list[OdEntry]
+
+
+class OdTree(BaseModel):
+    source: Literal["profile", "upload"]
+    filename: str
+    warnings: list[LintWarningModel]
+    objects: list[OdObject]
+
+
+class OdDeviceSummary(BaseModel):
+    vendor_name: str = ""
+    vendor_number: int | None = None
+    product_name: str = ""
+    product_number: int | None = None
+
+
+class OdCheckResult(BaseModel):
+    filename: str
+    format: str
+    objects: int
+    device: OdDeviceSummary
+    warnings: list[LintWarningModel]
+
+
+class SdoValue(BaseModel):
+    node: int
+    index: int
+    subindex: int
+    name: str | None = None
+    data_type_name: str | None = None
+    value: Value
+    raw_hex: str
+    text: str
+
+
+class SdoWrite(BaseModel):
+    value: int | float | str
+    size: Literal[1, 2, 4] | None = None
+
+
+class JobResult(BaseModel):
+    index: int
+    subindex: int
+    name: str
+    value: Value = None
+    text: str | None = None
+    abort_code: str | None = None
+    message: str | None = None
+
+
+class Job(BaseModel):
+    id: str
+    kind: Literal["upload-all"]
+    node: int
+    state: Literal["running", "done", "cancelled", "failed"]
+    done: int
+    total: int
+    error: str | None = None
+    results: list[JobResult]
+
+
+class Param(BaseModel):
+    name: str
+    label: str
+    description: str
+    object: str
+    index: int
+    subindex: int
+    value: int | None = None
+    unit: str
+    min: int
+    max: int
+    default: int
+    takes_effect: Literal["immediately", "after_reset", "after_store_and_reset"]
+    choices: dict[str, str]
+    error: str | None = None
+
+
+class ParamWriteRequest(BaseModel):
+    value: int | str
+
+
+class ParamWriteResult(BaseModel):
+    param: Param
+    message: str
+    requires_reset: bool
+    requires_store: bool
+
+
+class Confirm(BaseModel):
+    confirm: bool = False
+
+
+class MessageResult(BaseModel):
+    message: str
+
+
+class NodeIdChange(BaseModel):
+    new_node: int = Field(ge=1, le=127)
+    confirm: bool = False
+
+
+class NodeIdChangeResult(BaseModel):
+    old_node: int
+    new_node: int
+    steps: list[str]
+    node: NodeInfo
+
+
+class BitrateChange(BaseModel):
+    bitrate: int
+    confirm: bool = False
+
+
+class BitrateChangeResult(BaseModel):
+    bitrate: int
+    steps: list[str]
+    reconnect_required: bool = True
+
+
+class DcfFailure(BaseModel):
+    index: int
+    subindex: int
+    name: str
+    abort_code: str | None = None
+    message: str
+
+
+class DcfDifference(BaseModel):
+    index: int
+    subindex: int
+    name: str
+    expected: Value
+    actual: Value
+
+
+class DcfLoadResult(BaseModel):
+    written: int
+    skipped: int
+    failed: list[DcfFailure]
+    differences: list[DcfDifference]
+
+
+class CompareRow(BaseModel):
+    index: int
+    subindex: int
+    name: str
+    unit: str
+    device: Value = None
+    file: Value = None
+    default: Value = None
+    device_text: str
+    file_text: str
+    default_text: str
+    differs_from_file: bool
+    differs_from_default: bool
+
+
+class CompareResult(BaseModel):
+    rows: list[CompareRow]
+
+
+class LiveEvent(BaseModel):
+    time: float
+    node: int | None = None
+    kind: Literal["boot-up", "node-lost", "node-back", "nmt", "bus"]
+    message: str
+
+
+class ErrorBody(BaseModel):
+    error: str
+    message: str
+    abort_code: str | None = None
+    node: int | None = None
+    index: int | None = None
+    subindex: int | None = None

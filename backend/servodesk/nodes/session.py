@@ -1,0 +1,91 @@
+"""One node's access path: a canopen RemoteNode and the single worker thread that every
+blocking call to it runs on (DESIGN rule 1).
+
+canopen's SDO client blocks (it polls and sleeps) and has no lock: two callers on one node steal
+each other's replies. So all calls to a node go through `NodeSession.run`, which runs them one at
+a time on that node's own thread, off the event loop, and turns canopen's exceptions into ours.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import functools
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from typing import TypeVar
+
+import canopen
+from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
+
+from servodesk.errors import CommTimeoutError, SdoAbortError
+
+T = TypeVar("T")
+
+
+class NodeSession:
+    """Serialized, off-loop access to one remote node."""
+
+    def __init__(self, remote: canopen.RemoteNode, *, sdo_timeout: float) -> None:
+        if remote.id is None:
+            raise ValueError("a node session needs a node id")
+        self._node_id: int = remote.id
+        self.remote = remote
+        remote.sdo.RESPONSE_TIMEOUT = sdo_timeout
+        self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix=f"node{remote.id}")
+        self._closed = False
+
+    @property
+    def node_id(self) -> int:
+        return self._node_id
+
+    async def run(
+        self,
+        fn: Callable[[canopen.RemoteNode], T],
+        *,
+        what: str,
+        index: int = 0,
+        subindex: int = 0,
+    ) -> T:
+        """Run `fn(remote)` on this node's worker thread; canopen errors become domain errors.
+
+        `what` names the request in a timeout message ("read 1008h:00"); `index`/`subindex` say
+        which object an SDO abort is about (canopen's abort exception does not carry it).
+        """
+        if self._closed:
+            raise RuntimeError(f"node {self.node_id} session is closed")
+        loop = asyncio.get_running_loop()
+        call = functools.partial(self._call, fn, what, index, subindex)
+        return await loop.run_in_executor(self._executor, call)
+
+    async def upload(self, index: int, subindex: int) -> bytes:
+        """SDO upload (read) of one entry's raw bytes."""
+        return await self.run(
+            lambda remote: bytes(remote.sdo.upload(index, subindex)),
+            what=f"read {index:04X}h:{subindex:02X}h",
+            index=index,
+            subindex=subindex,
+        )
+
+    async def download(self, index: int, subindex: int, data: bytes) -> None:
+        """SDO download (write) of one entry's raw bytes (expedited or segmented by size)."""
+        await self.run(
+            lambda remote: remote.sdo.download(index, subindex, data),
+            what=f"write {index:04X}h:{subindex:02X}h",
+            index=index,
+            subindex=subindex,
+        )
+
+    def _call(
+        self, fn: Callable[[canopen.RemoteNode], T], what: str, index: int, subindex: int
+    ) -> T:
+        try:
+            return fn(self.remote)
+        except SdoAbortedError as abort:
+            raise SdoAbortError(int(abort.code), self.node_id, index, subindex) from abort
+        except SdoCommunicationError as error:
+            raise CommTimeoutError(self.node_id, what) from error
+
+    def close(self) -> None:
+        """Stop the worker thread after the call in progress (no new calls are accepted)."""
+        self._closed = True
+        self._executor.shutdown(wait=False, cancel_futures=True)
