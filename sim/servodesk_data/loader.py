@@ -244,6 +244,9 @@ def _quirks(t: _Table) -> Quirks:
         bitrate_objects=bitrate_objects,
         bitrate_codes=bitrate_codes,
         status_only_kinds=frozenset(t.enum_list("status_only_kinds", FaultKind)),
+        enumerated_objects=(
+            t.object_refs("enumerated_objects") if t.has("enumerated_objects") else ()
+        ),
     )
     if not quirks.supported_modes:
         raise t.error("supported_modes", "a drive supports at least one mode")

@@ -89,6 +89,9 @@ class Quirks:
     bitrate_codes: tuple[BitrateCode, ...]
     # Kinds that this drive shows only in the statusword, never as a fault (no EMCY, no 603Fh).
     status_only_kinds: frozenset[FaultKind]
+    # Objects that accept only the values their catalogue entry lists as choices (MDi 605Ah:
+    # 1, 2, 5, 6 although 3 and 4 lie inside the range); other values abort 06090030.
+    enumerated_objects: tuple[ObjectRef, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -13,8 +13,8 @@ import canopen
 
 import servodesk_data
 from servodesk_data import DriveData, FaultEntry
-from servodesk_sim.abort_codes import SdoAbort
-from servodesk_sim.emcy import Fault, FaultManager
+from servodesk_sim.abort_codes import INVALID_VALUE, SdoAbort
+from servodesk_sim.emcy import EmcyFormat, Fault, FaultManager
 from servodesk_sim.error_control import HeartbeatConsumer, HeartbeatProducer, NodeGuarding
 from servodesk_sim.fault_kind import FaultKind
 from servodesk_sim.frames import Frame
@@ -54,6 +54,10 @@ class SimDrive:
         self.store = ObjectStore(od, node_id, length_check=self.config.length_check)
         self._commission_node_id(node_id)
         self._node_id = node_id
+        if self.store.has(0x1018, 4):  # Identity: serial number
+            # Each simulated drive gets its own serial number, so two drives of one profile
+            # are told apart by 1018h as real ones are.
+            self.store.set(0x1018, 4, 0x53440000 + node_id)
         # The bus runs at the bitrate the drive was commissioned for unless told otherwise.
         self.bus_bitrate = bus_bitrate if bus_bitrate is not None else self._configured_bitrate()
         if bus_bitrate is not None:
@@ -73,18 +77,21 @@ class SimDrive:
             kinco_fault_bits=self.config.kinco_fault_bits,
         )
         self._pending_kinds: list[FaultKind] = []
-        self.motion = MotionCore(
-            self.store,
-            self.config.motion,
-            on_fault=self._pending_kinds.append,
-            fault_reset=self._fault_reset,
-        )
+        self.motion = self._new_motion()
         self._out: list[Frame] = []  # frames produced inside hooks, sent with the next answer
         self._now = 0.0
         self._last_step: float | None = None
         self._step_debt = 0.0
         self._silent = False  # configured for another bitrate than the bus: hears and says nothing
         self._install_hooks()
+
+    def _new_motion(self) -> MotionCore:
+        return MotionCore(
+            self.store,
+            self.config.motion,
+            on_fault=self._pending_kinds.append,
+            fault_reset=self._fault_reset,
+        )
 
     # ----------------------------------------------------------------------------- identity
 
@@ -150,6 +157,24 @@ class SimDrive:
             store.add_validator(0x1016, self._validate_consumers)
             store.add_write_hook(0x1016, lambda _sub, _value: self._configure_consumers())
         store.add_write_hook(0x1017, lambda _sub, _value: self.heartbeat.restart(self._now))
+        for index, sub in self.data.quirks.enumerated_objects:
+            allowed = self._choices_of(index, sub)
+            store.add_validator(index, self._enumerated_validator(sub, allowed))
+
+    def _choices_of(self, index: int, sub: int) -> frozenset[int]:
+        for parameter in self.data.parameters:
+            if parameter.object == (index, sub):
+                return frozenset(parameter.choices)
+        raise ValueError(f"{self.profile}: {index:04X}h:{sub} has no catalogue choices")
+
+    @staticmethod
+    def _enumerated_validator(sub: int, allowed: frozenset[int]) -> Callable[[int, Value], None]:
+        def check(written_sub: int, value: Value) -> None:
+            if written_sub == sub and value not in allowed:
+                listed = ", ".join(str(v) for v in sorted(allowed))
+                raise SdoAbort(INVALID_VALUE, f"allowed values: {listed}")
+
+        return check
 
     def _controlword(self, value: Value) -> None:
         if isinstance(value, int):
@@ -178,8 +203,11 @@ class SimDrive:
     def _fault_for_code(self, code: int) -> Fault:
         entry = self.config.faults_by_code.get(code)
         if entry is None:
-            # An unknown injected code still faults the drive, as an unlisted alarm would.
-            return Fault(code=code, emcy_code=0x1000, error_register=0x01)
+            # An unlisted code still faults the drive, as an unlisted alarm would. Kinco and
+            # CiA 402 codes are EMCY codes themselves; an MDi alarm number is not (generic 1000h).
+            alarm_numbers = self.config.emcy_format is EmcyFormat.ALARM_NUMBER
+            emcy_code = 0x1000 if alarm_numbers else code & 0xFFFF
+            return Fault(code=code, emcy_code=emcy_code, error_register=0x01)
         return _fault_of(entry)
 
     def _fault_for_kind(self, kind: FaultKind) -> Fault:
@@ -267,11 +295,18 @@ class SimDrive:
         return []
 
     def _reset(self, now: float, *, node: bool) -> list[Frame]:
-        """Reset node / reset communication: stored values back, new node id and bitrate apply."""
-        self.motion.disable()
+        """Reset node / reset communication: stored values back, new node id and bitrate apply.
+
+        Reset node restarts the whole drive (application and axis: a new motion core reading the
+        restored mode objects, faults cleared); reset communication touches only the
+        communication area and leaves the axis and its faults as they are (CiA 301 §7.3.2.2).
+        """
         if node:
+            self.motion.disable()
             self.store.reset_node()
             self.faults.clear(now, may_send=False)
+            self._pending_kinds.clear()
+            self.motion = self._new_motion()
         new_id = self._configured_node_id()
         self.store.reset_communication(new_id)
         self._node_id = new_id

@@ -25,7 +25,6 @@ CAN_ID_MASK = 0x7FF
 DEFAULT_COB_ID = 0x80
 COUNTER_MAX = 240  # CiA 301 §7.5.2.22: 2–240 valid, 1 and 241–255 reserved
 # A consumer declares SYNC lost after 1.5 periods without one (same margin as CANopenNode).
-LOSS_FACTOR = 1.5
 _EPSILON = 1e-9  # s: float clocks must not make a deadline miss by rounding
 
 
@@ -136,43 +135,3 @@ class SyncProducer:
         """Forget the schedule and the counter (reset communication, parameter change)."""
         self._next = None
         self._counter = 0
-
-
-class SyncMonitor:
-    """SYNC consumer watchdog: reports once when SYNCs stop (MDi alarm 62, seed 000 §4.1).
-
-    The expected period is 1006h when set, else the interval between the last two SYNCs seen
-    (on MDi 1006h only configures the producer, seed 000 §2.6.1), so without 1006h monitoring
-    starts with the second SYNC. After a loss it waits for SYNCs to come again.
-    """
-
-    def __init__(self, store: ObjectStore) -> None:
-        self._store = store
-        self._last: float | None = None
-        self._interval: float | None = None
-        self._lost = False
-
-    def on_sync(self, now: float) -> None:
-        if self._last is not None and not self._lost:
-            self._interval = now - self._last
-        self._last = now
-        self._lost = False
-
-    def poll(self, now: float) -> bool:
-        """True once when no SYNC came for 1.5 expected periods."""
-        if self._lost or self._last is None:
-            return False
-        configured = self._store.get(CYCLE_PERIOD) if self._store.has(CYCLE_PERIOD) else 0
-        period = configured * 1e-6 if configured > 0 else self._interval
-        if period is None or period <= 0:
-            return False
-        if now - self._last > LOSS_FACTOR * period + _EPSILON:
-            self._lost = True
-            self._interval = None
-            return True
-        return False
-
-    def reset(self) -> None:
-        self._last = None
-        self._interval = None
-        self._lost = False

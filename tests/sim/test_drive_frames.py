@@ -296,3 +296,44 @@ def test_mdi_sync_loss_in_interpolated_mode_raises_alarm_62() -> None:
         assert [f for f in rig.advance(0.002) if f.can_id == 0x81] == []
     emcy = [f for f in rig.advance(0.05) if f.can_id == 0x81]
     assert emcy == [frame(0x81, "3E 00")]
+
+
+# ---------------------------------------------------------------- resets and identity
+
+
+def test_mdi_quick_stop_option_takes_only_the_listed_codes() -> None:
+    rig = DriveRig(1, "mdi-s1c")
+    assert rig.write(0x605A, 0, 3, 2) == "80 5A 60 00 30 00 09 06"  # seed 000 §5.3: 1-2, 5-6
+    rig.write_ok(0x605A, 0, 5, 2)
+
+
+def test_reset_communication_keeps_an_active_fault_resettable() -> None:
+    rig = DriveRig(7, "cia402")
+    rig.write_ok(0x5FF0, 0, 0x4210, 4)
+    assert rig.nmt(0x82) == [frame(0x707, "00")]
+    assert rig.read(0x6041) & 0x4F == 0x08  # still in Fault: the axis was not reset
+    rig.write_ok(0x6040, 0, 0x00, 2)
+    rig.write_ok(0x6040, 0, 0x80, 2)
+    assert rig.read(0x6041) & 0x4F == 0x40
+    assert rig.read(0x603F) == 0
+
+
+def test_reset_node_restarts_the_axis_in_the_restored_mode() -> None:
+    rig = DriveRig(2, "kinco")
+    rig.write_ok(0x6060, 0, 3, 1)  # profile velocity
+    rig.advance(0.002)
+    assert rig.read(0x6061) == 3
+    rig.nmt(0x81)
+    rig.advance(0.002)
+    assert rig.read(0x6060) == 0
+    assert rig.read(0x6061) == 0
+
+
+def test_drives_of_one_profile_have_distinct_serial_numbers() -> None:
+    assert DriveRig(1, "mdi-s1c").read(0x1018, 4) != DriveRig(4, "mdi-s1c").read(0x1018, 4)
+
+
+def test_unlisted_fault_code_is_sent_as_it_is_on_cia402() -> None:
+    rig = DriveRig(7, "cia402")
+    answers = rig.send(0x607, "23 F0 5F 00 34 12 00 00")
+    assert answers[0].data[:2] == bytes.fromhex("34 12")

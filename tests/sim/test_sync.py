@@ -9,7 +9,7 @@ from canopen.objectdictionary.datatypes import UNSIGNED8, UNSIGNED32
 from servodesk_sim.abort_codes import DEVICE_STATE, INVALID_VALUE, VALUE_TOO_LOW, SdoAbort
 from servodesk_sim.frames import Frame, frame
 from servodesk_sim.od_store import LengthCheck, ObjectStore
-from servodesk_sim.sync import SyncMonitor, SyncProducer, SyncRules, sync_counter
+from servodesk_sim.sync import SyncProducer, SyncRules, sync_counter
 
 MDI = SyncRules(min_period_us=500, require_period_before_enable=True)
 CIA402 = SyncRules(min_period_us=0, require_period_before_enable=False)
@@ -129,29 +129,3 @@ def test_reset_restarts_the_schedule() -> None:
     assert run(producer, [0.0, 0.0009]) == []
     producer.reset()
     assert run(producer, [0.0009, 0.001, 0.0019]) == [(0.0019, frame(0x80))]
-
-
-@pytest.mark.parametrize(
-    ("period_us", "syncs", "polls", "lost_at"),
-    [
-        # 1006h = 1 ms: lost after 1.5 ms without SYNC, reported once, re-armed by a SYNC
-        (1000, [0.0, 0.004], [0.0015, 0.00151, 0.003, 0.0055, 0.00551], [0.00151, 0.00551]),
-        # 1006h = 0 (MDi consumer): the interval between the last two SYNCs is the period
-        (0, [0.0], [1.0], []),
-        (0, [0.0, 0.002], [0.0049, 0.00501, 0.006], [0.00501]),
-    ],
-)
-def test_sync_monitor(
-    period_us: int, syncs: list[float], polls: list[float], lost_at: list[float]
-) -> None:
-    store = make_store()
-    store.set(0x1006, 0, period_us)
-    monitor = SyncMonitor(store)
-    events = sorted([(t, "sync") for t in syncs] + [(t, "poll") for t in polls])
-    lost = []
-    for now, kind in events:
-        if kind == "sync":
-            monitor.on_sync(now)
-        elif monitor.poll(now):
-            lost.append(now)
-    assert lost == lost_at
