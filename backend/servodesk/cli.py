@@ -1,23 +1,223 @@
-"""`servodesk` command line. The web app and field commands arrive with the backend core."""
+"""`servodesk` command line: the web app (`serve`) and field commands for scripts.
+
+    servodesk serve [--sim] [--bind 127.0.0.1] [--port 8000] [bus flags]
+    servodesk scan [--sim] [bus flags]
+    servodesk read NODE INDEX SUB [--sim] [bus flags]
+    servodesk write NODE INDEX SUB VALUE [--size 1|2|4] [--sim] [bus flags]
+    servodesk dump NODE [--sim] [bus flags] > node.dcf
+    servodesk eds-check FILE
+
+Bus flags are python-can's own (`--interface/--channel/--bitrate/--bus-kwargs`); without them
+python-can's config file and environment apply.
+"""
 
 from __future__ import annotations
 
 import argparse
-from collections.abc import Sequence
+import asyncio
+import sys
+from collections.abc import AsyncIterator, Awaitable, Callable, Sequence
+from contextlib import asynccontextmanager
+from typing import Any, TypeVar
+
+from can.cli import add_bus_arguments
+from tqdm import tqdm
 
 from servodesk import __version__
+from servodesk.api.security import LOOPBACK_HOSTS
+from servodesk.errors import ServodeskError
+from servodesk.models import BusConfig
+from servodesk.od import OdImportError, lint_report, load_od
+from servodesk.services import Services, build_services
+from servodesk.settings import Settings
+
+T = TypeVar("T")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="servodesk",
+        description="Commissioning and diagnostics for CANopen (CiA 301 / CiA 402) servo drives.",
+    )
+    parser.add_argument("--version", action="version", version=f"servodesk {__version__}")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    serve = commands.add_parser("serve", help="run the web app (http://127.0.0.1:8000)")
+    _bus_flags(serve)
+    serve.add_argument("--bind", default="127.0.0.1", help="address to listen on (loopback)")
+    serve.add_argument("--port", type=int, default=8000)
+
+    scan = commands.add_parser("scan", help="find the nodes on the bus")
+    _bus_flags(scan)
+    scan.add_argument("--timeout-ms", type=int, default=50, help="SDO sweep answer window")
+
+    read = commands.add_parser("read", help="read an object-dictionary entry")
+    _bus_flags(read)
+    _entry_args(read)
+
+    write = commands.add_parser("write", help="write an object-dictionary entry")
+    _bus_flags(write)
+    _entry_args(write)
+    write.add_argument("value", help='value: 1000, 0x3E8, -5, 1.5, "text"')
+    write.add_argument("--size", type=int, choices=(1, 2, 4), help="for entries the OD lacks")
+
+    dump = commands.add_parser("dump", help="save a node's configuration as DCF to stdout")
+    _bus_flags(dump)
+    dump.add_argument("node", type=int)
+
+    check = commands.add_parser("eds-check", help="load an EDS/DCF/XDD and list its problems")
+    check.add_argument("file")
+    return parser
+
+
+def _bus_flags(parser: argparse.ArgumentParser) -> None:
+    add_bus_arguments(parser)
+    parser.add_argument("--sim", action="store_true", help="use the built-in simulated drives")
+
+
+def _entry_args(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("node", type=int)
+    parser.add_argument("index", help="hexadecimal, e.g. 6041")
+    parser.add_argument("sub", help="hexadecimal, e.g. 0")
+
+
+def bus_config(args: argparse.Namespace) -> BusConfig:
+    if getattr(args, "sim", False):
+        return BusConfig(simulated=True)
+    return BusConfig(
+        interface=getattr(args, "interface", None),
+        channel=getattr(args, "channel", None),
+        bitrate=getattr(args, "bitrate", None),
+        options=dict(getattr(args, "bus_kwargs", {}) or {}),
+    )
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="servodesk",
-        description="Commissioning and diagnostics for CANopen servo drives. "
-        "For simulated drives on a bus, run `servodesk-sim`.",
+    args = build_parser().parse_args(argv)
+    try:
+        if args.command == "serve":
+            return serve(args)
+        if args.command == "eds-check":
+            return eds_check(args.file)
+        return asyncio.run(_field_command(args))
+    except ServodeskError as error:
+        print(f"servodesk: {error}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        return 130
+
+
+def serve(args: argparse.Namespace) -> int:
+    import uvicorn
+
+    from servodesk.app import create_app
+
+    if args.bind not in LOOPBACK_HOSTS:
+        # DESIGN, Security: beyond loopback needs a token and roles, which do not exist yet.
+        print(
+            f"servodesk: refusing to serve on {args.bind}: only loopback addresses are allowed "
+            "until access tokens exist",
+            file=sys.stderr,
+        )
+        return 2
+    config = bus_config(args)
+    settings = Settings(
+        bind=args.bind,
+        port=args.port,
+        simulated=config.simulated,
+        interface=config.interface,
+        channel=config.channel,
+        bitrate=config.bitrate,
+        bus_options={key: str(value) for key, value in config.options.items()},
     )
-    parser.add_argument("--version", action="version", version=f"servodesk {__version__}")
-    parser.parse_args(argv)
-    parser.print_help()
+    print(f"ServoDesk {__version__} on http://{args.bind}:{args.port}", flush=True)
+    uvicorn.run(create_app(settings), host=args.bind, port=args.port, log_level="info")
     return 0
+
+
+def eds_check(path: str) -> int:
+    """Print every problem in the file; fail only when nothing usable could be read."""
+    try:
+        model = load_od(path)
+    except (OdImportError, OSError) as error:
+        print(f"servodesk: {path}: {error}", file=sys.stderr)
+        return 1
+    report = lint_report(model)
+    print(
+        f"{path}: {model.format.upper()}, {len(model.objects)} objects, "
+        f"{len(model.warnings)} warning(s)"
+    )
+    if report:
+        print(report)
+    return 0
+
+
+@asynccontextmanager
+async def _connected(args: argparse.Namespace) -> AsyncIterator[Services]:
+    services = build_services(Settings())
+    try:
+        await services.bus.connect(bus_config(args))
+        yield services
+    finally:
+        await services.close()
+
+
+async def _field_command(args: argparse.Namespace) -> int:
+    async with _connected(args) as services:
+        registry = services.registry
+        if args.command == "scan":
+            result = await _with_spinner(
+                "scanning", registry.scan(sdo_sweep=True, timeout_ms=args.timeout_ms)
+            )
+            print(f"{'node':>4}  {'state':<16} {'profile':<15} name")
+            for node in result.nodes:
+                print(
+                    f"{node.node:>4}  {node.nmt_state.value:<16} {node.profile:<15} "
+                    f"{node.name or ''}"
+                )
+            print(f"{len(result.nodes)} node(s) in {result.duration_ms} ms", file=sys.stderr)
+            return 0
+        await registry.add(args.node)
+        if args.command == "read":
+            value = await services.sdo.read(args.node, int(args.index, 16), int(args.sub, 16))
+            print(value.text)
+            return 0
+        if args.command == "write":
+            written = await services.sdo.write(
+                args.node, int(args.index, 16), int(args.sub, 16), args.value, size=args.size
+            )
+            print(written.text)
+            return 0
+        if args.command == "dump":
+            text = await _with_progress(
+                f"reading node {args.node}",
+                lambda progress: services.paramsets.export_dcf(args.node, progress=progress),
+            )
+            sys.stdout.write(text)
+            return 0
+    return 2
+
+
+async def _with_spinner(label: str, work: Awaitable[T]) -> T:
+    with tqdm(desc=label, bar_format="{desc}: {elapsed}", file=sys.stderr, leave=False):
+        return await work
+
+
+async def _with_progress(
+    label: str, start: Callable[[Callable[[int, int], None]], Awaitable[T]]
+) -> T:
+    """A progress bar on stderr for work that reports (done, total)."""
+    bar: Any = tqdm(desc=label, unit="entry", file=sys.stderr, leave=False)
+
+    def progress(done: int, total: int) -> None:
+        bar.total = total
+        bar.n = done
+        bar.refresh()
+
+    try:
+        return await start(progress)
+    finally:
+        bar.close()
 
 
 if __name__ == "__main__":

@@ -358,13 +358,21 @@ class SimBus:
                 log.exception("frame tap raised")
 
 
+def build_drives(
+    bus: can.BusABC, specs: Sequence[tuple[int, str]], *, bus_bitrate: int | None = None
+) -> SimBus:
+    """Simulated drives (node id, profile name) on `bus`, not yet powered on: `start()` boots
+    them, so a listener that joins the bus first sees their boot-up frames."""
+    from servodesk_sim.drive import create_drive  # the drives pull in the whole simulator
+
+    nodes = [create_drive(node_id, profile, bus_bitrate=bus_bitrate) for node_id, profile in specs]
+    return SimBus(bus, nodes)
+
+
 def run_drives(
     bus: can.BusABC, specs: Sequence[tuple[int, str]], *, bus_bitrate: int | None = None
 ) -> SimBus:
     """Start simulated drives (node id, profile name) on `bus`; the caller stops the result."""
-    from servodesk_sim.drive import create_drive  # the drives pull in the whole simulator
-
-    nodes = [create_drive(node_id, profile, bus_bitrate=bus_bitrate) for node_id, profile in specs]
-    sim = SimBus(bus, nodes)
+    sim = build_drives(bus, specs, bus_bitrate=bus_bitrate)
     sim.start()
     return sim

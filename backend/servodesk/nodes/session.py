@@ -14,10 +14,11 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import TypeVar
 
+import can
 import canopen
 from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
 
-from servodesk.errors import CommTimeoutError, SdoAbortError
+from servodesk.errors import BusNotConnectedError, CommTimeoutError, SdoAbortError
 
 T = TypeVar("T")
 
@@ -84,6 +85,9 @@ class NodeSession:
             raise SdoAbortError(int(abort.code), self.node_id, index, subindex) from abort
         except SdoCommunicationError as error:
             raise CommTimeoutError(self.node_id, what) from error
+        except can.CanError as error:
+            # The adapter itself failed (unplugged, bus-off): the bus manager reconnects.
+            raise BusNotConnectedError(f"CAN adapter error during {what}: {error}") from error
 
     def close(self) -> None:
         """Stop the worker thread after the call in progress (no new calls are accepted)."""

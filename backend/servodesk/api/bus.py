@@ -1,0 +1,49 @@
+"""Bus connection: connect, disconnect, reconnect, status, available interfaces."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter
+
+from servodesk.api.deps import ServicesDep
+from servodesk.bus.interfaces import INTERFACES
+from servodesk.models import BusConfig, BusStatus, InterfaceInfo, SyncConfig
+
+router = APIRouter(prefix="/bus", tags=["bus"])
+
+
+@router.get("")
+async def bus_status(services: ServicesDep) -> BusStatus:
+    return services.bus.status()
+
+
+@router.post("/connect")
+async def connect(config: BusConfig, services: ServicesDep) -> BusStatus:
+    return await services.bus.connect(config)
+
+
+@router.post("/disconnect")
+async def disconnect(services: ServicesDep) -> BusStatus:
+    return await services.bus.disconnect()
+
+
+@router.post("/reconnect")
+async def reconnect(services: ServicesDep) -> BusStatus:
+    return await services.bus.reconnect()
+
+
+@router.get("/interfaces")
+async def interfaces() -> list[InterfaceInfo]:
+    return list(INTERFACES)
+
+
+sync_router = APIRouter(prefix="/sync", tags=["bus"])
+
+
+@sync_router.get("")
+async def sync_status(services: ServicesDep) -> SyncConfig:
+    return services.sync.get()
+
+
+@sync_router.put("")
+async def set_sync(config: SyncConfig, services: ServicesDep) -> SyncConfig:
+    return await services.sync.set(config.period_us)

@@ -1,0 +1,30 @@
+"""Typed dependencies: routers ask for the app's services, nothing global."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import Depends, Path, Request
+
+from servodesk.errors import InvalidValueError
+from servodesk.services import Services
+
+
+def get_services(request: Request) -> Services:
+    services: Services = request.app.state.services
+    return services
+
+
+ServicesDep = Annotated[Services, Depends(get_services)]
+NodeId = Annotated[int, Path(ge=1, le=127, description="CANopen node id 1–127")]
+
+
+def parse_hex(text: str, *, maximum: int, what: str) -> int:
+    """Index/sub-index path segments are hexadecimal without prefix: `6041`, `0A`."""
+    try:
+        value = int(text, 16)
+    except ValueError:
+        raise InvalidValueError(f"{what} {text!r} is not hexadecimal (e.g. 6041, 0A)") from None
+    if not 0 <= value <= maximum:
+        raise InvalidValueError(f"{what} {text!r} is out of range (0–{maximum:X}h)")
+    return value

@@ -1,0 +1,21 @@
+from __future__ import annotations
+
+from fastapi import APIRouter
+from pydantic import BaseModel
+
+from servodesk import __version__
+from servodesk.api.deps import ServicesDep
+from servodesk.models import BusStatus
+
+router = APIRouter(tags=["health"])
+
+
+class Health(BaseModel):
+    status: str
+    version: str
+    bus: BusStatus
+
+
+@router.get("/health")
+async def health(services: ServicesDep) -> Health:
+    return Health(status="ok", version=__version__, bus=services.bus.status())

@@ -1,0 +1,63 @@
+"""Nodes on the bus: list, scan, NMT, heartbeat producer time."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter
+from pydantic import BaseModel
+
+from servodesk.api.deps import NodeId, ServicesDep
+from servodesk.api.errors import NODE_ERRORS
+from servodesk.models import (
+    HeartbeatConfig,
+    NmtCommandName,
+    NmtRequest,
+    NodeInfo,
+    ScanRequest,
+    ScanResult,
+)
+
+router = APIRouter(tags=["nodes"], responses=NODE_ERRORS)
+
+
+class NmtSent(BaseModel):
+    sent: NmtCommandName
+
+
+@router.get("/nodes")
+async def list_nodes(services: ServicesDep) -> list[NodeInfo]:
+    return services.registry.all()
+
+
+@router.get("/nodes/{node}")
+async def get_node(node: NodeId, services: ServicesDep) -> NodeInfo:
+    return services.registry.info(node)
+
+
+@router.post("/scan")
+async def scan(request: ScanRequest, services: ServicesDep) -> ScanResult:
+    return await services.registry.scan(sdo_sweep=request.sdo_sweep, timeout_ms=request.timeout_ms)
+
+
+@router.post("/nodes/{node}/nmt")
+async def nmt(node: NodeId, request: NmtRequest, services: ServicesDep) -> NodeInfo:
+    return await services.registry.nmt(node, request.command)
+
+
+@router.post("/nmt")
+async def nmt_broadcast(request: NmtRequest, services: ServicesDep) -> NmtSent:
+    await services.registry.nmt_broadcast(request.command)
+    return NmtSent(sent=request.command)
+
+
+@router.get("/nodes/{node}/heartbeat")
+async def heartbeat(node: NodeId, services: ServicesDep) -> HeartbeatConfig:
+    return HeartbeatConfig(producer_ms=await services.registry.heartbeat(node))
+
+
+@router.put("/nodes/{node}/heartbeat")
+async def set_heartbeat(
+    node: NodeId, config: HeartbeatConfig, services: ServicesDep
+) -> HeartbeatConfig:
+    return HeartbeatConfig(
+        producer_ms=await services.registry.set_heartbeat(node, config.producer_ms)
+    )

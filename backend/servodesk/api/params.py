@@ -1,0 +1,62 @@
+"""Drive parameters by their user-facing names; store/restore; node-id and bitrate changes."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter
+
+from servodesk.api.deps import NodeId, ServicesDep
+from servodesk.api.errors import NODE_ERRORS
+from servodesk.models import (
+    BitrateChange,
+    BitrateChangeResult,
+    Confirm,
+    MessageResult,
+    NodeIdChange,
+    NodeIdChangeResult,
+    Param,
+    ParamWriteRequest,
+    ParamWriteResult,
+)
+
+router = APIRouter(prefix="/nodes/{node}", tags=["parameters"], responses=NODE_ERRORS)
+
+
+@router.get("/params")
+async def list_params(node: NodeId, services: ServicesDep) -> list[Param]:
+    return await services.params.list(node)
+
+
+@router.get("/params/{name}")
+async def get_param(node: NodeId, name: str, services: ServicesDep) -> Param:
+    return await services.params.get(node, name)
+
+
+@router.put("/params/{name}")
+async def set_param(
+    node: NodeId, name: str, body: ParamWriteRequest, services: ServicesDep
+) -> ParamWriteResult:
+    return await services.params.set(node, name, body.value)
+
+
+@router.post("/store")
+async def store(node: NodeId, body: Confirm, services: ServicesDep) -> MessageResult:
+    return await services.params.store(node, confirm=body.confirm)
+
+
+@router.post("/restore-defaults")
+async def restore_defaults(node: NodeId, body: Confirm, services: ServicesDep) -> MessageResult:
+    return await services.params.restore_defaults(node, confirm=body.confirm)
+
+
+@router.post("/change-node-id")
+async def change_node_id(
+    node: NodeId, body: NodeIdChange, services: ServicesDep
+) -> NodeIdChangeResult:
+    return await services.node_ids.change_node_id(node, body.new_node, confirm=body.confirm)
+
+
+@router.post("/change-bitrate")
+async def change_bitrate(
+    node: NodeId, body: BitrateChange, services: ServicesDep
+) -> BitrateChangeResult:
+    return await services.node_ids.change_bitrate(node, body.bitrate, confirm=body.confirm)

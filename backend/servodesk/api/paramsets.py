@@ -1,0 +1,43 @@
+"""Parameter sets as DCF files: save from a node, load onto a node, compare three ways."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, File, UploadFile
+from fastapi.responses import PlainTextResponse
+
+from servodesk.api.deps import NodeId, ServicesDep
+from servodesk.api.errors import NODE_ERRORS
+from servodesk.models import CompareResult, DcfLoadResult
+
+router = APIRouter(prefix="/nodes/{node}", tags=["parameter sets"], responses=NODE_ERRORS)
+
+MAX_DCF_FILE = 8 * 1024 * 1024
+
+
+@router.get("/dcf", response_class=PlainTextResponse)
+async def save_dcf(node: NodeId, services: ServicesDep) -> PlainTextResponse:
+    text = await services.paramsets.export_dcf(node)
+    profile = services.registry.info(node).profile
+    filename = f"node{node}-{profile}.dcf"
+    return PlainTextResponse(
+        text, headers={"Content-Disposition": f'attachment; filename="{filename}"'}
+    )
+
+
+@router.post("/dcf")
+async def load_dcf(node: NodeId, file: UploadFile, services: ServicesDep) -> DcfLoadResult:
+    data = await file.read(MAX_DCF_FILE)
+    return await services.paramsets.load_dcf(node, data, file.filename or "upload.dcf")
+
+
+@router.post("/compare")
+async def compare(
+    node: NodeId,
+    services: ServicesDep,
+    file: Annotated[UploadFile | None, File()] = None,
+) -> CompareResult:
+    data = await file.read(MAX_DCF_FILE) if file is not None else None
+    name = file.filename if file is not None and file.filename else "upload.dcf"
+    return await services.paramsets.compare(node, data, name)

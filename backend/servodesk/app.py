@@ -1,0 +1,94 @@
+"""The web app: `create_app(settings)` builds the services and owns them for its lifetime."""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from pathlib import Path
+
+from fastapi import APIRouter, FastAPI
+from fastapi.middleware.trustedhost import TrustedHostMiddleware
+
+from servodesk import __version__
+from servodesk.api import bus, health, nodes, od, params, paramsets, sdo, ws
+from servodesk.api.errors import install_error_handlers
+from servodesk.api.security import LOOPBACK_HOSTS
+from servodesk.api.static import mount_frontend
+from servodesk.bus.connection import BusFactory
+from servodesk.errors import ServodeskError
+from servodesk.models import BusConfig
+from servodesk.services import Services, build_services
+from servodesk.settings import Settings
+
+log = logging.getLogger(__name__)
+
+STATIC_DIR = Path(__file__).parent / "static"
+
+
+def api_router() -> APIRouter:
+    router = APIRouter(prefix="/api")
+    for module in (health, bus, nodes, od, sdo, params, paramsets):
+        router.include_router(module.router)
+    router.include_router(bus.sync_router)
+    router.include_router(ws.router)
+    return router
+
+
+def create_app(
+    settings: Settings | None = None,
+    *,
+    bus_factory: BusFactory | None = None,
+    static_dir: Path | None = STATIC_DIR,
+) -> FastAPI:
+    settings = settings or Settings()
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        services = build_services(settings, bus_factory=bus_factory)
+        app.state.services = services
+        services.live.start()
+        await _connect_at_start(services)
+        try:
+            yield
+        finally:
+            await services.close()
+
+    app = FastAPI(
+        title="ServoDesk",
+        version=__version__,
+        description="Commissioning and diagnostics for CANopen (CiA 301 / CiA 402) servo drives.",
+        lifespan=lifespan,
+        openapi_url="/api/openapi.json",
+        docs_url="/api/docs",
+        redoc_url=None,
+    )
+    # Requests naming another host are refused (DNS rebinding); see api/security.py.
+    app.add_middleware(TrustedHostMiddleware, allowed_hosts=[*LOOPBACK_HOSTS, "testserver"])
+    install_error_handlers(app)
+    app.include_router(api_router())
+    if static_dir is not None:
+        mount_frontend(app, static_dir)
+    return app
+
+
+async def _connect_at_start(services: Services) -> None:
+    """Connect the bus the settings name (or the simulated drives) and scan it once."""
+    settings = services.settings
+    if settings.simulated:
+        config = BusConfig(simulated=True)
+    elif settings.interface or settings.channel:
+        config = BusConfig(
+            interface=settings.interface,
+            channel=settings.channel,
+            bitrate=settings.bitrate,
+            options=dict(settings.bus_options),
+        )
+    else:
+        return  # the user connects from the Network page
+    try:
+        await services.bus.connect(config)
+        await services.registry.scan(sdo_sweep=True, timeout_ms=round(settings.scan_timeout * 1000))
+    except ServodeskError as error:
+        # The server still starts: the Network page shows the error and offers to reconnect.
+        log.warning("could not connect at start-up: %s", error)

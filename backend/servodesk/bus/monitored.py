@@ -1,0 +1,73 @@
+"""A python-can bus wrapper that counts what is sent and notices when the adapter fails.
+
+canopen talks to `network.bus`; giving it this wrapper instead of the raw bus lets the tool count
+every transmitted frame (including python-can's cyclic SYNC task, which calls `send`) and learn
+about a failing adapter from any thread, without patching canopen.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Callable
+
+import can
+
+from servodesk.bus.counters import BusCounters
+
+log = logging.getLogger(__name__)
+
+
+class MonitoredBus(can.BusABC):
+    """Delegates to `inner`; after the first receive error it goes quiet instead of raising
+    again, so the notifier thread neither dies nor spins on a dead adapter."""
+
+    def __init__(
+        self,
+        inner: can.BusABC,
+        counters: BusCounters,
+        on_failure: Callable[[str], None],
+    ) -> None:
+        self.inner = inner
+        self.channel_info = inner.channel_info
+        self._counters = counters
+        self._on_failure = on_failure
+        self._failed = threading.Event()
+        self._closed = threading.Event()
+        super().__init__(channel=inner.channel_info)
+
+    @property
+    def failed(self) -> bool:
+        return self._failed.is_set()
+
+    def _recv_internal(self, timeout: float | None) -> tuple[can.Message | None, bool]:
+        if self._failed.is_set():
+            # Wait like an idle bus until the manager shuts this link down.
+            self._closed.wait(timeout)
+            return None, True
+        try:
+            msg = self.inner.recv(timeout)
+        except can.CanError:
+            self._failed.set()
+            self._counters.bus_error()
+            raise  # the notifier hands it to CountingListener.on_error
+        return msg, True  # the inner bus applied its own filters
+
+    def send(self, msg: can.Message, timeout: float | None = None) -> None:
+        try:
+            self.inner.send(msg, timeout)
+        except can.CanError as exc:
+            self._failed.set()
+            self._counters.bus_error()
+            self._on_failure(f"sending failed: {exc}")
+            raise
+        self._counters.sent()
+
+    def shutdown(self) -> None:
+        self._closed.set()
+        super().shutdown()  # stops the cyclic tasks started through this wrapper
+        try:
+            self.inner.shutdown()
+        except (can.CanError, OSError):
+            # A lost adapter often fails to close too; the link is gone either way.
+            log.warning("closing the CAN adapter failed", exc_info=True)

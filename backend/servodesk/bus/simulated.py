@@ -1,0 +1,51 @@
+"""The built-in simulated drives: three drives on a private python-can virtual channel.
+
+This is the only place in the backend that imports the simulator. The tool connects to the
+channel with its own bus instance, exactly as it would to a real adapter.
+"""
+
+from __future__ import annotations
+
+import uuid
+from dataclasses import dataclass
+
+import can
+
+from servodesk_sim.runner import SimBus, build_drives
+
+SIM_INTERFACE = "virtual"
+# node id, profile: one drive of each family the tool ships profiles for
+SIM_DRIVES: tuple[tuple[int, str], ...] = ((1, "mdi-s1c"), (2, "kinco"), (3, "cia402"))
+
+
+@dataclass
+class SimulatedDrives:
+    channel: str
+    sim: SimBus
+    bus: can.BusABC  # the drives' own bus instance
+
+    def start(self) -> None:
+        """Power the drives on (blocking: they send their boot-up frames before this returns)."""
+        self.sim.start()
+
+    def stop(self) -> None:
+        """Stop the drives and close their bus (blocking: joins the drive thread)."""
+        try:
+            self.sim.stop()
+        finally:
+            self.bus.shutdown()
+
+
+def prepare_simulated_drives(
+    drives: tuple[tuple[int, str], ...] = SIM_DRIVES,
+) -> SimulatedDrives:
+    """The drives on a fresh private channel, still powered off: the tool joins the channel
+    first and then calls `start()`, so it sees their boot-ups as it would on a real bus."""
+    channel = f"servodesk-sim-{uuid.uuid4().hex[:12]}"
+    bus = can.Bus(interface=SIM_INTERFACE, channel=channel)
+    try:
+        sim = build_drives(bus, drives)
+    except BaseException:
+        bus.shutdown()
+        raise
+    return SimulatedDrives(channel=channel, sim=sim, bus=bus)

@@ -1,0 +1,1 @@
+"""Network services: NMT, node scan, heartbeat monitor, the tool's SYNC producer."""

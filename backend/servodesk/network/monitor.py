@@ -1,0 +1,308 @@
+"""Live NMT state and heartbeat age per node, and the events when nodes boot, vanish, return.
+
+Two halves (DESIGN rule 1):
+- `FrameWatch`, a python-can listener on the notifier thread: per node, the time and state of
+  the last heartbeat/boot-up frame and the time of the last other frame the node sent (dict
+  assignments only). A boot-up is also handed to the event loop (`call_soon_threadsafe`).
+- `NodeMonitor`, on the event loop: what the registry learned through SDO (answers, timeouts,
+  1017h), the NMT commands it sent, a ~5 Hz task that derives each node's health
+  (network/health.py) and emits "node-lost" / "node-back", and `wait_boot`.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Literal
+
+import can
+
+from servodesk.models import LiveEvent, NmtStateName
+from servodesk.network.health import Evidence, Health, assess
+from servodesk.network.nmt import BOOT_UP
+from servodesk.settings import Settings
+
+log = logging.getLogger(__name__)
+
+TICK = 0.2  # s between health evaluations (the WebSocket sends node states at 5 Hz)
+FUNCTION_MASK = 0x780  # 11-bit COB-ID = function code (bits 7–10) + node id (bits 0–6)
+NODE_MASK = 0x7F
+HEARTBEAT = 0x700  # NMT error control: heartbeat, boot-up, node guarding answer
+# frames only the node itself sends: EMCY, TPDO1–4 (default COB-IDs), SDO answers
+SIGNS_OF_LIFE = frozenset({0x080, 0x180, 0x280, 0x380, 0x480, 0x580})
+
+Clock = Callable[[], float]
+EventKind = Literal["boot-up", "node-lost", "node-back", "nmt", "bus"]  # LiveEvent.kind
+
+
+class FrameWatch(can.Listener):
+    """Notifier-thread recorder of heartbeats, boot-ups and other frames, per node."""
+
+    def __init__(self, clock: Clock = time.monotonic) -> None:
+        self._clock = clock
+        self.beats: dict[int, tuple[float, int]] = {}  # node -> (time, state byte)
+        self.activity: dict[int, float] = {}  # node -> time of its last non-heartbeat frame
+        self.on_boot: Callable[[int, float], None] | None = None  # must not block
+
+    def on_message_received(self, msg: can.Message) -> None:
+        if msg.is_error_frame or msg.is_remote_frame or msg.is_extended_id:
+            return
+        node = msg.arbitration_id & NODE_MASK
+        if node == 0:
+            return
+        function = msg.arbitration_id & FUNCTION_MASK
+        if function == HEARTBEAT:
+            if not msg.data:
+                return
+            now = self._clock()
+            state = msg.data[0] & 0x7F  # bit 7 is the node-guarding toggle
+            self.beats[node] = (now, state)
+            callback = self.on_boot
+            if state == BOOT_UP and callback is not None:
+                callback(node, now)
+        elif function in SIGNS_OF_LIFE:
+            self.activity[node] = self._clock()
+
+    def forget(self) -> None:
+        # new dicts rather than clear(): the notifier thread may be writing to the old ones
+        self.beats = {}
+        self.activity = {}
+
+    def stop(self) -> None:
+        """Nothing to release: the watch outlives each connection's notifier."""
+
+
+@dataclass
+class _Tracked:
+    """What the tool itself learned about one registered node (event-loop side)."""
+
+    heartbeat_ms: int | None
+    expect_since: float
+    alive_at: float
+    silence_at: float | None = None
+    command: tuple[float, NmtStateName] | None = None
+    online: bool = True  # as last reported (events fire on changes)
+
+
+@dataclass
+class _BootWaiter:
+    since: float
+    future: asyncio.Future[None]
+
+
+class NodeMonitor:
+    def __init__(
+        self,
+        settings: Settings,
+        emit: Callable[[LiveEvent], None],
+        *,
+        on_boot: Callable[[int], None] | None = None,
+        clock: Clock = time.monotonic,
+        wall: Clock = time.time,
+    ) -> None:
+        self._settings = settings
+        self._emit = emit
+        self._on_boot_hook = on_boot
+        self._clock = clock
+        self._wall = wall
+        self.watch = FrameWatch(clock)
+        self.watch.on_boot = self._boot_from_thread
+        self._nodes: dict[int, _Tracked] = {}
+        self._waiters: dict[int, list[_BootWaiter]] = {}
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._task: asyncio.Task[None] | None = None
+
+    # ------------------------------------------------------------------ lifecycle
+
+    def attach_loop(self) -> None:
+        """Remember the running loop (boot-ups are handed to it); call on the loop."""
+        if self._loop is None:
+            self._loop = asyncio.get_running_loop()
+
+    def start(self) -> None:
+        """Start the ~5 Hz evaluation task (idempotent); call on the loop."""
+        self.attach_loop()
+        if self._task is None or self._task.done():
+            self._task = asyncio.get_running_loop().create_task(self._run(), name="node-monitor")
+
+    def stop_soon(self) -> None:
+        """Cancel the evaluation task without waiting (from a synchronous callback)."""
+        if self._task is not None:
+            self._task.cancel()
+            self._task = None
+
+    async def stop(self) -> None:
+        task, self._task = self._task, None
+        if task is not None:
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+
+    def forget(self) -> None:
+        """Drop everything known (bus disconnected); boot waiters keep waiting."""
+        self._nodes.clear()
+        self.watch.forget()
+
+    async def _run(self) -> None:
+        while True:
+            await asyncio.sleep(TICK)
+            self.tick()
+
+    # ------------------------------------------------------------------ what the registry tells
+
+    def track(self, node: int, heartbeat_ms: int | None) -> None:
+        """The node answered its identification just now."""
+        now = self._clock()
+        previous = self._nodes.get(node)
+        self._nodes[node] = _Tracked(
+            heartbeat_ms=heartbeat_ms,
+            expect_since=now,
+            alive_at=now,
+            command=previous.command if previous is not None else None,
+        )
+        if previous is not None and not previous.online:
+            self._event("node-back", node, f"node {node} answers again")
+
+    def untrack(self, node: int) -> None:
+        self._nodes.pop(node, None)
+
+    def tracked(self, node: int) -> bool:
+        return node in self._nodes
+
+    def heartbeat_known(self, node: int, ms: int) -> None:
+        """1017h was read or written: expect heartbeats at this period from now on."""
+        tracked = self._nodes.get(node)
+        if tracked is not None:
+            tracked.heartbeat_ms = ms
+            tracked.expect_since = self._clock()
+
+    def heartbeat_ms(self, node: int) -> int | None:
+        tracked = self._nodes.get(node)
+        return tracked.heartbeat_ms if tracked is not None else None
+
+    def sdo_outcome(self, node: int, answered: bool) -> None:
+        """An SDO exchange through the tool got an answer (or an abort), or timed out."""
+        tracked = self._nodes.get(node)
+        if tracked is None:
+            return
+        now = self._clock()
+        if answered:
+            tracked.alive_at = now
+        elif self.health(node).nmt_state is not NmtStateName.STOPPED:
+            # a node we stopped is expected not to answer SDO: that is no sign of loss
+            tracked.silence_at = now
+
+    def absent(self, node: int) -> None:
+        """A scan did not find the node."""
+        tracked = self._nodes.get(node)
+        if tracked is not None:
+            tracked.silence_at = self._clock()
+
+    def commanded(self, node: int, state: NmtStateName, *, at: float | None = None) -> None:
+        """The tool sent an NMT command (at `at`, monitor time; default now)."""
+        tracked = self._nodes.get(node)
+        if tracked is not None:
+            tracked.command = (self._clock() if at is None else at, state)
+
+    def now(self) -> float:
+        """The monitor's clock (monotonic seconds)."""
+        return self._clock()
+
+    # ------------------------------------------------------------------ what the UI asks
+
+    def evidence(self, node: int) -> Evidence:
+        tracked = self._nodes.get(node)
+        beat = self.watch.beats.get(node)
+        activity = self.watch.activity.get(node)
+        if tracked is None:
+            return Evidence(beat=beat, activity=activity)
+        return Evidence(
+            beat=beat,
+            activity=activity,
+            alive_at=tracked.alive_at,
+            silence_at=tracked.silence_at,
+            command=tracked.command,
+            heartbeat_ms=tracked.heartbeat_ms,
+            expect_since=tracked.expect_since,
+        )
+
+    def health(self, node: int) -> Health:
+        return assess(
+            self.evidence(node),
+            self._clock(),
+            lost_factor=self._settings.heartbeat_lost_factor,
+            default_timeout=self._settings.default_heartbeat_timeout,
+        )
+
+    def heard(self) -> set[int]:
+        """Nodes whose heartbeat or boot-up has been heard (the passive part of a scan)."""
+        return set(self.watch.beats)
+
+    def wall_time(self, monotonic: float | None) -> float | None:
+        """A monotonic time of this monitor as UNIX time."""
+        if monotonic is None:
+            return None
+        return self._wall() - (self._clock() - monotonic)
+
+    def tick(self) -> None:
+        """Evaluate every node once and emit the changes (the task calls this at 5 Hz)."""
+        for node, tracked in list(self._nodes.items()):
+            health = self.health(node)
+            if health.online == tracked.online:
+                continue
+            tracked.online = health.online
+            if health.online:
+                self._event("node-back", node, f"node {node} is back")
+            elif health.lost_after_s is not None:
+                limit_ms = round(health.lost_after_s * 1000)
+                self._event("node-lost", node, f"node {node} lost: no heartbeat for {limit_ms} ms")
+            else:
+                self._event("node-lost", node, f"node {node} lost: it stopped answering SDO")
+
+    # ------------------------------------------------------------------ boot-ups
+
+    async def wait_boot(self, node: int, timeout: float) -> bool:
+        """True once a boot-up from `node` arrives after this call started (see NodeAccess).
+
+        The waiter is registered before the first suspension point, so a caller may start this
+        as a task, yield once, and only then send the reset."""
+        self.attach_loop()
+        loop = asyncio.get_running_loop()
+        waiter = _BootWaiter(since=self._clock(), future=loop.create_future())
+        waiters = self._waiters.setdefault(node, [])
+        waiters.append(waiter)
+        try:
+            await asyncio.wait_for(waiter.future, timeout)
+        except TimeoutError:
+            return False
+        finally:
+            waiters.remove(waiter)
+            if not waiters and self._waiters.get(node) is waiters:
+                del self._waiters[node]
+        return True
+
+    def _boot_from_thread(self, node: int, when: float) -> None:
+        loop = self._loop
+        if loop is None or loop.is_closed():
+            return  # nobody waits yet; the frame is recorded in `watch.beats`
+        try:
+            loop.call_soon_threadsafe(self._on_boot, node, when)
+        except RuntimeError:
+            log.debug("boot-up of node %d after the event loop closed", node)
+
+    def _on_boot(self, node: int, when: float) -> None:
+        for waiter in self._waiters.get(node, ()):
+            if waiter.since <= when and not waiter.future.done():
+                waiter.future.set_result(None)
+        known = node in self._nodes
+        note = "" if known else " (not scanned yet)"
+        self._event("boot-up", node, f"node {node} booted{note}")
+        if known and self._on_boot_hook is not None:
+            self._on_boot_hook(node)
+
+    def _event(self, kind: EventKind, node: int | None, message: str) -> None:
+        self._emit(LiveEvent(time=self._wall(), node=node, kind=kind, message=message))

@@ -1,0 +1,81 @@
+"""Who a node is: 1000h Device type, 1018h Identity object, 1008h Device name, 1017h heartbeat.
+
+`read_identity` blocks (SDO): run it on the node's session thread. 1000h is mandatory in every
+CANopen device, so a timeout on it means nobody is there and propagates; an abort on it still
+proves a node answered. Every other entry is optional and reads as None when the node refuses
+it; after one timeout the remaining reads are skipped (the node just went away).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import canopen
+from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
+
+DEVICE_TYPE = 0x1000  # Device type
+DEVICE_NAME = 0x1008  # Manufacturer device name
+PRODUCER_HEARTBEAT = 0x1017  # Producer heartbeat time (ms)
+IDENTITY = 0x1018  # Identity object: 1 vendor-ID, 2 product code, 3 revision, 4 serial number
+
+
+@dataclass(frozen=True)
+class Identity:
+    device_type: int | None = None
+    vendor_id: int | None = None
+    product_code: int | None = None
+    revision: int | None = None
+    serial: int | None = None
+    name: str | None = None
+    heartbeat_ms: int | None = None
+
+    def same_device(self, other: Identity) -> bool:
+        """The same kind of device (vendor and product), e.g. after a reboot."""
+        return (self.vendor_id, self.product_code) == (other.vendor_id, other.product_code)
+
+
+class _OptionalReader:
+    def __init__(self, remote: canopen.RemoteNode) -> None:
+        self._remote = remote
+        self._gone = False
+
+    def raw(self, index: int, subindex: int) -> bytes | None:
+        if self._gone:
+            return None
+        try:
+            return bytes(self._remote.sdo.upload(index, subindex))
+        except SdoAbortedError:
+            return None  # the node does not have this entry
+        except SdoCommunicationError:
+            self._gone = True
+            return None
+
+    def uint(self, index: int, subindex: int) -> int | None:
+        data = self.raw(index, subindex)
+        return int.from_bytes(data, "little") if data else None
+
+    def text(self, index: int, subindex: int) -> str | None:
+        data = self.raw(index, subindex)
+        if data is None:
+            return None
+        # VISIBLE_STRING is ASCII; latin-1 decodes any byte so a sloppy device still shows
+        text = data.decode("latin-1").rstrip("\x00").strip()
+        return text or None
+
+
+def read_identity(remote: canopen.RemoteNode) -> Identity:
+    """Blocking: identify the node behind `remote` (see the module docstring)."""
+    try:
+        device_type: int | None = int.from_bytes(remote.sdo.upload(DEVICE_TYPE, 0), "little")
+    except SdoAbortedError:
+        device_type = None  # it answered: a node is there, it only refuses 1000h
+    read = _OptionalReader(remote)
+    return Identity(
+        device_type=device_type,
+        vendor_id=read.uint(IDENTITY, 1),
+        product_code=read.uint(IDENTITY, 2),
+        revision=read.uint(IDENTITY, 3),
+        serial=read.uint(IDENTITY, 4),
+        name=read.text(DEVICE_NAME, 0),
+        heartbeat_ms=read.uint(PRODUCER_HEARTBEAT, 0),
+    )

@@ -1,0 +1,414 @@
+"""NodeRegistry: which nodes are on the bus, what they are, and how to reach them.
+
+Each known node has an identity (1000h, 1018h, 1008h), a profile (profiles/match.py), an object
+dictionary model (the profile's EDS or the user's upload, kept in memory only) and a session
+bound to the current connection's canopen Network. The registry empties itself when the bus is
+disconnected; after a reconnect (a new Network) it binds every node's session again.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+from typing import Any, ParamSpec
+
+import can
+import canopen
+from canopen.objectdictionary import ObjectDictionary
+
+from servodesk.bus.connection import BusManager
+from servodesk.errors import (
+    BusNotConnectedError,
+    CommTimeoutError,
+    InvalidValueError,
+    NodeNotFoundError,
+    ServodeskError,
+)
+from servodesk.models import (
+    BusState,
+    BusStatus,
+    LiveEvent,
+    NmtCommandName,
+    NodeInfo,
+    ScanResult,
+)
+from servodesk.network.monitor import EventKind, NodeMonitor
+from servodesk.network.nmt import STATE_AFTER, send_broadcast, send_to_node
+from servodesk.network.scan import NODE_IDS, SweepListener, send_sweep
+from servodesk.nodes.entry import NodeEntry, OdSource, live_row
+from servodesk.nodes.identity import DEVICE_TYPE, PRODUCER_HEARTBEAT, Identity, read_identity
+from servodesk.nodes.session import NodeSession
+from servodesk.nodes.tracked import TrackedSession
+from servodesk.od import ObjectDictionaryModel, to_canopen
+from servodesk.profiles import ProfileDictionaries, ProfileMatch, load_known, match
+from servodesk.settings import Settings
+from servodesk_data import DriveData
+
+log = logging.getLogger(__name__)
+
+EventListener = Callable[[LiveEvent], None]
+P = ParamSpec("P")
+MAX_HEARTBEAT_MS = 0xFFFF  # 1017h is UNSIGNED16
+
+
+def _check_id(node: int) -> None:
+    if not NODE_IDS.start <= node < NODE_IDS.stop:
+        raise InvalidValueError(f"node id {node} is outside 1–127")
+
+
+class NodeRegistry:
+    def __init__(self, bus: BusManager, settings: Settings) -> None:
+        self._bus = bus
+        self._settings = settings
+        self._nodes: dict[int, NodeEntry] = {}
+        self._known_profiles = load_known()
+        self._dictionaries = ProfileDictionaries()
+        self._event_listeners: list[EventListener] = []
+        self._monitor = NodeMonitor(settings, self._emit, on_boot=self._on_boot)
+        self._scan_lock = asyncio.Lock()
+        self._node_locks: dict[int, asyncio.Lock] = {}
+        self._background: set[asyncio.Task[None]] = set()
+        self._bus_state: BusState | None = None
+        self._unsubscribe = [
+            bus.add_frame_listener(self._monitor.watch),
+            bus.add_listener(self._on_bus_status),
+        ]
+
+    # ------------------------------------------------------------------ lookups
+
+    def session(self, node: int) -> NodeSession:
+        entry = self._entry(node)
+        network = self._bus.network  # BusNotConnectedError
+        return self._bound(entry, network)
+
+    def od(self, node: int) -> ObjectDictionaryModel:
+        return self._entry(node).model
+
+    def profile(self, node: int) -> ProfileMatch:
+        return self._entry(node).profile
+
+    def profile_data(self, node: int) -> DriveData | None:
+        return self._entry(node).profile.data
+
+    def info(self, node: int) -> NodeInfo:
+        health = self._monitor.health(node)
+        return self._entry(node).info(health, self._monitor.wall_time(health.last_seen))
+
+    def all(self) -> list[NodeInfo]:
+        return [self.info(node) for node in sorted(self._nodes)]
+
+    def live(self) -> list[dict[str, Any]]:
+        """Node states for the WebSocket's 5 Hz "nodes" message."""
+        return [live_row(node, self._monitor.health(node)) for node in sorted(self._nodes)]
+
+    def heard(self) -> list[int]:
+        """Node ids whose boot-up or heartbeat was heard on this connection, scanned or not."""
+        return sorted(self._monitor.heard())
+
+    def add_event_listener(self, fn: EventListener) -> Callable[[], None]:
+        """Call `fn(event)` on the event loop for every LiveEvent; returns its remover."""
+        self._event_listeners.append(fn)
+
+        def remove() -> None:
+            if fn in self._event_listeners:
+                self._event_listeners.remove(fn)
+
+        return remove
+
+    # ------------------------------------------------------------------ adding and scanning
+
+    async def add(self, node: int) -> NodeInfo:
+        """Identify the node (1000h, 1018h, 1008h, 1017h), match its profile, bind a session.
+
+        A node already known keeps an uploaded dictionary while it is the same kind of device.
+        CommTimeoutError when nothing answers at `node`."""
+        _check_id(node)
+        self._monitor.attach_loop()
+        async with self._node_locks.setdefault(node, asyncio.Lock()):
+            identity = await self._identify(node)
+            await self._register(node, identity)
+        return self.info(node)
+
+    async def scan(self, *, sdo_sweep: bool, timeout_ms: int) -> ScanResult:
+        """Known nodes, nodes heard (boot-up/heartbeat) and, with `sdo_sweep`, every id that
+        answers a 1000h read, identified in parallel. Known nodes that no longer answer stay
+        listed with online=false."""
+        started = time.perf_counter()
+        async with self._scan_lock:
+            self._monitor.attach_loop()
+            network = self._bus.network
+            known = set(self._nodes)
+            heard = self._monitor.heard() - known
+            found: set[int] = set()
+            if sdo_sweep:
+                # Known nodes are probed through their own sessions instead: a raw request in
+                # the middle of one of their transfers would break it.
+                unknown = [node for node in NODE_IDS if node not in known]
+                found = await self._sweep(network, unknown, timeout_ms / 1000)
+            targets = sorted(known | heard | found)
+            await asyncio.gather(*(self._scan_one(node, node in heard) for node in targets))
+        duration_ms = round((time.perf_counter() - started) * 1000)
+        return ScanResult(nodes=self.all(), duration_ms=duration_ms)
+
+    async def _scan_one(self, node: int, heard_only: bool) -> None:
+        try:
+            await self.add(node)
+        except CommTimeoutError:
+            if node in self._nodes:
+                self._monitor.absent(node)  # vanished since the last scan: listed offline
+            elif heard_only:
+                # It sends heartbeats but does not answer SDO (e.g. Stopped): list it anyway.
+                async with self._node_locks.setdefault(node, asyncio.Lock()):
+                    await self._register(node, Identity())
+
+    async def _sweep(self, network: canopen.Network, ids: list[int], timeout: float) -> set[int]:
+        listener = SweepListener(ids)
+        remove = self._bus.add_frame_listener(listener)
+        try:
+            await self._send(send_sweep, network, ids)
+            await asyncio.sleep(timeout)
+        finally:
+            remove()
+        return set(listener.found)
+
+    async def _identify(self, node: int) -> Identity:
+        what = f"identify node {node} (read {DEVICE_TYPE:04X}h)"
+        if node in self._nodes:
+            return await self.session(node).run(read_identity, what=what, index=DEVICE_TYPE)
+        # Not known yet: a throw-away session with an empty dictionary (raw SDO is enough).
+        network = self._bus.network
+        remote = canopen.RemoteNode(node, ObjectDictionary())  # type: ignore[no-untyped-call]
+        network.add_node(remote)
+        probe = self._new_session(remote)
+        try:
+            return await probe.run(read_identity, what=what, index=DEVICE_TYPE)
+        finally:
+            probe.close()
+            if network.nodes.get(node) is remote:
+                del network[node]
+
+    async def _register(self, node: int, identity: Identity) -> None:
+        profile = match(
+            identity.device_type,
+            identity.vendor_id,
+            identity.product_code,
+            known=self._known_profiles,
+        )
+        existing = self._nodes.get(node)
+        keeps_upload = (
+            existing is not None
+            and existing.od_source == "upload"
+            and existing.identity.same_device(identity)
+        )
+        if existing is not None and (keeps_upload or existing.profile.name == profile.name):
+            existing.identity = identity
+            existing.profile = profile
+        else:
+            model = await asyncio.to_thread(self._dictionaries.model, profile, node)
+            entry = NodeEntry(
+                node=node,
+                identity=identity,
+                profile=profile,
+                model=model,
+                od_source="profile",
+                od_filename=self._dictionaries.filename(profile),
+                canopen_od=to_canopen(model, node),
+            )
+            self._nodes[node] = entry
+            if existing is not None:
+                existing.unbind()
+        self._monitor.track(node, identity.heartbeat_ms)
+        self._bind_if_connected(self._nodes[node])
+
+    # ------------------------------------------------------------------ NMT and heartbeat
+
+    async def nmt(self, node: int, command: NmtCommandName) -> NodeInfo:
+        remote = self.session(node).remote
+        sent_at = self._monitor.now()  # before sending: a boot-up answering a reset is newer
+        await self._send(send_to_node, remote, command)
+        self._monitor.commanded(node, STATE_AFTER[command], at=sent_at)
+        self._event("nmt", node, f"NMT {command.value} sent to node {node}")
+        return self.info(node)
+
+    async def nmt_broadcast(self, command: NmtCommandName) -> None:
+        network = self._bus.network
+        sent_at = self._monitor.now()
+        await self._send(send_broadcast, network, command)
+        for node in self._nodes:
+            self._monitor.commanded(node, STATE_AFTER[command], at=sent_at)
+        self._event("nmt", None, f"NMT {command.value} sent to all nodes")
+
+    async def heartbeat(self, node: int) -> int:
+        """Read 1017h Producer heartbeat time (ms)."""
+        raw = await self.session(node).upload(PRODUCER_HEARTBEAT, 0)
+        ms = int.from_bytes(raw[:2], "little")
+        self._heartbeat_known(node, ms)
+        return ms
+
+    async def set_heartbeat(self, node: int, ms: int) -> int:
+        """Write 1017h and return the value read back."""
+        if not 0 <= ms <= MAX_HEARTBEAT_MS:
+            raise InvalidValueError(f"heartbeat time {ms} ms is outside 0–{MAX_HEARTBEAT_MS} ms")
+        await self.session(node).download(PRODUCER_HEARTBEAT, 0, ms.to_bytes(2, "little"))
+        return await self.heartbeat(node)
+
+    async def wait_boot(self, node: int, timeout: float) -> bool:
+        return await self._monitor.wait_boot(node, timeout)
+
+    # ------------------------------------------------------------------ dictionaries, node ids
+
+    def set_od(self, node: int, model: ObjectDictionaryModel, source: OdSource) -> NodeInfo:
+        """Use `model` as the node's dictionary (a new session is bound with it)."""
+        entry = self._entry(node)
+        entry.model = model
+        entry.od_source = source
+        entry.od_filename = (
+            Path(model.source).name
+            if source == "upload"
+            else self._dictionaries.filename(entry.profile)
+        )
+        entry.canopen_od = to_canopen(model, node)
+        entry.unbind()
+        self._bind_if_connected(entry)
+        return self.info(node)
+
+    def reset_od(self, node: int) -> NodeInfo:
+        """Back to the profile's dictionary."""
+        entry = self._entry(node)
+        return self.set_od(node, self._dictionaries.model(entry.profile, node), "profile")
+
+    async def move(self, old: int, new: int) -> NodeInfo:
+        """The node formerly at `old` answers at `new` now (its node id was changed).
+
+        An uploaded dictionary moves with it (to_canopen resolves its node-relative entries
+        for `new`); a node registered at `new` before is replaced."""
+        _check_id(new)
+        entry = self._entry(old)
+        if new == old:
+            return self.info(old)
+        if entry.od_source == "profile":
+            model = await asyncio.to_thread(self._dictionaries.model, entry.profile, new)
+        else:
+            model = entry.model
+        for stale in (self._nodes.pop(new, None), self._nodes.pop(old)):
+            if stale is not None:
+                stale.unbind()
+        self._monitor.untrack(new)
+        self._monitor.untrack(old)
+        moved = replace(
+            entry,
+            node=new,
+            model=model,
+            canopen_od=to_canopen(model, new),
+            session=None,
+            network=None,
+        )
+        self._nodes[new] = moved
+        self._monitor.track(new, entry.identity.heartbeat_ms)
+        self._bind_if_connected(moved)
+        return self.info(new)
+
+    # ------------------------------------------------------------------ lifecycle
+
+    async def close(self) -> None:
+        """Stop the monitor and close every session (app shutdown)."""
+        for unsubscribe in self._unsubscribe:
+            unsubscribe()
+        self._unsubscribe = []
+        await self._monitor.stop()
+        self._clear()
+
+    def _clear(self) -> None:
+        for task in self._background:
+            task.cancel()
+        for entry in self._nodes.values():
+            entry.unbind()
+        self._nodes.clear()
+        self._monitor.forget()
+
+    def _on_bus_status(self, status: BusStatus) -> None:
+        previous, self._bus_state = self._bus_state, status.state
+        if status.state is BusState.DISCONNECTED:
+            self._clear()
+            self._monitor.stop_soon()
+        elif status.state is BusState.CONNECTED:
+            self._monitor.start()
+            network = self._bus.network
+            for entry in self._nodes.values():
+                if entry.network is not network:
+                    self._bound(entry, network)  # a new connection: new sessions
+        if status.state is previous or status.state is BusState.CONNECTING:
+            return
+        if status.state is BusState.CONNECTED:
+            where = " ".join(str(part) for part in (status.interface, status.channel) if part)
+            self._event("bus", None, f"bus connected ({where})")
+        elif status.state is BusState.ERROR:
+            self._event("bus", None, f"bus error: {status.error}")
+        elif previous is not None:
+            self._event("bus", None, "bus disconnected")
+
+    def _on_boot(self, node: int) -> None:
+        """A known node booted: its 1017h may be back at the stored value, read it again."""
+        task = asyncio.get_running_loop().create_task(self._refresh_heartbeat(node))
+        self._background.add(task)
+        task.add_done_callback(self._background.discard)
+
+    async def _refresh_heartbeat(self, node: int) -> None:
+        try:
+            await self.heartbeat(node)
+        except ServodeskError as error:
+            log.info("node %d booted, but 1017h could not be read: %s", node, error)
+
+    # ------------------------------------------------------------------ helpers
+
+    def _entry(self, node: int) -> NodeEntry:
+        entry = self._nodes.get(node)
+        if entry is None:
+            raise NodeNotFoundError(node)
+        return entry
+
+    def _new_session(self, remote: canopen.RemoteNode) -> TrackedSession:
+        return TrackedSession(
+            remote,
+            sdo_timeout=self._settings.sdo_timeout,
+            on_outcome=self._monitor.sdo_outcome,
+            on_heartbeat_written=self._heartbeat_known,
+        )
+
+    def _bound(self, entry: NodeEntry, network: canopen.Network) -> TrackedSession:
+        return entry.bound(network, self._new_session)
+
+    def _bind_if_connected(self, entry: NodeEntry) -> None:
+        try:
+            network = self._bus.network
+        except BusNotConnectedError:
+            return  # bound on first use after the bus is back
+        self._bound(entry, network)
+
+    def _heartbeat_known(self, node: int, ms: int) -> None:
+        entry = self._nodes.get(node)
+        if entry is not None:
+            entry.identity = replace(entry.identity, heartbeat_ms=ms)
+        self._monitor.heartbeat_known(node, ms)
+
+    async def _send(self, fn: Callable[P, None], *args: P.args, **kwargs: P.kwargs) -> None:
+        """Run a blocking send off the loop; a failing adapter becomes BusNotConnectedError."""
+        try:
+            await asyncio.to_thread(fn, *args, **kwargs)
+        except can.CanError as error:
+            raise BusNotConnectedError(f"the CAN adapter refused to send: {error}") from error
+
+    def _event(self, kind: EventKind, node: int | None, message: str) -> None:
+        self._emit(LiveEvent(time=time.time(), node=node, kind=kind, message=message))
+
+    def _emit(self, event: LiveEvent) -> None:
+        for fn in list(self._event_listeners):
+            try:
+                fn(event)
+            except Exception:
+                # One broken listener must not keep the event from the others.
+                log.exception("event listener failed")

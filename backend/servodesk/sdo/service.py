@@ -1,0 +1,104 @@
+"""Typed SDO read and write of single entries (GET/PUT /api/nodes/{node}/sdo/{index}/{sub}).
+
+Values are decoded and checked with the node's object dictionary; input that cannot be written
+is refused before a frame is sent. SDO aborts arrive as SdoAbortError from the node session.
+"""
+
+from __future__ import annotations
+
+from servodesk.errors import InvalidValueError, SdoAbortError
+from servodesk.models import SdoValue
+from servodesk.nodes.access import NodeAccess
+from servodesk.od import ObjectDictionaryModel
+from servodesk.od import datatypes as dt
+from servodesk.sdo import codec
+
+WRITE_ONLY = 0x06010001  # SDO abort: attempt to read a write-only object
+
+
+def where(index: int, subindex: int) -> str:
+    return f"{index:04X}h:{subindex:02X}h"
+
+
+def sdo_value(
+    node: int, model: ObjectDictionaryModel, index: int, subindex: int, data: bytes
+) -> SdoValue:
+    """The API view of bytes uploaded from (or downloaded to) one entry."""
+    sub = model.get(index, subindex)
+    if sub is None:
+        unknown = codec.decode_unknown(data)
+        return SdoValue(
+            node=node,
+            index=index,
+            subindex=subindex,
+            value=codec.api_value(unknown),
+            raw_hex=codec.hex_bytes(data),
+            text=codec.display_text(None, unknown, size=len(data)),
+        )
+    value = codec.decode(sub, data)
+    return SdoValue(
+        node=node,
+        index=index,
+        subindex=subindex,
+        name=codec.entry_name(model, sub),
+        data_type_name=dt.type_name(sub.data_type),
+        value=codec.api_value(value),
+        raw_hex=codec.hex_bytes(data),
+        text=codec.display_text(sub, value, size=len(data)),
+    )
+
+
+class SdoService:
+    def __init__(self, access: NodeAccess) -> None:
+        self._access = access
+
+    async def read(self, node: int, index: int, subindex: int) -> SdoValue:
+        session = self._access.session(node)
+        data = await session.upload(index, subindex)
+        return sdo_value(node, self._access.od(node), index, subindex, data)
+
+    async def write(
+        self,
+        node: int,
+        index: int,
+        subindex: int,
+        value: int | float | str,
+        size: int | None = None,
+    ) -> SdoValue:
+        """Check and encode `value`, download it, and return the entry as read back.
+
+        An entry unknown to the dictionary takes raw hex bytes ("E8 03 00 00") or an integer
+        with `size` 1, 2 or 4; `size` is ignored for known entries (their type decides).
+        """
+        session = self._access.session(node)
+        model = self._access.od(node)
+        data = self.encode(model, index, subindex, value, size)
+        await session.download(index, subindex, data)
+        sub = model.get(index, subindex)
+        if sub is not None and sub.access == "wo":
+            return sdo_value(node, model, index, subindex, data)
+        try:
+            return await self.read(node, index, subindex)
+        except SdoAbortError as abort:
+            if sub is None and abort.code == WRITE_ONLY:
+                return sdo_value(node, model, index, subindex, data)
+            raise
+
+    @staticmethod
+    def encode(
+        model: ObjectDictionaryModel,
+        index: int,
+        subindex: int,
+        value: int | float | str,
+        size: int | None = None,
+    ) -> bytes:
+        """The bytes to download for `value`; InvalidValueError if it cannot be written."""
+        place = where(index, subindex)
+        sub = model.get(index, subindex)
+        if sub is None:
+            return codec.coerce_unknown(value, size, place)
+        typed = codec.coerce(sub, value, place)
+        try:
+            return codec.encode(sub, typed)
+        except (ValueError, UnicodeEncodeError) as error:
+            raise InvalidValueError(f"{place}: {error}") from None

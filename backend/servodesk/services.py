@@ -1,0 +1,55 @@
+"""The services of one running app, built together and owned by the app's lifespan (no global
+singletons for live state: tests build as many independent apps as they like)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from servodesk.bus.connection import BusFactory, BusManager
+from servodesk.live import LiveHub
+from servodesk.network.sync import SyncService
+from servodesk.nodes.registry import NodeRegistry
+from servodesk.params.node_id import NodeIdService
+from servodesk.params.paramsets import ParamSetService
+from servodesk.params.service import ParamService
+from servodesk.sdo.jobs import JobManager
+from servodesk.sdo.service import SdoService
+from servodesk.settings import Settings
+
+
+@dataclass
+class Services:
+    settings: Settings
+    bus: BusManager
+    registry: NodeRegistry
+    sync: SyncService
+    sdo: SdoService
+    jobs: JobManager
+    params: ParamService
+    node_ids: NodeIdService
+    paramsets: ParamSetService
+    live: LiveHub
+
+    async def close(self) -> None:
+        await self.live.close()
+        await self.jobs.close()
+        self.sync.close()
+        await self.registry.close()
+        await self.bus.close()
+
+
+def build_services(settings: Settings, *, bus_factory: BusFactory | None = None) -> Services:
+    bus = BusManager(settings, bus_factory=bus_factory)
+    registry = NodeRegistry(bus, settings)
+    return Services(
+        settings=settings,
+        bus=bus,
+        registry=registry,
+        sync=SyncService(bus),
+        sdo=SdoService(registry),
+        jobs=JobManager(registry),
+        params=ParamService(registry),
+        node_ids=NodeIdService(registry, settings),
+        paramsets=ParamSetService(registry),
+        live=LiveHub(bus, registry),
+    )
