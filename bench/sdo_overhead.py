@@ -8,6 +8,11 @@ canopen.Network joins the same virtual bus, so both paths talk to the same drive
 - upload all: entries per second of the app's "upload all" job on node 3 (the CiA 402 drive,
   the largest dictionary) against a raw canopen loop uploading the same readable entries.
 
+The HTTP client runs in its own process, as a browser or script does (in the app's process it
+would compete with the server for the interpreter lock), and speaks plain keep-alive HTTP/1.1
+over one socket: a Python HTTP library spends ~0.6 ms per request by itself, which is the
+client's cost, not the API's. Raw and API phases alternate so machine noise hits both alike.
+
 Targets (issue: backend core): the API read adds <= 1 ms median; "upload all" reaches >= 0.9x
 the raw loop's rate. Run: `make bench` or `.venv/bin/python bench/sdo_overhead.py`.
 """
@@ -15,15 +20,17 @@ the raw loop's rate. Run: `make bench` or `.venv/bin/python bench/sdo_overhead.p
 from __future__ import annotations
 
 import argparse
+import json
 import socket
 import statistics
+import subprocess
+import sys
 import threading
 import time
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 
 import canopen
-import httpx
 import uvicorn
 from fastapi import FastAPI
 
@@ -31,6 +38,45 @@ import servodesk_data
 from servodesk.app import create_app
 from servodesk.services import Services
 from servodesk.settings import Settings
+
+# The client process: plain HTTP/1.1 keep-alive on one socket; prints its results as JSON.
+CLIENT = r"""
+import json, socket, sys, time
+port, mode, arg = int(sys.argv[1]), sys.argv[2], sys.argv[3]
+sock = socket.create_connection(("127.0.0.1", port))
+sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+
+def request(method, path):
+    head = f"{method} {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\n\r\n"
+    sock.sendall(head.encode())
+    buf = b""
+    while b"\r\n\r\n" not in buf:
+        buf += sock.recv(65536)
+    head, body = buf.split(b"\r\n\r\n", 1)
+    length = next(int(line.split(b":")[1]) for line in head.split(b"\r\n")
+                  if line.lower().startswith(b"content-length"))
+    while len(body) < length:
+        body += sock.recv(65536)
+    if not head.startswith(b"HTTP/1.1 200"):
+        raise SystemExit(head.decode(errors="replace"))
+    return json.loads(body)
+
+if mode == "reads":
+    for _ in range(20):
+        request("GET", "/api/nodes/1/sdo/2006/08")
+    times = []
+    for _ in range(int(arg)):
+        start = time.perf_counter()
+        request("GET", "/api/nodes/1/sdo/2006/08")
+        times.append(time.perf_counter() - start)
+    print(json.dumps(times))
+else:
+    job = request("POST", f"/api/nodes/{arg}/upload-all")
+    while job["state"] == "running":
+        time.sleep(0.01)  # as the browser does, asking only for results it has not seen
+        job = request("GET", f"/api/jobs/{job['id']}?since={job['done']}")
+    print(json.dumps({"seconds": job["elapsed_s"], "done": job["done"], "state": job["state"]}))
+"""
 
 
 def free_port() -> int:
@@ -41,7 +87,7 @@ def free_port() -> int:
 
 
 @contextmanager
-def running_app() -> Iterator[tuple[str, FastAPI]]:
+def running_app() -> Iterator[tuple[int, FastAPI]]:
     port = free_port()
     app = create_app(Settings(simulated=True, port=port), static_dir=None)
     server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="error"))
@@ -50,57 +96,33 @@ def running_app() -> Iterator[tuple[str, FastAPI]]:
     while not server.started:
         time.sleep(0.02)
     try:
-        yield f"http://127.0.0.1:{port}", app
+        yield port, app
     finally:
         server.should_exit = True
         thread.join(10)
+
+
+def client(port: int, mode: str, arg: str) -> object:
+    out = subprocess.run(
+        [sys.executable, "-c", CLIENT, str(port), mode, arg],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    return json.loads(out)
 
 
 def median_ms(samples: list[float]) -> float:
     return statistics.median(samples) * 1e3
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--reads", type=int, default=300)
-    args = parser.parse_args()
-    with running_app() as (url, app):
-        services: Services = app.state.services
-        sim = services.bus.sim
-        if sim is None:
-            raise SystemExit("the app did not start its simulated drives")
-        network = canopen.Network()
-        network.connect(interface="virtual", channel=sim.bus.channel_info.split()[-1])
-        try:
-            raw1 = network.add_node(1, str(servodesk_data.eds_path("mdi-s1c")))
-            raw3 = network.add_node(3, str(servodesk_data.eds_path("cia402")))
-            with httpx.Client(base_url=url, timeout=10) as client:
-                report_read(client, raw1, args.reads)
-                report_upload_all(client, raw3)
-        finally:
-            network.disconnect()
-    return 0
-
-
-def report_read(client: httpx.Client, raw: canopen.RemoteNode, count: int) -> None:
-    for _ in range(20):  # warm up both paths
-        client.get("/api/nodes/1/sdo/2006/08").raise_for_status()
-        raw.sdo.upload(0x2006, 8)
-    api: list[float] = []
-    direct: list[float] = []
-    for _ in range(count):  # interleaved, so machine noise hits both alike
-        start = time.perf_counter()
-        client.get("/api/nodes/1/sdo/2006/08").raise_for_status()
-        api.append(time.perf_counter() - start)
+def raw_reads(raw: canopen.RemoteNode, count: int) -> list[float]:
+    times: list[float] = []
+    for _ in range(count):
         start = time.perf_counter()
         raw.sdo.upload(0x2006, 8)
-        direct.append(time.perf_counter() - start)
-    added = median_ms(api) - median_ms(direct)
-    print(
-        f"read 2006h:08 x{count}: API median {median_ms(api):.3f} ms, "
-        f"raw canopen median {median_ms(direct):.3f} ms"
-    )
-    print(f"API adds {added:.3f} ms median (target <= 1 ms: {added / 1.0:.2f}x of budget)")
+        times.append(time.perf_counter() - start)
+    return times
 
 
 def readable_entries(raw: canopen.RemoteNode) -> list[tuple[int, int]]:
@@ -112,27 +134,59 @@ def readable_entries(raw: canopen.RemoteNode) -> list[tuple[int, int]]:
     return entries
 
 
-def report_upload_all(client: httpx.Client, raw: canopen.RemoteNode) -> None:
-    entries = readable_entries(raw)
+def raw_upload_all(raw: canopen.RemoteNode, entries: list[tuple[int, int]]) -> float:
     start = time.perf_counter()
     for index, sub in entries:
-        try:
+        with suppress(canopen.SdoAbortedError):
             raw.sdo.upload(index, sub)
-        except canopen.SdoAbortedError:
-            pass
-    raw_rate = len(entries) / (time.perf_counter() - start)
-    start = time.perf_counter()
-    job = client.post("/api/nodes/3/upload-all").raise_for_status().json()
-    while job["state"] == "running":
-        time.sleep(0.005)
-        job = client.get(f"/api/jobs/{job['id']}").raise_for_status().json()
-    elapsed = time.perf_counter() - start
-    api_rate = job["done"] / elapsed
+    return len(entries) / (time.perf_counter() - start)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--reads", type=int, default=300)
+    parser.add_argument("--rounds", type=int, default=3)
+    args = parser.parse_args()
+    with running_app() as (port, app):
+        services: Services = app.state.services
+        sim = services.bus.sim
+        if sim is None:
+            raise SystemExit("the app did not start its simulated drives")
+        network = canopen.Network()
+        network.connect(interface="virtual", channel=services.bus.status().channel)
+        try:
+            raw1 = network.add_node(1, str(servodesk_data.eds_path("mdi-s1c")))
+            raw3 = network.add_node(3, str(servodesk_data.eds_path("cia402")))
+            raw_reads(raw1, 20)
+            api: list[float] = []
+            direct: list[float] = []
+            raw_rates: list[float] = []
+            api_rates: list[float] = []
+            entries = readable_entries(raw3)
+            for _ in range(args.rounds):
+                direct += raw_reads(raw1, args.reads)
+                times = client(port, "reads", str(args.reads))
+                api += times if isinstance(times, list) else []
+                raw_rates.append(raw_upload_all(raw3, entries))
+                job = client(port, "upload-all", "3")
+                if not isinstance(job, dict) or job["state"] != "done":
+                    raise SystemExit(f"upload-all did not finish: {job}")
+                api_rates.append(job["done"] / job["seconds"])
+        finally:
+            network.disconnect()
+    added = median_ms(api) - median_ms(direct)
     print(
-        f"upload all node 3: raw loop {len(entries)} entries at {raw_rate:.0f}/s, "
-        f"API job {job['done']} entries at {api_rate:.0f}/s ({job['state']})"
+        f"read 2006h:08, {len(api)} each: API median {median_ms(api):.3f} ms, "
+        f"raw canopen median {median_ms(direct):.3f} ms"
+    )
+    print(f"API adds {added:.3f} ms median (target <= 1 ms: {added:.2f}x of the budget)")
+    raw_rate, api_rate = statistics.median(raw_rates), statistics.median(api_rates)
+    print(
+        f"upload all node 3 ({len(entries)} entries), median of {args.rounds}: "
+        f"raw loop {raw_rate:.0f}/s, API job {api_rate:.0f}/s"
     )
     print(f"upload all rate ratio API/raw: {api_rate / raw_rate:.2f} (target >= 0.90)")
+    return 0
 
 
 if __name__ == "__main__":

@@ -198,6 +198,8 @@ class Job(BaseModel):
     done: int
     total: int
     error: str | None = None
+    elapsed_s: float = 0.0  # from start to now, or to the end once finished
+    results_from: int = 0  # position of results[0] among all results (GET ?since=N)
     results: list[JobResult]
 
 

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from fastapi import APIRouter
+from typing import Annotated
+
+from fastapi import APIRouter, Query
 
 from servodesk.api.deps import NodeId, ServicesDep, parse_hex
 from servodesk.api.errors import NODE_ERRORS
@@ -39,8 +41,12 @@ async def upload_all(node: NodeId, services: ServicesDep) -> Job:
 
 
 @router.get("/jobs/{job_id}")
-async def get_job(job_id: str, services: ServicesDep) -> Job:
-    return services.jobs.get(job_id)
+async def get_job(
+    job_id: str,
+    services: ServicesDep,
+    since: Annotated[int, Query(ge=0, description="only results from this position on")] = 0,
+) -> Job:
+    return services.jobs.get(job_id, since)
 
 
 @router.delete("/jobs/{job_id}")

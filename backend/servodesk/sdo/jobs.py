@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import threading
+import time
 import uuid
 from dataclasses import dataclass, field
 from typing import Literal
@@ -56,21 +57,28 @@ class _JobRecord:
     results: list[JobResult] = field(default_factory=list)
     stop: threading.Event = field(default_factory=threading.Event)
     task: asyncio.Task[None] | None = None
+    started: float = field(default_factory=time.monotonic)
+    finished: float | None = None
 
-    def snapshot(self) -> Job:
-        """The job as the API shows it; converts the reads that arrived since the last look."""
+    def snapshot(self, since: int = 0) -> Job:
+        """The job as the API shows it, with the results from position `since` on (a poller
+        asks only for what it has not seen). Converts the reads that arrived since the last
+        look."""
         for read in self.reads[len(self.results) :]:
             self.results.append(job_result(self.model, read))
-        results = list(self.results)
+        since = max(0, min(since, len(self.results)))
+        end = self.finished if self.finished is not None else time.monotonic()
         return Job.model_construct(
             id=self.id,
             kind="upload-all",
             node=self.node,
             state=self.state,
-            done=len(results),
+            done=len(self.results),
             total=self.total,
             error=self.error,
-            results=results,
+            elapsed_s=round(end - self.started, 6),
+            results_from=since,
+            results=self.results[since:],
         )
 
 
@@ -128,8 +136,8 @@ class JobManager:
         self._forget_old()
         return record.snapshot()
 
-    def get(self, job_id: str) -> Job:
-        return self._record(job_id).snapshot()
+    def get(self, job_id: str, since: int = 0) -> Job:
+        return self._record(job_id).snapshot(since)
 
     async def cancel(self, job_id: str) -> Job:
         """Stop the job after the entry in progress and return it in its final state."""
@@ -160,6 +168,12 @@ class JobManager:
             del self._jobs[job_id]
 
     async def _run(self, record: _JobRecord, session: NodeSession, subs: list[OdSub]) -> None:
+        try:
+            await self._read(record, session, subs)
+        finally:
+            record.finished = time.monotonic()
+
+    async def _read(self, record: _JobRecord, session: NodeSession, subs: list[OdSub]) -> None:
         try:
             outcome = await read_entries(
                 session, subs, as_entry_read, record.reads, stop=record.stop
