@@ -206,7 +206,7 @@ def test_stop_event_and_time_budget_end_a_chunk() -> None:
 
 async def test_job_fails_when_the_node_session_closes(nodes: SimNodes) -> None:
     requests = RequestCounter(nodes, 3)
-    jobs = JobManager(nodes)
+    jobs = JobManager(nodes, chunk_budget=0.005)  # several chunks: the close lands between two
     job_id = jobs.start_upload_all(3).id
     await requests.reach(20)
     requests.remove()

@@ -100,10 +100,11 @@ class BusManager:
         async with self._lock:
             self._loop = asyncio.get_running_loop()
             await self._shutdown()
-            simulated = config.simulated or self._settings.simulated
-            self._config = config.model_copy(update={"simulated": simulated})
+            # The configuration asked for is the one used: `--sim` only chooses what the app
+            # connects at start-up, the user may switch to a real adapter afterwards.
+            self._config = config
             self._counters = BusCounters()
-            await self._open_and_report(start_sim=simulated, reconnecting=False)
+            await self._open_and_report(start_sim=config.simulated, reconnecting=False)
             return self.status()
 
     async def disconnect(self) -> BusStatus:

@@ -22,7 +22,7 @@ from servodesk.nodes.access import NodeAccess
 from servodesk.nodes.session import NodeSession
 from servodesk.od import ObjectDictionaryModel, OdSub
 from servodesk.sdo import codec
-from servodesk.sdo.bulk import BulkOutcome, EntryRead, as_entry_read, read_entries
+from servodesk.sdo.bulk import CHUNK_SECONDS, BulkOutcome, EntryRead, as_entry_read, read_entries
 from servodesk.sdo_aborts import abort_meaning
 
 log = logging.getLogger(__name__)
@@ -115,9 +115,16 @@ def readable_entries(model: ObjectDictionaryModel) -> list[OdSub]:
 
 
 class JobManager:
-    def __init__(self, access: NodeAccess, *, keep_finished: int = KEEP_FINISHED) -> None:
+    def __init__(
+        self,
+        access: NodeAccess,
+        *,
+        keep_finished: int = KEEP_FINISHED,
+        chunk_budget: float = CHUNK_SECONDS,
+    ) -> None:
         self._access = access
         self._keep = keep_finished
+        self._budget = chunk_budget
         self._jobs: dict[str, _JobRecord] = {}
 
     def start_upload_all(self, node: int) -> Job:
@@ -176,7 +183,7 @@ class JobManager:
     async def _read(self, record: _JobRecord, session: NodeSession, subs: list[OdSub]) -> None:
         try:
             outcome = await read_entries(
-                session, subs, as_entry_read, record.reads, stop=record.stop
+                session, subs, as_entry_read, record.reads, stop=record.stop, budget=self._budget
             )
         except asyncio.CancelledError:
             task = asyncio.current_task()
