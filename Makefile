@@ -4,8 +4,15 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+NPM_STAMP := node_modules/.installed
+STATIC := backend/servodesk/static/index.html
+FRONTEND_SOURCES := $(shell find frontend -type f -not -path '*/node_modules/*' 2>/dev/null) package.json
+CHROMIUM := /usr/bin/chromium
+# root installs Debian packages directly; anyone else through sudo
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: run test install lint typecheck pytest bench clean sim
+.PHONY: run test install lint typecheck pytest frontend frontend-check api-check \
+	system-deps bench sim clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -13,27 +20,55 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e '.[dev]'
 	touch $(STAMP)
 
-install: $(STAMP)
+$(NPM_STAMP): package.json package-lock.json
+	npm ci --no-audit --no-fund --loglevel=error
+	touch $(NPM_STAMP)
 
-run: install
+$(STATIC): $(NPM_STAMP) $(FRONTEND_SOURCES)
+	npm run build
+
+install: $(STAMP) $(NPM_STAMP)
+
+frontend: install $(STATIC)
+
+# Debian's Chromium drives the end-to-end tests (Playwright never downloads a browser here).
+system-deps:
+	@test -x $(CHROMIUM) || { $(SUDO) apt-get update -qq && \
+		$(SUDO) apt-get install -y -qq --no-install-recommends chromium fonts-liberation; }
+
+run: frontend
+	$(BIN)/servodesk serve --sim --bind 127.0.0.1 --port 8000
+
+sim: install
 	$(BIN)/servodesk-sim --node 1:mdi-s1c --node 2:kinco --node 3:cia402 --serve 127.0.0.1:29536
-
-sim: run
 
 lint: install
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
+	npm run --silent lint
 
 typecheck: install
 	$(BIN)/mypy
+	npm run --silent typecheck
 
-pytest: install
+# The TypeScript client is generated from the backend's OpenAPI schema and must match it.
+api-check: install
+	$(BIN)/python -m servodesk.openapi > frontend/openapi.json
+	npm run --silent gen:api
+	git diff --exit-code -- frontend/openapi.json frontend/src/api/schema.d.ts || \
+		{ echo "frontend/openapi.json or schema.d.ts is stale: commit the regenerated files"; exit 1; }
+
+frontend-check: install
+	npm run --silent test
+
+pytest: install system-deps $(STATIC)
 	$(BIN)/pytest
 
-test: lint typecheck pytest
+test: lint typecheck api-check frontend-check pytest
 
 bench: install
 	$(BIN)/python bench/sim_realtime.py
+	$(BIN)/python bench/sdo_overhead.py
 
 clean:
-	rm -rf $(VENV) .mypy_cache .pytest_cache .ruff_cache
+	rm -rf $(VENV) node_modules backend/servodesk/static .mypy_cache .pytest_cache .ruff_cache

@@ -1,0 +1,40 @@
+import { useEffect, useState, type ReactNode } from "react";
+
+import { LiveConnection, liveUrl } from "./connection";
+import { LiveStoreContext } from "./context";
+import { refreshNodes } from "./nodes";
+import { LiveStore } from "./store";
+
+interface Props {
+  children: ReactNode;
+  /** Tests pass a prepared store and no connection. */
+  store?: LiveStore;
+  connect?: boolean;
+}
+
+export function LiveProvider({ children, store: given, connect = true }: Props): ReactNode {
+  const [store] = useState(() => given ?? new LiveStore());
+
+  useEffect(() => {
+    if (!connect) return undefined;
+    const connection = new LiveConnection(store, { url: liveUrl(window.location) });
+    connection.start();
+    return () => connection.stop();
+  }, [store, connect]);
+
+  useEffect(() => {
+    if (!connect) return undefined;
+    void refreshNodes(store);
+    // A node that appears, disappears or moves (node-id change, scan) changes the id set the
+    // WebSocket reports: fetch the details then, not on every 5 Hz update.
+    let ids = store.getSnapshot().liveIds;
+    return store.subscribe(() => {
+      const next = store.getSnapshot().liveIds;
+      if (next === ids) return;
+      ids = next;
+      void refreshNodes(store);
+    });
+  }, [store, connect]);
+
+  return <LiveStoreContext value={store}>{children}</LiveStoreContext>;
+}

@@ -1,0 +1,131 @@
+// The live store: bus status, node states and recent events from the WebSocket, plus the node
+// list from REST. It lives outside React state; components read slices of it through
+// useSyncExternalStore, so a 5 Hz node update re-renders only what shows node states.
+import type { BusStatus, NodeInfo } from "../api/types";
+import type { LiveEvent, LiveNode, ServerMessage } from "./messages";
+
+export const EVENT_LIMIT = 200;
+
+export type LinkState = "connecting" | "open" | "closed";
+
+export interface LinkStatus {
+  state: LinkState;
+  /** Failed attempts since the last successful connection. */
+  attempt: number;
+  /** Epoch ms of the next reconnect attempt while closed, else null. */
+  retryAt: number | null;
+}
+
+export interface LiveSnapshot {
+  link: LinkStatus;
+  bus: BusStatus | null;
+  /** Live state per node id; an entry keeps its identity while its fields do not change. */
+  nodes: Readonly<Record<number, LiveNode>>;
+  /** Sorted ids of the nodes the WebSocket reports; same array while the set is unchanged. */
+  liveIds: readonly number[];
+  /** Node details from GET /api/nodes (name, identity, profile). */
+  infos: readonly NodeInfo[];
+  /** Why the last GET /api/nodes failed, if it did. */
+  infosError: string | null;
+  /** Oldest first, at most EVENT_LIMIT. */
+  events: readonly LiveEvent[];
+}
+
+type Listener = () => void;
+
+const INITIAL: LiveSnapshot = {
+  link: { state: "connecting", attempt: 0, retryAt: null },
+  bus: null,
+  nodes: {},
+  liveIds: [],
+  infos: [],
+  infosError: null,
+  events: [],
+};
+
+function sameNode(a: LiveNode, b: LiveNode): boolean {
+  return (
+    a.nmt_state === b.nmt_state &&
+    a.online === b.online &&
+    a.heartbeat_age_ms === b.heartbeat_age_ms
+  );
+}
+
+function sameIds(a: readonly number[], b: readonly number[]): boolean {
+  return a.length === b.length && a.every((id, i) => id === b[i]);
+}
+
+export class LiveStore {
+  private snapshot: LiveSnapshot = INITIAL;
+  private readonly listeners = new Set<Listener>();
+
+  // Arrow functions: React calls these detached from the instance.
+  subscribe = (listener: Listener): (() => void) => {
+    this.listeners.add(listener);
+    return () => this.listeners.delete(listener);
+  };
+
+  getSnapshot = (): LiveSnapshot => this.snapshot;
+
+  apply(message: ServerMessage): void {
+    switch (message.type) {
+      case "bus":
+        this.update({ bus: message.bus });
+        return;
+      case "nodes":
+        this.applyNodes(message.nodes);
+        return;
+      case "event":
+        this.update({ events: [...this.snapshot.events, message.event].slice(-EVENT_LIMIT) });
+        return;
+      case "pong":
+        return;
+    }
+  }
+
+  setLink(link: LinkStatus): void {
+    const old = this.snapshot.link;
+    if (old.state === link.state && old.attempt === link.attempt && old.retryAt === link.retryAt) {
+      return;
+    }
+    this.update({ link });
+  }
+
+  setInfos(infos: readonly NodeInfo[]): void {
+    this.update({ infos: [...infos].sort((a, b) => a.node - b.node), infosError: null });
+  }
+
+  setInfosError(message: string): void {
+    this.update({ infosError: message });
+  }
+
+  /** Merge one node's details (after NMT, EDS import, node-id change) without a refetch. */
+  upsertInfo(info: NodeInfo): void {
+    const rest = this.snapshot.infos.filter((i) => i.node !== info.node);
+    this.setInfos([...rest, info]);
+  }
+
+  private applyNodes(incoming: readonly LiveNode[]): void {
+    const previous = this.snapshot.nodes;
+    const nodes: Record<number, LiveNode> = {};
+    let changed = Object.keys(previous).length !== incoming.length;
+    for (const node of incoming) {
+      const old = previous[node.node];
+      if (old && sameNode(old, node)) {
+        nodes[node.node] = old;
+      } else {
+        nodes[node.node] = node;
+        changed = true;
+      }
+    }
+    if (!changed) return;
+    const ids = incoming.map((n) => n.node).sort((a, b) => a - b);
+    const liveIds = sameIds(ids, this.snapshot.liveIds) ? this.snapshot.liveIds : ids;
+    this.update({ nodes, liveIds });
+  }
+
+  private update(patch: Partial<LiveSnapshot>): void {
+    this.snapshot = { ...this.snapshot, ...patch };
+    for (const listener of this.listeners) listener();
+  }
+}

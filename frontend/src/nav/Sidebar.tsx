@@ -1,0 +1,126 @@
+import { memo, type ReactNode } from "react";
+import { NavLink, useLocation } from "react-router";
+
+import type { NodeInfo } from "../api/types";
+import { NmtDot } from "../components/NmtDot";
+import { useLive } from "../live/context";
+import type { LinkStatus } from "../live/store";
+import { NODE_TABS, TOP_PAGES, nodeUrl, type TopPage } from "./routes";
+
+/** "1 · MDi-S1-C · DVS_CANOPEN": id, profile, the drive's own name (1008h). */
+export function nodeTitle(node: number, info: NodeInfo | undefined): string {
+  if (!info) return `${node} · unknown node`;
+  return [String(node), info.profile_label, info.name].filter(Boolean).join(" · ");
+}
+
+function TopLink({ page }: { page: TopPage }): ReactNode {
+  return (
+    <li>
+      <NavLink to={page.path} end className="nav-link">
+        {page.label}
+      </NavLink>
+    </li>
+  );
+}
+
+// One entry per node; memo + a live slice per node, so a 5 Hz update of node 2 does not
+// re-render node 1's entry.
+const NodeEntry = memo(function NodeEntry({
+  node,
+  info,
+}: {
+  node: number;
+  info: NodeInfo | undefined;
+}): ReactNode {
+  const live = useLive((s) => s.nodes[node]);
+  const { pathname } = useLocation();
+  const active = pathname.startsWith(`/nodes/${node}/`);
+  const state = live?.nmt_state ?? info?.nmt_state ?? "unknown";
+  const online = live?.online ?? info?.online ?? false;
+  const title = nodeTitle(node, info);
+  return (
+    <li>
+      <NavLink
+        to={nodeUrl(node)}
+        className={`nav-link node-link${active ? " active" : ""}`}
+        aria-current={active ? "page" : undefined}
+        title={title}
+      >
+        <NmtDot state={state} online={online} />
+        <span className="node-link-text">{title}</span>
+      </NavLink>
+      {active && (
+        <ul className="nav-sub">
+          {NODE_TABS.map((tab) => (
+            <li key={tab.path}>
+              <NavLink to={nodeUrl(node, tab.path)} className="nav-link sub">
+                {tab.label}
+              </NavLink>
+            </li>
+          ))}
+        </ul>
+      )}
+    </li>
+  );
+});
+
+function linkText(link: LinkStatus): string {
+  switch (link.state) {
+    case "open":
+      return "Live: connected";
+    case "connecting":
+      return link.attempt > 0
+        ? `Live: reconnecting (try ${link.attempt + 1})`
+        : "Live: connecting…";
+    case "closed":
+      return link.retryAt ? "Live: disconnected, retrying" : "Live: disconnected";
+  }
+}
+
+function LinkIndicator(): ReactNode {
+  const link = useLive((s) => s.link);
+  return (
+    <p className={`live-link live-${link.state}`} role="status" aria-live="polite">
+      <span className="dot" aria-hidden="true" />
+      {linkText(link)}
+    </p>
+  );
+}
+
+export function Sidebar(): ReactNode {
+  const infos = useLive((s) => s.infos);
+  const liveIds = useLive((s) => s.liveIds);
+  const byId = new Map(infos.map((i) => [i.node, i]));
+  const ids = [...new Set([...byId.keys(), ...liveIds])].sort((a, b) => a - b);
+  return (
+    <nav className="sidebar" aria-label="Main">
+      <div className="brand">
+        <span className="brand-mark" aria-hidden="true">
+          ◎
+        </span>
+        ServoDesk
+      </div>
+      <ul className="nav-list">
+        {TOP_PAGES.filter((p) => p.placement === "before-nodes").map((page) => (
+          <TopLink key={page.path} page={page} />
+        ))}
+      </ul>
+      <h2 className="nav-heading">Nodes</h2>
+      {ids.length === 0 ? (
+        <p className="nav-empty">No nodes yet: connect and scan on the Network page.</p>
+      ) : (
+        <ul className="nav-list" aria-label="Nodes">
+          {ids.map((id) => (
+            <NodeEntry key={id} node={id} info={byId.get(id)} />
+          ))}
+        </ul>
+      )}
+      <ul className="nav-list nav-bottom">
+        {TOP_PAGES.filter((p) => p.placement === "after-nodes").map((page) => (
+          <TopLink key={page.path} page={page} />
+        ))}
+      </ul>
+      <LinkIndicator />
+    </nav>
+  );
+}

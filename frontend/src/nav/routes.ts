@@ -1,0 +1,38 @@
+// The app's pages as data: the sidebar, the router and the node tab bar are all built from
+// these arrays, so a new page (Motion, PDO, Faults per node; a top-level Scope) is one entry.
+import type { ComponentType } from "react";
+
+import { NetworkPage } from "../pages/network/NetworkPage";
+import { OdPage } from "../pages/od/OdPage";
+import { ParamsPage } from "../pages/params/ParamsPage";
+import { ToolsPage } from "../pages/tools/ToolsPage";
+
+export interface TopPage {
+  /** Absolute URL path. */
+  path: string;
+  label: string;
+  /** Where the sidebar lists it: above or below the per-node entries. */
+  placement: "before-nodes" | "after-nodes";
+  Component: ComponentType;
+}
+
+export interface NodeTab {
+  /** Path under /nodes/:node/. */
+  path: string;
+  label: string;
+  Component: ComponentType<{ node: number }>;
+}
+
+export const TOP_PAGES: readonly TopPage[] = [
+  { path: "/", label: "Network", placement: "before-nodes", Component: NetworkPage },
+  { path: "/tools", label: "Tools", placement: "after-nodes", Component: ToolsPage },
+];
+
+export const NODE_TABS: readonly NodeTab[] = [
+  { path: "parameters", label: "Parameters", Component: ParamsPage },
+  { path: "od", label: "Object dictionary", Component: OdPage },
+];
+
+export function nodeUrl(node: number, tab: string = NODE_TABS[0]?.path ?? ""): string {
+  return `/nodes/${node}/${tab}`;
+}

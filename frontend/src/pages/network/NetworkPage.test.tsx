@@ -1,0 +1,96 @@
+import { screen, within } from "@testing-library/react";
+import userEvent from "@testing-library/user-event";
+import { afterEach, describe, expect, it, vi } from "vitest";
+
+import type { NodeInfo } from "../../api/types";
+import { stubFetch } from "../../test/fetchStub";
+import { renderPage } from "../../test/render";
+import { NetworkPage } from "./NetworkPage";
+
+afterEach(() => {
+  vi.unstubAllGlobals();
+});
+
+const node = (id: number, name: string, label: string): NodeInfo => ({
+  node: id,
+  name,
+  vendor_id: 0x26c,
+  product_code: 0xc5,
+  profile: "cia402",
+  profile_label: label,
+  nmt_state: "pre-operational",
+  online: true,
+  heartbeat_age_ms: 40,
+  od_source: "profile",
+  od_filename: "cia402/drive.eds",
+  od_warnings: 0,
+});
+
+describe("NetworkPage", () => {
+  it("lists the nodes a scan returns, with identity and live state", async () => {
+    const fetch = stubFetch({
+      "GET /api/bus/interfaces": [
+        { name: "virtual", label: "Virtual", needs_channel: false, example_channel: "" },
+      ],
+      "POST /api/scan": {
+        nodes: [node(1, "DVS_CANOPEN", "MDi-S1-C"), node(3, "C5-E-SIM", "CiA 402")],
+        duration_ms: 57,
+      },
+      "GET /api/nodes/1/heartbeat": { producer_ms: 100 },
+      "GET /api/nodes/3/heartbeat": { producer_ms: 0 },
+    });
+    const { store } = renderPage(<NetworkPage />);
+    expect(screen.getByText(/No nodes known yet/)).toBeTruthy();
+
+    await userEvent.click(screen.getByRole("button", { name: "Scan" }));
+
+    expect(await screen.findByText("Found 2 nodes in 57 ms")).toBeTruthy();
+    const rows = screen.getAllByRole("row").slice(1); // skip the header row
+    expect(rows).toHaveLength(2);
+    const first = within(rows[0] as HTMLElement);
+    expect(first.getByText("DVS_CANOPEN")).toBeTruthy();
+    expect(first.getByText("MDi-S1-C")).toBeTruthy();
+    expect(first.getByText("0x0000026C")).toBeTruthy();
+    expect(first.getByText("Pre-operational")).toBeTruthy();
+    expect(await screen.findByDisplayValue("100")).toBeTruthy(); // heartbeat producer of node 1
+    expect(JSON.parse(fetch.calls.find((c) => c.path === "/api/scan")?.body ?? "{}")).toEqual({
+      sdo_sweep: true,
+      timeout_ms: 50,
+    });
+
+    // A live update re-renders the state cell without another request.
+    store.apply({
+      type: "nodes",
+      nodes: [{ node: 1, nmt_state: "operational", online: true, heartbeat_age_ms: 12 }],
+    });
+    expect(await first.findByText("Operational")).toBeTruthy();
+    expect(first.getByText("12 ms")).toBeTruthy();
+  });
+
+  it("shows the bus state and counters from the live store", async () => {
+    stubFetch({ "GET /api/bus/interfaces": [] });
+    const { store } = renderPage(<NetworkPage />);
+    store.apply({
+      type: "bus",
+      bus: {
+        state: "error",
+        interface: "socketcand",
+        channel: "can0",
+        bitrate: 250000,
+        simulated: false,
+        error: "connection refused",
+        rx_frames: 1234,
+        tx_frames: 5,
+        error_frames: 2,
+        bus_errors: 1,
+        reconnects: 3,
+        since: null,
+      },
+    });
+    expect(await screen.findByText("Error")).toBeTruthy();
+    expect(screen.getByRole("alert").textContent).toBe("connection refused");
+    expect(screen.getByText("1,234")).toBeTruthy();
+    const facts = screen.getByText("Bitrate", { selector: "dt" }).nextElementSibling;
+    expect(facts?.textContent).toBe("250 kbit/s");
+  });
+});

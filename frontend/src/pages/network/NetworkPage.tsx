@@ -1,0 +1,32 @@
+import { useState, type ReactNode } from "react";
+
+import { api, call } from "../../api/client";
+import type { ScanResult } from "../../api/types";
+import { useAction } from "../../lib/useApi";
+import { useLiveStore } from "../../live/context";
+import { BusCard } from "./BusCard";
+import { EventsCard } from "./EventsCard";
+import { NodesCard } from "./NodesCard";
+
+/** The bus, the nodes on it and what happened recently. */
+export function NetworkPage(): ReactNode {
+  const store = useLiveStore();
+  const [lastScan, setLastScan] = useState<ScanResult | null>(null);
+  const scan = useAction(async () => {
+    const result = await call(api.POST("/api/scan", { body: { sdo_sweep: true, timeout_ms: 50 } }));
+    store.setInfos(result.nodes);
+    setLastScan(result);
+    return result;
+  });
+  return (
+    <section className="page network-page">
+      <header className="page-header">
+        <h1>Network</h1>
+      </header>
+      {/* A fresh connection is scanned straight away: the next thing a user wants is the nodes. */}
+      <BusCard onConnected={() => void scan.run()} />
+      <NodesCard scan={scan} lastScan={lastScan} />
+      <EventsCard />
+    </section>
+  );
+}

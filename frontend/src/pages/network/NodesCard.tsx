@@ -1,0 +1,178 @@
+import { memo, type MouseEvent, type ReactNode } from "react";
+import { Link, useNavigate } from "react-router";
+
+import { api, call } from "../../api/client";
+import type { ApiError } from "../../api/errors";
+import type { NmtCommandName, NodeInfo, ScanResult } from "../../api/types";
+import { ErrorText } from "../../components/ErrorText";
+import { NmtBadge, NmtDot } from "../../components/NmtDot";
+import { Spinner } from "../../components/Spinner";
+import { formatAge, hex } from "../../lib/format";
+import { useAction } from "../../lib/useApi";
+import { useLive, useLiveStore } from "../../live/context";
+import { nodeUrl } from "../../nav/routes";
+import { HeartbeatEditor } from "./HeartbeatEditor";
+import { NMT_COMMANDS, NmtMenu } from "./NmtMenu";
+
+// Live cells subscribe to their own node, so the table itself does not re-render at 5 Hz.
+function LiveState({ info }: { info: NodeInfo }): ReactNode {
+  const live = useLive((s) => s.nodes[info.node]);
+  return (
+    <NmtBadge state={live?.nmt_state ?? info.nmt_state} online={live?.online ?? info.online} />
+  );
+}
+
+function LiveDot({ info }: { info: NodeInfo }): ReactNode {
+  const live = useLive((s) => s.nodes[info.node]);
+  return <NmtDot state={live?.nmt_state ?? info.nmt_state} online={live?.online ?? info.online} />;
+}
+
+function LiveAge({ info }: { info: NodeInfo }): ReactNode {
+  const age = useLive((s) => s.nodes[info.node]?.heartbeat_age_ms);
+  return <>{formatAge(age === undefined ? info.heartbeat_age_ms : age)}</>;
+}
+
+const INTERACTIVE = "a, button, input, select, textarea, summary, details, label, form";
+
+const NodeRow = memo(function NodeRow({ info }: { info: NodeInfo }): ReactNode {
+  const navigate = useNavigate();
+  const store = useLiveStore();
+  const nmt = useAction(async (command: NmtCommandName) => {
+    const updated = await call(
+      api.POST("/api/nodes/{node}/nmt", {
+        params: { path: { node: info.node } },
+        body: { command },
+      }),
+    );
+    store.upsertInfo(updated);
+  });
+
+  function open(event: MouseEvent<HTMLTableRowElement>): void {
+    // Clicks on the row's own controls do their job, not navigation.
+    if (event.target instanceof Element && event.target.closest(INTERACTIVE)) return;
+    void navigate(nodeUrl(info.node));
+  }
+
+  return (
+    <tr className="clickable" onClick={open}>
+      <td>
+        <LiveDot info={info} />{" "}
+        <Link to={nodeUrl(info.node)} aria-label={`Open node ${info.node}`}>
+          {info.node}
+        </Link>
+      </td>
+      <td>{info.name ?? "—"}</td>
+      <td>{info.profile_label}</td>
+      <td className="mono small">
+        <span className="block" title="Vendor ID (1018h:01)">
+          {hex(info.vendor_id)}
+        </span>
+        <span className="block" title="Product code (1018h:02)">
+          {hex(info.product_code)}
+        </span>
+      </td>
+      <td>
+        <LiveState info={info} />
+      </td>
+      <td className="num">
+        <LiveAge info={info} />
+      </td>
+      <td>
+        <HeartbeatEditor node={info.node} />
+      </td>
+      <td>
+        <NmtMenu
+          label={`NMT for node ${info.node}`}
+          disabled={nmt.busy}
+          onCommand={(c) => void nmt.run(c)}
+        />
+        {nmt.error && <ErrorText error={nmt.error} />}
+      </td>
+    </tr>
+  );
+});
+
+function BroadcastNmt(): ReactNode {
+  const send = useAction((command: NmtCommandName) =>
+    call(api.POST("/api/nmt", { body: { command } })),
+  );
+  return (
+    <div className="broadcast" role="group" aria-label="Broadcast NMT">
+      <span className="group-label">Broadcast NMT</span>
+      {NMT_COMMANDS.map(({ command, label }) => (
+        <button
+          key={command}
+          type="button"
+          className="small"
+          disabled={send.busy}
+          aria-label={`Broadcast ${label}`}
+          onClick={() => void send.run(command)}
+        >
+          {label}
+        </button>
+      ))}
+      <ErrorText error={send.error} />
+    </div>
+  );
+}
+
+interface ScanProps {
+  scan: { run: () => Promise<ScanResult | undefined>; busy: boolean; error: ApiError | null };
+  lastScan: ScanResult | null;
+}
+
+/** Nodes on the bus: identity, live NMT state and heartbeat, NMT commands, scan. */
+export function NodesCard({ scan, lastScan }: ScanProps): ReactNode {
+  const infos = useLive((s) => s.infos);
+  const infosError = useLive((s) => s.infosError);
+  return (
+    <section className="card" aria-labelledby="nodes-heading">
+      <header className="card-header">
+        <h2 id="nodes-heading">Nodes</h2>
+        <button
+          type="button"
+          className="primary"
+          disabled={scan.busy}
+          onClick={() => void scan.run()}
+        >
+          Scan
+        </button>
+        {scan.busy && <Spinner label="Scanning" />}
+        {lastScan && !scan.busy && (
+          <span className="muted" role="status">
+            Found {lastScan.nodes.length} node{lastScan.nodes.length === 1 ? "" : "s"} in{" "}
+            {lastScan.duration_ms} ms
+          </span>
+        )}
+        <BroadcastNmt />
+      </header>
+      <ErrorText error={scan.error ?? infosError} />
+      {infos.length === 0 ? (
+        <p className="muted">No nodes known yet. Connect the bus, then Scan.</p>
+      ) : (
+        // No scroll container here: it would clip the NMT menus; the table fits a laptop screen.
+        <div>
+          <table className="data-table nodes-table">
+            <thead>
+              <tr>
+                <th scope="col">Node</th>
+                <th scope="col">Name</th>
+                <th scope="col">Profile</th>
+                <th scope="col">Vendor / product</th>
+                <th scope="col">NMT state</th>
+                <th scope="col">Heartbeat age</th>
+                <th scope="col">Heartbeat producer</th>
+                <th scope="col">Actions</th>
+              </tr>
+            </thead>
+            <tbody>
+              {infos.map((info) => (
+                <NodeRow key={info.node} info={info} />
+              ))}
+            </tbody>
+          </table>
+        </div>
+      )}
+    </section>
+  );
+}

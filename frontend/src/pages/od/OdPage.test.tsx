@@ -1,0 +1,215 @@
+import { screen, within } from "@testing-library/react";
+import userEvent from "@testing-library/user-event";
+import { afterEach, describe, expect, it, vi } from "vitest";
+
+import type { OdTree } from "../../api/types";
+import { json, stubFetch } from "../../test/fetchStub";
+import { renderPage } from "../../test/render";
+import { OdPage } from "./OdPage";
+
+afterEach(() => {
+  vi.unstubAllGlobals();
+});
+
+const base = {
+  pdo_mappable: false,
+  default: null,
+  low: null,
+  high: null,
+  unit: "",
+  description: "",
+};
+
+const TREE: OdTree = {
+  source: "profile",
+  filename: "cia402/drive.eds",
+  warnings: [],
+  objects: [
+    {
+      index: 0x1000,
+      index_hex: "1000",
+      name: "Device type",
+      object_type: "var",
+      subs: [
+        {
+          ...base,
+          index: 0x1000,
+          subindex: 0,
+          name: "Device type",
+          data_type: 7,
+          data_type_name: "UNSIGNED32",
+          access: "ro",
+        },
+      ],
+    },
+    {
+      index: 0x1018,
+      index_hex: "1018",
+      name: "Identity object",
+      object_type: "record",
+      subs: [
+        {
+          ...base,
+          index: 0x1018,
+          subindex: 0,
+          name: "Highest sub-index supported",
+          data_type: 5,
+          data_type_name: "UNSIGNED8",
+          access: "const",
+        },
+        {
+          ...base,
+          index: 0x1018,
+          subindex: 1,
+          name: "Vendor-ID",
+          data_type: 7,
+          data_type_name: "UNSIGNED32",
+          access: "ro",
+        },
+        {
+          ...base,
+          index: 0x1018,
+          subindex: 2,
+          name: "Product code",
+          data_type: 7,
+          data_type_name: "UNSIGNED32",
+          access: "ro",
+        },
+      ],
+    },
+    {
+      index: 0x6060,
+      index_hex: "6060",
+      name: "Modes of operation",
+      object_type: "var",
+      subs: [
+        {
+          ...base,
+          index: 0x6060,
+          subindex: 0,
+          name: "Modes of operation",
+          data_type: 2,
+          data_type_name: "INTEGER8",
+          access: "rw",
+        },
+      ],
+    },
+  ],
+};
+
+describe("OdPage", () => {
+  it("lists the dictionary's objects and filters them by address", async () => {
+    stubFetch({ "GET /api/nodes/3/od": TREE });
+    renderPage(<OdPage node={3} />, "/nodes/3/od");
+    const tree = await screen.findByRole("list", { name: "Object dictionary" });
+    expect(within(tree).getByText("Device type")).toBeTruthy();
+    expect(within(tree).getByText("Modes of operation")).toBeTruthy();
+    expect(screen.getByText("5 of 5")).toBeTruthy();
+
+    await userEvent.type(screen.getByRole("searchbox", { name: "Search objects" }), "1018:2");
+    expect(await screen.findByText("Product code")).toBeTruthy();
+    expect(within(tree).queryByText("Device type")).toBeNull();
+    expect(screen.getByText("1 of 5")).toBeTruthy();
+  });
+
+  it("reads an entry and shows value, raw bytes and text", async () => {
+    stubFetch({
+      "GET /api/nodes/3/od": TREE,
+      "GET /api/nodes/3/sdo/1000/00": {
+        node: 3,
+        index: 0x1000,
+        subindex: 0,
+        name: "Device type",
+        data_type_name: "UNSIGNED32",
+        value: 131474,
+        raw_hex: "92 01 02 00",
+        text: "0x00020192 (131474)",
+      },
+    });
+    renderPage(<OdPage node={3} />, "/nodes/3/od");
+    await userEvent.click(await screen.findByRole("button", { name: /^1000\s*Device type$/ }));
+    expect(screen.getByText("read only")).toBeTruthy();
+    expect(screen.queryByRole("button", { name: "Write" })).toBeNull(); // read-only: no write
+    await userEvent.click(screen.getByRole("button", { name: "Read" }));
+    expect((await screen.findByTestId("sdo-value")).textContent).toBe("131474");
+    expect(screen.getByText("92 01 02 00")).toBeTruthy();
+    expect(screen.getAllByText("0x00020192 (131474)")).toHaveLength(2); // details and tree value
+  });
+
+  it("checks a write against the type and shows an SDO abort in place", async () => {
+    const fetch = stubFetch({
+      "GET /api/nodes/3/od": TREE,
+      "PUT /api/nodes/3/sdo/6060/00": json(
+        {
+          error: "sdo_abort",
+          message: "Invalid value for parameter (download only)",
+          abort_code: "0x06090030",
+        },
+        409,
+      ),
+    });
+    renderPage(<OdPage node={3} />, "/nodes/3/od");
+    await userEvent.click(
+      await screen.findByRole("button", { name: /^6060\s*Modes of operation$/ }),
+    );
+    const input = screen.getByLabelText("New value");
+    await userEvent.type(input, "200");
+    await userEvent.click(screen.getByRole("button", { name: "Write" }));
+    expect(screen.getByRole("alert").textContent).toContain("out of range for INTEGER8");
+    expect(fetch.calls.some((c) => c.method === "PUT")).toBe(false);
+
+    await userEvent.clear(input);
+    await userEvent.type(input, "-0x2");
+    await userEvent.click(screen.getByRole("button", { name: "Write" }));
+    expect((await screen.findByRole("alert")).textContent).toBe(
+      "0x06090030 — Invalid value for parameter (download only)",
+    );
+    expect(JSON.parse(fetch.calls.find((c) => c.method === "PUT")?.body ?? "{}")).toEqual({
+      value: -2,
+    });
+  });
+
+  it("fills the values column from an upload-all job, polling only for new results", async () => {
+    const job = { id: "j1", kind: "upload-all" as const, node: 3, total: 2, error: null };
+    const fetch = stubFetch({
+      "GET /api/nodes/3/od": TREE,
+      "POST /api/nodes/3/upload-all": {
+        ...job,
+        state: "running",
+        done: 1,
+        elapsed_s: 0.1,
+        results_from: 0,
+        results: [
+          { index: 0x1000, subindex: 0, name: "Device type", value: 1, text: "0x00000001 (1)" },
+        ],
+      },
+      "GET /api/jobs/j1": {
+        ...job,
+        state: "done",
+        done: 2,
+        elapsed_s: 0.3,
+        results_from: 1,
+        results: [
+          {
+            index: 0x6060,
+            subindex: 0,
+            name: "Modes of operation",
+            abort_code: "0x06020000",
+            message: "Object does not exist in the object dictionary",
+          },
+        ],
+      },
+    });
+    renderPage(<OdPage node={3} />, "/nodes/3/od");
+    await userEvent.click(await screen.findByRole("button", { name: "Upload all" }));
+    expect(await screen.findByText("0x00000001 (1)")).toBeTruthy();
+    expect(await screen.findByText(/2\/2 · done/, {}, { timeout: 3000 })).toBeTruthy();
+    expect(screen.getByText(/1 not readable/)).toBeTruthy();
+    expect(
+      screen.getByText("0x06020000 Object does not exist in the object dictionary"),
+    ).toBeTruthy();
+    const poll = fetch.calls.find((c) => c.path === "/api/jobs/j1");
+    expect(poll).toBeTruthy();
+    expect(fetch.urls.some((u) => u.endsWith("/api/jobs/j1?since=1"))).toBe(true);
+  });
+});

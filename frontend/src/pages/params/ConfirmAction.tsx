@@ -1,0 +1,77 @@
+import { useState, type ReactNode } from "react";
+
+import { Dialog } from "../../components/Dialog";
+import { ErrorText } from "../../components/ErrorText";
+import { Spinner } from "../../components/Spinner";
+import { useAction } from "../../lib/useApi";
+
+interface Props {
+  /** Button text that opens the dialog; also the dialog's title. */
+  label: string;
+  /** What will happen, in words, shown before the user confirms. */
+  explanation: ReactNode;
+  confirmLabel: string;
+  disabled?: boolean;
+  /** Runs on confirm; returns the server's message. */
+  onConfirm: () => Promise<string>;
+}
+
+/** A button that asks before it acts, then shows the server's answer. */
+export function ConfirmAction({
+  label,
+  explanation,
+  confirmLabel,
+  disabled = false,
+  onConfirm,
+}: Props): ReactNode {
+  const [open, setOpen] = useState(false);
+  const [message, setMessage] = useState<string | null>(null);
+  const action = useAction(async () => {
+    setMessage(await onConfirm());
+    setOpen(false);
+  });
+  return (
+    <>
+      <button
+        type="button"
+        disabled={disabled}
+        onClick={() => {
+          action.clearError();
+          setOpen(true);
+        }}
+      >
+        {label}
+      </button>
+      {message && (
+        <span className="note small" role="status">
+          {message}
+        </span>
+      )}
+      {open && (
+        <Dialog
+          title={label}
+          onClose={() => setOpen(false)}
+          actions={
+            <>
+              <button type="button" onClick={() => setOpen(false)}>
+                Cancel
+              </button>
+              <button
+                type="button"
+                className="primary"
+                disabled={action.busy}
+                onClick={() => void action.run()}
+              >
+                {confirmLabel}
+              </button>
+              {action.busy && <Spinner />}
+            </>
+          }
+        >
+          {explanation}
+          <ErrorText error={action.error} />
+        </Dialog>
+      )}
+    </>
+  );
+}

@@ -1,0 +1,194 @@
+import { useId, useState, type SubmitEvent, type ReactNode } from "react";
+
+import { api, call, uploadBody } from "../../api/client";
+import type { ApiError } from "../../api/errors";
+import type { CompareResult, DcfLoadResult } from "../../api/types";
+import { Dialog } from "../../components/Dialog";
+import { ErrorText } from "../../components/ErrorText";
+import { FilePicker } from "../../components/FilePicker";
+import { Spinner } from "../../components/Spinner";
+import { formatValue, odAddress } from "../../lib/format";
+import { useAction } from "../../lib/useApi";
+import { CompareTable } from "./CompareTable";
+
+const DCF_TYPES = ".dcf,.eds,.DCF";
+
+/** "node3-cia402.dcf" from `attachment; filename="node3-cia402.dcf"`. */
+export function filenameFrom(disposition: string | null, fallback: string): string {
+  const match = disposition ? /filename="?([^";]+)"?/i.exec(disposition) : null;
+  return match?.[1] ?? fallback;
+}
+
+function download(text: string, filename: string): void {
+  const url = URL.createObjectURL(new Blob([text], { type: "text/plain" }));
+  const link = document.createElement("a");
+  link.href = url;
+  link.download = filename;
+  document.body.append(link);
+  link.click();
+  link.remove();
+  // Revoke later: some browsers read the blob after click() returns.
+  setTimeout(() => URL.revokeObjectURL(url), 10_000);
+}
+
+function LoadResult({ result }: { result: DcfLoadResult }): ReactNode {
+  return (
+    <div className="load-result" role="status">
+      <p>
+        Written {result.written}, skipped {result.skipped}, failed {result.failed.length}, differing
+        after read-back {result.differences.length}.
+      </p>
+      {result.failed.length > 0 && (
+        <ul className="compact-list">
+          {result.failed.map((f) => (
+            <li key={`${f.index}:${f.subindex}`}>
+              <span className="mono">{odAddress(f.index, f.subindex)}</span> {f.name}:{" "}
+              <span className="error-text inline-error">
+                {f.abort_code ? `${f.abort_code} — ` : ""}
+                {f.message}
+              </span>
+            </li>
+          ))}
+        </ul>
+      )}
+      {result.differences.length > 0 && (
+        <ul className="compact-list">
+          {result.differences.map((d) => (
+            <li key={`${d.index}:${d.subindex}`}>
+              <span className="mono">{odAddress(d.index, d.subindex)}</span> {d.name}: expected{" "}
+              <span className="mono">{formatValue(d.expected)}</span>, device has{" "}
+              <span className="mono">{formatValue(d.actual)}</span>
+            </li>
+          ))}
+        </ul>
+      )}
+    </div>
+  );
+}
+
+function CompareDialog({
+  onCompare,
+  onClose,
+  busy,
+  error,
+}: {
+  onCompare: (file: File | null) => void;
+  onClose: () => void;
+  busy: boolean;
+  error: ApiError | null;
+}): ReactNode {
+  const fileId = useId();
+  const [file, setFile] = useState<File | null>(null);
+  function submit(event: SubmitEvent): void {
+    event.preventDefault();
+    onCompare(file);
+  }
+  return (
+    <Dialog
+      title="Compare the node's parameters"
+      onClose={onClose}
+      actions={
+        <>
+          <button type="button" onClick={onClose}>
+            Cancel
+          </button>
+          <button type="submit" form={`${fileId}-form`} className="primary" disabled={busy}>
+            Compare
+          </button>
+        </>
+      }
+    >
+      <form id={`${fileId}-form`} onSubmit={submit}>
+        <label htmlFor={fileId}>DCF file to compare with (optional)</label>
+        <input
+          id={fileId}
+          type="file"
+          accept={DCF_TYPES}
+          onChange={(e) => setFile(e.target.files?.[0] ?? null)}
+        />
+      </form>
+      <p className="muted small">
+        Reads every value from the device and lists it beside the file's value and the EDS default.
+        Without a file, the device is compared with the defaults only.
+      </p>
+      {busy && <Spinner label="Comparing" />}
+      <ErrorText error={error} />
+    </Dialog>
+  );
+}
+
+/** Save the node's configuration as DCF, load one onto it, or compare. */
+export function ParamSetPanel({ node }: { node: number }): ReactNode {
+  const [loadResult, setLoadResult] = useState<DcfLoadResult | null>(null);
+  const [comparison, setComparison] = useState<{ result: CompareResult; withFile: boolean } | null>(
+    null,
+  );
+  const [compareOpen, setCompareOpen] = useState(false);
+
+  const save = useAction(async () => {
+    const { data, error, response } = await api.GET("/api/nodes/{node}/dcf", {
+      params: { path: { node } },
+      parseAs: "text",
+    });
+    // parseAs "text" also returns the error body as text: re-parse it for the error helper.
+    const text = await call(Promise.resolve({ data, error: parseMaybeJson(error), response }));
+    download(text, filenameFrom(response.headers.get("Content-Disposition"), `node${node}.dcf`));
+  });
+  const load = useAction(async (file: File) => {
+    setLoadResult(null);
+    setLoadResult(
+      await call(
+        api.POST("/api/nodes/{node}/dcf", { params: { path: { node } }, ...uploadBody(file) }),
+      ),
+    );
+  });
+  const compare = useAction(async (file: File | null) => {
+    const result = await call(
+      api.POST("/api/nodes/{node}/compare", { params: { path: { node } }, ...uploadBody(file) }),
+    );
+    setComparison({ result, withFile: file !== null });
+    setCompareOpen(false);
+  });
+  const busy = save.busy || load.busy || compare.busy;
+
+  return (
+    <section className="card" aria-labelledby="paramset-heading">
+      <header className="card-header">
+        <h2 id="paramset-heading">Parameter set</h2>
+        <button type="button" disabled={busy} onClick={() => void save.run()}>
+          Save DCF
+        </button>
+        <FilePicker
+          label="Load DCF…"
+          accept={DCF_TYPES}
+          disabled={busy}
+          onFile={(f) => void load.run(f)}
+        />
+        <button type="button" disabled={busy} onClick={() => setCompareOpen(true)}>
+          Compare…
+        </button>
+        {busy && <Spinner label="Working on the parameter set" />}
+      </header>
+      <ErrorText error={save.error ?? load.error ?? (compareOpen ? null : compare.error)} />
+      {loadResult && <LoadResult result={loadResult} />}
+      {comparison && <CompareTable result={comparison.result} withFile={comparison.withFile} />}
+      {compareOpen && (
+        <CompareDialog
+          busy={compare.busy}
+          error={compare.error}
+          onClose={() => setCompareOpen(false)}
+          onCompare={(f) => void compare.run(f)}
+        />
+      )}
+    </section>
+  );
+}
+
+function parseMaybeJson(body: unknown): unknown {
+  if (typeof body !== "string") return body;
+  try {
+    return JSON.parse(body) as unknown;
+  } catch {
+    return body;
+  }
+}

@@ -1,0 +1,115 @@
+import { screen } from "@testing-library/react";
+import userEvent from "@testing-library/user-event";
+import { afterEach, describe, expect, it, vi } from "vitest";
+
+import type { Param } from "../../api/types";
+import { json, stubFetch } from "../../test/fetchStub";
+import { renderPage } from "../../test/render";
+import { ParamsPage } from "./ParamsPage";
+
+afterEach(() => {
+  vi.unstubAllGlobals();
+});
+
+const PA106: Param = {
+  name: "PA-106",
+  label: "CAN bitrate",
+  description: "Bitrate of the CAN interface",
+  object: "2006:0B",
+  index: 0x2006,
+  subindex: 0x0b,
+  value: 5,
+  unit: "",
+  min: 0,
+  max: 6,
+  default: 5,
+  takes_effect: "after_reset",
+  choices: { "4": "250 kbit/s", "5": "500 kbit/s" },
+  error: null,
+};
+
+const PA103: Param = {
+  ...PA106,
+  name: "PA-103",
+  label: "Maximum speed",
+  object: "2006:08",
+  subindex: 8,
+  value: 6000,
+  unit: "rpm",
+  min: 0,
+  max: 6000,
+  default: 6000,
+  takes_effect: "immediately",
+  choices: {},
+};
+
+const EMPTY_DCF_ROUTES = {};
+
+describe("ParamsPage", () => {
+  it("renders the catalogue and shows the server's message after a write", async () => {
+    const fetch = stubFetch({
+      ...EMPTY_DCF_ROUTES,
+      "GET /api/nodes/1/params": [PA106, PA103],
+      "PUT /api/nodes/1/params/PA-106": {
+        param: { ...PA106, value: 4 },
+        message: "takes effect after reset: store the parameters, then reset the node",
+        requires_reset: true,
+        requires_store: true,
+      },
+    });
+    renderPage(<ParamsPage node={1} />, "/nodes/1/parameters");
+
+    expect(await screen.findByRole("rowheader", { name: "PA-106" })).toBeTruthy();
+    expect(screen.getByRole("rowheader", { name: "PA-103" })).toBeTruthy();
+    expect(screen.getAllByText("after reset").length).toBeGreaterThan(0);
+
+    await userEvent.selectOptions(screen.getByLabelText("PA-106", { selector: "select" }), "4");
+    await userEvent.click(screen.getByRole("button", { name: "Write PA-106" }));
+
+    expect(await screen.findByText(/takes effect after reset/)).toBeTruthy();
+    const put = fetch.calls.find((c) => c.method === "PUT");
+    expect(put?.path).toBe("/api/nodes/1/params/PA-106");
+    expect(JSON.parse(put?.body ?? "{}")).toEqual({ value: 4 });
+  });
+
+  it("refuses an out-of-range value before sending it", async () => {
+    const fetch = stubFetch({ "GET /api/nodes/1/params": [PA103] });
+    renderPage(<ParamsPage node={1} />, "/nodes/1/parameters");
+    const input = await screen.findByLabelText("PA-103", { selector: "input" });
+    await userEvent.clear(input);
+    await userEvent.type(input, "7000");
+    await userEvent.click(screen.getByRole("button", { name: "Write PA-103" }));
+    expect(screen.getByRole("alert").textContent).toBe("7000 is outside 0…6000");
+    expect(fetch.calls.some((c) => c.method === "PUT")).toBe(false);
+  });
+
+  it("shows an SDO abort where the write happened", async () => {
+    stubFetch({
+      "GET /api/nodes/1/params": [PA103],
+      "PUT /api/nodes/1/params/PA-103": json(
+        {
+          error: "sdo_abort",
+          message: "Value of parameter written too high",
+          abort_code: "0x06090031",
+        },
+        409,
+      ),
+    });
+    renderPage(<ParamsPage node={1} />, "/nodes/1/parameters");
+    const input = await screen.findByLabelText("PA-103", { selector: "input" });
+    await userEvent.clear(input);
+    await userEvent.type(input, "5000");
+    await userEvent.click(screen.getByRole("button", { name: "Write PA-103" }));
+    expect((await screen.findByRole("alert")).textContent).toBe(
+      "0x06090031 — Value of parameter written too high",
+    );
+  });
+
+  it("explains a node without a catalogue and keeps the parameter-set panel", async () => {
+    stubFetch({ "GET /api/nodes/9/params": [] });
+    renderPage(<ParamsPage node={9} />, "/nodes/9/parameters");
+    expect(await screen.findByText("No parameter catalogue")).toBeTruthy();
+    expect(screen.getByRole("button", { name: "Save DCF" })).toBeTruthy();
+    expect(screen.queryByRole("button", { name: "Store parameters" })).toBeNull();
+  });
+});

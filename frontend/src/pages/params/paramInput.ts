@@ -1,0 +1,32 @@
+// Parameters are integers with a catalogue range (and sometimes a list of choices); checked
+// here before anything is sent so the user sees the reason at once.
+import type { Param } from "../../api/types";
+
+export type ParsedParam = { ok: true; value: number } | { ok: false; error: string };
+
+const INTEGER = /^([+-]?)(0[xX][0-9A-Fa-f]+|[0-9]+)$/;
+
+export function parseParamValue(
+  text: string,
+  param: Pick<Param, "min" | "max" | "choices">,
+): ParsedParam {
+  const trimmed = text.trim();
+  const match = INTEGER.exec(trimmed);
+  if (!match) return { ok: false, error: `Enter a whole number (${param.min}…${param.max})` };
+  const magnitude = Number(match[2]);
+  const value = match[1] === "-" ? -magnitude : magnitude;
+  if (value < param.min || value > param.max) {
+    return { ok: false, error: `${value} is outside ${param.min}…${param.max}` };
+  }
+  const choices = Object.keys(param.choices);
+  if (choices.length > 0 && !choices.includes(String(value))) {
+    return { ok: false, error: `${value} is not one of the allowed values` };
+  }
+  return { ok: true, value };
+}
+
+export const TAKES_EFFECT_LABELS: Readonly<Record<Param["takes_effect"], string>> = {
+  immediately: "immediately",
+  after_reset: "after reset",
+  after_store_and_reset: "after store + reset",
+};
