@@ -31,10 +31,11 @@ install: $(STAMP) $(NPM_STAMP)
 
 frontend: install $(STATIC)
 
-# Debian's Chromium drives the end-to-end tests (Playwright never downloads a browser here).
+# Debian's Chromium drives the end-to-end tests (Playwright never downloads a browser here);
+# a CJK font renders the MDi's Chinese parameter names in its screenshots.
 system-deps:
-	@test -x $(CHROMIUM) || { $(SUDO) apt-get update -qq && \
-		$(SUDO) apt-get install -y -qq --no-install-recommends chromium fonts-liberation; }
+	@test -x $(CHROMIUM) && fc-list | grep -qi microhei || { $(SUDO) apt-get update -qq && \
+		$(SUDO) apt-get install -y -qq --no-install-recommends chromium fonts-liberation fonts-wqy-microhei; }
 
 run: frontend
 	$(BIN)/servodesk serve --sim --bind 127.0.0.1 --port 8000
