@@ -47,6 +47,7 @@ lint: install
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	npm run --silent lint
+	npm run --silent format:check
 
 typecheck: install
 	$(BIN)/mypy

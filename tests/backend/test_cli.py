@@ -1,0 +1,69 @@
+"""`servodesk` field commands against the built-in simulated drives (`--sim`)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from servodesk.cli import build_parser, main
+
+SHARED_EDS = Path(__file__).resolve().parents[2] / ".." / "shared" / "eds"
+
+
+def test_scan_lists_the_simulated_drives(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["scan", "--sim"]) == 0
+    out = capsys.readouterr().out
+    lines = out.splitlines()
+    assert lines[0].split() == ["node", "state", "profile", "name"]
+    assert lines[1].split()[:3] == ["1", "pre-operational", "mdi-s1c"]
+    assert "DVS_CANOPEN" in lines[1]
+    assert [line.split()[0] for line in lines[1:]] == ["1", "2", "3"]
+
+
+def test_read_and_write(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["read", "1", "1008", "0", "--sim"]) == 0
+    assert capsys.readouterr().out.strip() == "DVS_CANOPEN"
+    assert main(["write", "1", "6081", "0", "0x2710", "--sim"]) == 0
+    assert "10000" in capsys.readouterr().out
+
+
+def test_write_abort_is_reported_with_its_code(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["write", "1", "6041", "0", "6", "--sim"]) == 1
+    err = capsys.readouterr().err
+    assert "0x06010002" in err
+    assert "Attempt to write a read-only object" in err
+
+
+def test_dump_writes_a_dcf_that_loads_again(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    assert main(["dump", "3", "--sim"]) == 0
+    dcf = tmp_path / "node3.dcf"
+    dcf.write_text(capsys.readouterr().out)
+    assert "[DeviceComissioning]" in dcf.read_text()
+    assert main(["eds-check", str(dcf)]) == 0
+    assert "DCF" in capsys.readouterr().out
+
+
+def test_eds_check_reports_problems_and_fails_only_on_unusable_files(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    assert main(["eds-check", str(SHARED_EDS / "Demaclenko_emecdrv5_rev09.eds")]) == 0
+    out = capsys.readouterr().out
+    assert "byte-swapped" in out
+    junk = tmp_path / "junk.eds"
+    junk.write_bytes(b"\x00\x01\x02 nothing here")
+    assert main(["eds-check", str(junk)]) == 1
+
+
+def test_serve_refuses_non_loopback_addresses(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["serve", "--sim", "--bind", "0.0.0.0"]) == 2  # the refusal is the test
+    assert "loopback" in capsys.readouterr().err
+
+
+def test_every_command_takes_python_can_bus_flags() -> None:
+    args = build_parser().parse_args(
+        ["read", "1", "1008", "0", "-i", "socketcand", "-c", "can0", "--bus-kwargs", "port=1"]
+    )
+    assert (args.interface, args.channel, args.bus_kwargs) == ("socketcand", "can0", {"port": 1})
