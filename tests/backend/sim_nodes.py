@@ -21,6 +21,7 @@ from servodesk.models import NmtCommandName, NmtStateName, NodeInfo
 from servodesk.nodes.session import NodeSession
 from servodesk.od import ObjectDictionaryModel, load_od, to_canopen
 from servodesk_data import DriveData
+from servodesk_sim.frames import Frame
 from servodesk_sim.runner import SimBus, run_drives
 
 DEFAULT_DRIVES: tuple[tuple[int, str], ...] = ((1, "mdi-s1c"), (2, "kinco"), (3, "cia402"))
@@ -158,3 +159,30 @@ class SimNodes:
         del self.network[old]
         self._attach(new, profile)
         return self.info(new)
+
+
+SDO_RX = 0x600  # SDO request COB-ID base
+DOWNLOAD_COMMANDS = frozenset({0x21, 0x23, 0x27, 0x2B, 0x2F})  # SDO initiate download
+
+
+class SdoTap:
+    """SDO request frames that reached the simulated drives: to one node or to any, and only
+    initiate downloads (writes) when `writes_only`. Proves what was (not) sent."""
+
+    def __init__(self, nodes: SimNodes, node: int | None = None, *, writes_only: bool = False):
+        self.node = node
+        self.writes_only = writes_only
+        self.frames: list[Frame] = []
+        self.remove = nodes.sim.add_tap(self._on_frame)
+
+    def _on_frame(self, frame: Frame, origin: object | None) -> None:
+        target = frame.can_id - SDO_RX
+        if not 1 <= target <= 0x7F or (self.node is not None and target != self.node):
+            return
+        if self.writes_only and frame.data[:1] not in {bytes([c]) for c in DOWNLOAD_COMMANDS}:
+            return
+        self.frames.append(frame)
+
+    def commands(self) -> list[int]:
+        """The command byte of each request seen, in order."""
+        return [frame.data[0] for frame in self.frames]

@@ -24,11 +24,6 @@ from tests.backend.network_rig import (
 )
 
 
-@pytest.fixture
-def anyio_backend() -> str:
-    return "asyncio"
-
-
 @pytest.mark.anyio
 async def test_connect_disconnect_reconnect() -> None:
     async with sim_rig() as rig:

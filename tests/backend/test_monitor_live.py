@@ -14,11 +14,6 @@ PERIOD_MS = 100
 TICK_S = 0.2
 
 
-@pytest.fixture
-def anyio_backend() -> str:
-    return "asyncio"
-
-
 @pytest.mark.anyio
 async def test_heartbeat_age_stays_under_two_periods() -> None:
     async with sim_rig() as rig:

@@ -16,18 +16,9 @@ from servodesk.params.node_id import NodeIdService
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
 from servodesk_sim.drive import SimDrive
-from servodesk_sim.frames import Frame
-from tests.backend.sim_nodes import SimNodes
+from tests.backend.sim_nodes import SdoTap, SimNodes
 
 pytestmark = pytest.mark.anyio
-
-SDO_RX = 0x600  # SDO request COB-ID base
-DOWNLOAD_COMMANDS = frozenset({0x21, 0x23, 0x27, 0x2B, 0x2F})  # SDO initiate download
-
-
-@pytest.fixture
-def anyio_backend() -> str:
-    return "asyncio"
 
 
 @pytest.fixture
@@ -46,18 +37,6 @@ def drive(nodes: SimNodes, profile: str) -> SimDrive:
         if isinstance(node, SimDrive) and node.profile == profile:
             return node
     raise LookupError(profile)
-
-
-class Downloads:
-    """SDO writes that reached the drives (any node)."""
-
-    def __init__(self, nodes: SimNodes) -> None:
-        self.frames: list[Frame] = []
-        self.remove = nodes.sim.add_tap(self._on_frame)
-
-    def _on_frame(self, frame: Frame, origin: object | None) -> None:
-        if SDO_RX < frame.can_id < SDO_RX + 0x80 and frame.data[0] in DOWNLOAD_COMMANDS:
-            self.frames.append(frame)
 
 
 async def settle(nodes: SimNodes) -> None:
@@ -100,7 +79,7 @@ async def test_kinco_node_id_is_dip_switch_plus_offset(
 async def test_kinco_id_below_the_dip_switch_needs_the_switch() -> None:
     with SimNodes([(2, "kinco")]) as kinco_only:
         service = NodeIdService(kinco_only, Settings(boot_wait=2.0))
-        downloads = Downloads(kinco_only)
+        downloads = SdoTap(kinco_only, writes_only=True)
         with pytest.raises(InvalidValueError, match="Change the DIP switch to reach node 1") as no:
             await service.change_node_id(2, 1, confirm=True)
         assert "the DIP switch gives 2" in str(no.value)
@@ -128,7 +107,7 @@ async def test_node_id_change_refused_before_anything_is_written(
     error: type[Exception],
     message: str,
 ) -> None:
-    downloads = Downloads(nodes)
+    downloads = SdoTap(nodes, writes_only=True)
     with pytest.raises(error, match=message):
         await service.change_node_id(node, new, confirm=error is not ConfirmationRequiredError)
     await settle(nodes)
@@ -183,7 +162,7 @@ async def test_bitrate_change_refused_before_anything_is_written(
     error: type[Exception],
     message: str,
 ) -> None:
-    downloads = Downloads(nodes)
+    downloads = SdoTap(nodes, writes_only=True)
     with pytest.raises(error, match=message):
         await service.change_bitrate(node, bitrate, confirm=error is not ConfirmationRequiredError)
     await settle(nodes)

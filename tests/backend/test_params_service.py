@@ -3,7 +3,6 @@ takes effect, store / restore with confirmation."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from dataclasses import replace
 
 import pytest
@@ -13,37 +12,9 @@ from servodesk.models import NmtCommandName
 from servodesk.params.service import ParamService, resolve_value
 from servodesk.sdo.service import SdoService
 from servodesk_data import load
-from servodesk_sim.frames import Frame
-from tests.backend.sim_nodes import SimNodes
+from tests.backend.sim_nodes import SdoTap, SimNodes
 
 pytestmark = pytest.mark.anyio
-
-SDO_RX = 0x600  # SDO request COB-ID base
-DOWNLOAD_COMMANDS = frozenset({0x21, 0x23, 0x27, 0x2B, 0x2F})  # SDO initiate download
-
-
-@pytest.fixture
-def anyio_backend() -> str:
-    return "asyncio"
-
-
-@pytest.fixture
-def nodes() -> Iterator[SimNodes]:
-    with SimNodes() as access:
-        yield access
-
-
-class Downloads:
-    """SDO writes (initiate download requests) that reached one simulated drive."""
-
-    def __init__(self, nodes: SimNodes, node: int) -> None:
-        self.node = node
-        self.frames: list[Frame] = []
-        self.remove = nodes.sim.add_tap(self._on_frame)
-
-    def _on_frame(self, frame: Frame, origin: object | None) -> None:
-        if frame.can_id == SDO_RX + self.node and frame.data[0] in DOWNLOAD_COMMANDS:
-            self.frames.append(frame)
 
 
 async def test_list_reads_every_catalogue_parameter_from_the_drive(nodes: SimNodes) -> None:
@@ -114,7 +85,7 @@ async def test_set_bitrate_by_choice_label_needs_reset(nodes: SimNodes) -> None:
 async def test_invalid_values_are_refused_before_writing(
     nodes: SimNodes, name: str, value: int | str, message: str
 ) -> None:
-    downloads = Downloads(nodes, 1)
+    downloads = SdoTap(nodes, 1, writes_only=True)
     service = ParamService(nodes)
     with pytest.raises(InvalidValueError, match=message):
         await service.set(1, name, value)
@@ -144,7 +115,7 @@ def test_resolve_value_accepts_labels_and_numbers() -> None:
 
 
 async def test_store_and_restore_need_confirmation(nodes: SimNodes) -> None:
-    downloads = Downloads(nodes, 1)
+    downloads = SdoTap(nodes, 1, writes_only=True)
     service = ParamService(nodes)
     with pytest.raises(ConfirmationRequiredError):
         await service.store(1, confirm=False)
@@ -172,7 +143,7 @@ async def test_store_keeps_a_value_over_reset_and_restore_brings_defaults_back(
 
 
 async def test_store_writes_the_save_signature(nodes: SimNodes) -> None:
-    downloads = Downloads(nodes, 3)
+    downloads = SdoTap(nodes, 3, writes_only=True)
     await ParamService(nodes).store(3, confirm=True)
     await ParamService(nodes).restore_defaults(3, confirm=True)
     await SdoService(nodes).read(3, 0x1000, 0)

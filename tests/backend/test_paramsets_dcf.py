@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import re
-from collections.abc import Iterator
 
 import pytest
 
@@ -22,17 +21,6 @@ pytestmark = pytest.mark.anyio
 SDO_RX = 0x600  # SDO request COB-ID base
 DOWNLOAD_COMMANDS = frozenset({0x21, 0x23, 0x27, 0x2B, 0x2F})  # SDO initiate download
 COB_ID_INVALID = 0x80000000
-
-
-@pytest.fixture
-def anyio_backend() -> str:
-    return "asyncio"
-
-
-@pytest.fixture
-def nodes() -> Iterator[SimNodes]:
-    with SimNodes() as access:
-        yield access
 
 
 class WrittenObjects:

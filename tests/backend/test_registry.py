@@ -24,11 +24,6 @@ UNSIGNED32 = 0x0007
 SAVE = b"save"  # 1010h:01 signature (CiA 301 §7.5.2.13)
 
 
-@pytest.fixture
-def anyio_backend() -> str:
-    return "asyncio"
-
-
 @pytest.mark.anyio
 async def test_scan_identifies_the_three_drives() -> None:
     async with sim_rig() as rig:

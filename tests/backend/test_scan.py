@@ -13,11 +13,6 @@ from servodesk_sim.runner import SimNode
 from tests.backend.network_rig import eventually, fast_settings, sim_rig
 
 
-@pytest.fixture
-def anyio_backend() -> str:
-    return "asyncio"
-
-
 @pytest.mark.anyio
 async def test_sweep_finds_every_drive_quickly() -> None:
     async with sim_rig() as rig:

@@ -26,11 +26,6 @@ INITIATE_UPLOAD = 0x40  # SDO command: one per entry read (segments follow for l
 
 
 @pytest.fixture
-def anyio_backend() -> str:
-    return "asyncio"
-
-
-@pytest.fixture
 def nodes() -> Iterator[SimNodes]:
     with SimNodes(sdo_timeout=0.05) as access:
         yield access

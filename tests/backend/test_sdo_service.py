@@ -3,46 +3,15 @@ abort codes with their meaning."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import pytest
 
 from servodesk.errors import InvalidValueError, NodeNotFoundError, SdoAbortError
 from servodesk.sdo.service import SdoService
-from servodesk_sim.frames import Frame
-from tests.backend.sim_nodes import SimNodes
+from tests.backend.sim_nodes import SdoTap, SimNodes
 
 pytestmark = pytest.mark.anyio
 
-SDO_RX = 0x600  # SDO request COB-ID base (client -> server)
 UPLOAD_REQUEST = 0x40  # SDO initiate upload command
-
-
-@pytest.fixture
-def anyio_backend() -> str:
-    return "asyncio"
-
-
-@pytest.fixture
-def nodes() -> Iterator[SimNodes]:
-    with SimNodes() as access:
-        yield access
-
-
-class SdoRequests:
-    """Every SDO request frame to one node, as the simulated bus saw it."""
-
-    def __init__(self, nodes: SimNodes, node: int) -> None:
-        self.node = node
-        self.frames: list[Frame] = []
-        self.remove = nodes.sim.add_tap(self._on_frame)
-
-    def _on_frame(self, frame: Frame, origin: object | None) -> None:
-        if frame.can_id == SDO_RX + self.node:
-            self.frames.append(frame)
-
-    def commands(self) -> list[int]:
-        return [frame.data[0] for frame in self.frames]
 
 
 async def test_read_manufacturer_device_name(nodes: SimNodes) -> None:
@@ -89,7 +58,7 @@ async def test_write_signed_value(nodes: SimNodes) -> None:
 async def test_invalid_value_is_refused_before_any_frame(
     nodes: SimNodes, index: int, value: int | str, message: str
 ) -> None:
-    requests = SdoRequests(nodes, 1)
+    requests = SdoTap(nodes, 1)
     sdo = SdoService(nodes)
     with pytest.raises(InvalidValueError, match=message):
         await sdo.write(1, index, 0, value)
@@ -100,7 +69,7 @@ async def test_invalid_value_is_refused_before_any_frame(
 
 
 async def test_dictionary_limits_are_checked_before_sending(nodes: SimNodes) -> None:
-    requests = SdoRequests(nodes, 1)
+    requests = SdoTap(nodes, 1)
     with pytest.raises(InvalidValueError, match="above the maximum 127"):
         await SdoService(nodes).write(1, 0x2006, 0x0A, 200)  # PA-105 node address, 1..127
     await SdoService(nodes).read(1, 0x1000, 0)
@@ -125,7 +94,7 @@ async def test_read_of_missing_object_is_an_sdo_abort(nodes: SimNodes) -> None:
 
 async def test_entry_unknown_to_the_dictionary_written_with_size(nodes: SimNodes) -> None:
     sdo = SdoService(nodes)
-    requests = SdoRequests(nodes, 2)
+    requests = SdoTap(nodes, 2)
     with pytest.raises(InvalidValueError, match="give the size"):
         await sdo.write(2, 0x5555, 0, 5)
     await sdo.read(2, 0x1000, 0)
