@@ -73,7 +73,7 @@ if mode == "reads":
 else:
     job = request("POST", f"/api/nodes/{arg}/upload-all")
     while job["state"] == "running":
-        time.sleep(0.01)  # as the browser does, asking only for results it has not seen
+        time.sleep(0.25)  # as the browser does, asking only for results it has not seen
         job = request("GET", f"/api/jobs/{job['id']}?since={job['done']}")
     print(json.dumps({"seconds": job["elapsed_s"], "done": job["done"], "state": job["state"]}))
 """
@@ -145,7 +145,7 @@ def raw_upload_all(raw: canopen.RemoteNode, entries: list[tuple[int, int]]) -> f
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--reads", type=int, default=300)
-    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--rounds", type=int, default=7)
     args = parser.parse_args()
     with running_app() as (port, app):
         services: Services = app.state.services

@@ -10,7 +10,9 @@ from servodesk.errors import InvalidValueError
 from servodesk.services import Services
 
 
-def get_services(request: Request) -> Services:
+async def get_services(request: Request) -> Services:
+    # async on purpose: FastAPI runs a plain `def` dependency in a worker thread, one thread
+    # hop per request for a dictionary lookup.
     services: Services = request.app.state.services
     return services
 
