@@ -128,7 +128,7 @@ def serve(args: argparse.Namespace) -> int:
         interface=config.interface,
         channel=config.channel,
         bitrate=config.bitrate,
-        bus_options={key: str(value) for key, value in config.options.items()},
+        bus_options=dict(config.options),
     )
     print(f"ServoDesk {__version__} on http://{args.bind}:{args.port}", flush=True)
     uvicorn.run(create_app(settings), host=args.bind, port=args.port, log_level="info")

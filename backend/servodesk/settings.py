@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from pydantic import Field
 from pydantic_settings import BaseSettings, SettingsConfigDict
@@ -19,7 +20,8 @@ class Settings(BaseSettings):
     interface: str | None = None
     channel: str | None = None
     bitrate: int | None = None
-    bus_options: dict[str, str] = Field(default_factory=dict)
+    # python-can keyword arguments as parsed by its CLI (`port=29536` arrives as an int)
+    bus_options: dict[str, Any] = Field(default_factory=dict)
     simulated: bool = False  # start the three built-in simulated drives (nodes 1, 2, 3)
 
     # Timeouts and timing (seconds unless the name says otherwise)

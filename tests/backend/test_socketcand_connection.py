@@ -1,0 +1,47 @@
+"""The app joins simulated drives served by `servodesk-sim --serve` through python-can's own
+`socketcand` interface, as it joins a remote adapter."""
+
+from __future__ import annotations
+
+import uuid
+from collections.abc import Iterator
+from pathlib import Path
+
+import can
+import pytest
+from fastapi.testclient import TestClient
+
+from servodesk.app import create_app
+from servodesk.settings import Settings
+from servodesk_sim.runner import run_drives
+from servodesk_sim.socketcand_server import SocketcandServer
+
+
+@pytest.fixture
+def served_drives() -> Iterator[int]:
+    bus = can.Bus(interface="virtual", channel=f"socketcand-{uuid.uuid4().hex}")
+    sim = run_drives(bus, [(1, "mdi-s1c"), (3, "cia402")])
+    server = SocketcandServer(sim, port=0)
+    server.start()
+    try:
+        yield server.address[1]
+    finally:
+        server.stop()
+        sim.stop()
+        bus.shutdown()
+
+
+def test_app_reaches_drives_through_socketcand(served_drives: int, tmp_path: Path) -> None:
+    settings = Settings(
+        interface="socketcand",
+        channel="can0",
+        bus_options={"host": "127.0.0.1", "port": served_drives},
+        data_dir=tmp_path,
+    )
+    with TestClient(create_app(settings, static_dir=None)) as client:
+        bus = client.get("/api/bus").json()
+        assert (bus["state"], bus["interface"]) == ("connected", "socketcand")
+        nodes = client.get("/api/nodes").json()
+        assert [(n["node"], n["profile"]) for n in nodes] == [(1, "mdi-s1c"), (3, "cia402")]
+        # a segmented upload across TCP
+        assert client.get("/api/nodes/1/sdo/1008/0").json()["value"] == "DVS_CANOPEN"
