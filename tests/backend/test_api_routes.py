@@ -251,3 +251,11 @@ def test_bus_disconnect_and_reconnect(client: TestClient) -> None:
 
 def test_foreign_host_header_is_refused(client: TestClient) -> None:
     assert client.get("/api/health", headers={"host": "evil.example"}).status_code == 400
+
+
+def test_udp_multicast_is_refused_and_not_offered(client: TestClient) -> None:
+    names = {i["name"] for i in ok(client.get("/api/bus/interfaces"))}
+    assert "udp_multicast" not in names
+    status = ok(client.post("/api/bus/connect", json={"interface": "udp_multicast"}))
+    assert status["state"] == "error"
+    assert "local network" in status["error"]

@@ -20,9 +20,10 @@ import can
 import canopen
 
 from servodesk.bus.counters import BusCounters
+from servodesk.bus.interfaces import REFUSED
 from servodesk.bus.link import Link, close_link, open_link
 from servodesk.bus.simulated import SIM_INTERFACE, SimulatedDrives, prepare_simulated_drives
-from servodesk.errors import BusNotConnectedError
+from servodesk.errors import BusNotConnectedError, InvalidValueError
 from servodesk.models import BusConfig, BusState, BusStatus
 from servodesk.settings import Settings
 
@@ -224,6 +225,11 @@ class BusManager:
         config = self._effective_config()
         if config is None:
             raise BusNotConnectedError("no bus configuration")
+        if config.interface in REFUSED:
+            raise InvalidValueError(
+                f"the {config.interface} interface sends every frame onto the local network; "
+                "use a CAN adapter, socketcand or the simulated drives"
+            )
         raw = await self._build_bus(config)
         token = object()  # failures of this link only; stale reports are ignored
         listeners = list(self._frame_listeners)

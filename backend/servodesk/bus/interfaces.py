@@ -35,16 +35,18 @@ _KNOWN: tuple[InterfaceInfo, ...] = (
     ),
 )
 
-# udp_multicast sends to the LAN (DESIGN rule 6): offer it, but say so.
-_LABELS = {"udp_multicast": "UDP multicast (sends to the local network)"}
+# python-can's udp_multicast puts every frame on the local network (DESIGN rule 6): a
+# commissioning tool must not send CANopen commands that way, so it is neither offered nor
+# accepted (connection.py refuses it).
+REFUSED = frozenset({"udp_multicast"})
 
 
 def _others() -> tuple[InterfaceInfo, ...]:
-    listed = {info.name for info in _KNOWN}
+    listed = {info.name for info in _KNOWN} | REFUSED
     return tuple(
         InterfaceInfo(
             name=name,
-            label=_LABELS.get(name, f"{name} (python-can interface)"),
+            label=f"{name} (python-can interface)",
             needs_channel=True,
             example_channel="",
         )
