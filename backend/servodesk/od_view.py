@@ -11,9 +11,9 @@ from servodesk.models import (
     OdEntry,
     OdObject,
     OdTree,
-    Value,
 )
 from servodesk.od import DataType, LintWarning, ObjectDictionaryModel, OdSub
+from servodesk.sdo.codec import api_value
 
 
 def data_type_name(code: int) -> str:
@@ -21,17 +21,6 @@ def data_type_name(code: int) -> str:
         return DataType(code).name
     except ValueError:
         return f"0x{code:04X}"
-
-
-def _json_value(value: object) -> Value:
-    """Dictionary values as JSON: numbers and strings as they are, bytes as spaced hex."""
-    if isinstance(value, bool):
-        return int(value)
-    if isinstance(value, int | float | str):
-        return value
-    if isinstance(value, bytes | bytearray):
-        return bytes(value).hex(" ").upper()
-    return None
 
 
 def entry_of(sub: OdSub) -> OdEntry:
@@ -43,7 +32,7 @@ def entry_of(sub: OdSub) -> OdEntry:
         data_type_name=data_type_name(sub.data_type),
         access=sub.access,
         pdo_mappable=sub.pdo_mappable,
-        default=_json_value(sub.default),
+        default=api_value(sub.default),
         low=sub.low,
         high=sub.high,
         unit=sub.unit,

@@ -123,15 +123,9 @@ class SimDrive:
 
     def _commission_bitrate(self, bitrate: int) -> None:
         """Set the drive's bitrate objects to `bitrate` (as if commissioned for this bus)."""
-        quirks = self.data.quirks
-        for code in quirks.bitrate_codes:
-            if code.bitrate == bitrate:
-                for (index, sub), value in zip(quirks.bitrate_objects, code.values, strict=True):
-                    self.store.set(index, sub, value)
-                    self.store.commit_stored(index, sub)
-                return
-        if quirks.bitrate_objects:
-            raise ValueError(f"{self.profile} cannot run at {bitrate} bit/s")
+        for (index, sub), value in servodesk_data.bitrate_objects(self.data, bitrate).items():
+            self.store.set(index, sub, value)
+            self.store.commit_stored(index, sub)
 
     def _configured_node_id(self) -> int:
         cfg = self.config
@@ -201,7 +195,7 @@ class SimDrive:
     # ----------------------------------------------------------------------------- faults
 
     def _fault_for_code(self, code: int) -> Fault:
-        entry = self.config.faults_by_code.get(code)
+        entry = self.data.fault(code)
         if entry is None:
             # An unlisted code still faults the drive, as an unlisted alarm would. Kinco and
             # CiA 402 codes are EMCY codes themselves; an MDi alarm number is not (generic 1000h).
@@ -211,7 +205,7 @@ class SimDrive:
         return _fault_of(entry)
 
     def _fault_for_kind(self, kind: FaultKind) -> Fault:
-        entry = self.config.faults_by_kind.get(kind)
+        entry = self.data.fault_for_kind(kind)
         if entry is None:
             return Fault(code=0x1000, emcy_code=0x1000, error_register=0x01)
         return _fault_of(entry)
@@ -385,7 +379,3 @@ def create_drive(node_id: int, profile: str, *, bus_bitrate: int | None = None) 
         known = ", ".join(servodesk_data.PROFILE_NAMES)
         raise ValueError(f"unknown drive profile {profile!r}; known: {known}")
     return SimDrive(servodesk_data.load(profile), node_id, bus_bitrate=bus_bitrate)
-
-
-DriveFactory = Callable[[int, str], SimDrive]
-__all__ = ["CONTROL_PERIOD", "DriveFactory", "SdoAbort", "SimDrive", "create_drive"]

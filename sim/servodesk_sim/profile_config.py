@@ -5,11 +5,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from servodesk_data import DriveData, FaultEntry, NodeIdSource, ObjectRef
+from servodesk_data import DriveData, NodeIdSource, ObjectRef
 from servodesk_data.model import EmcyFormat as DataEmcyFormat
 from servodesk_data.model import PdoRemapRule, SdoLengthCheck
 from servodesk_sim.emcy import EmcyFormat
-from servodesk_sim.fault_kind import FaultKind
 from servodesk_sim.motion import MotionConfig
 from servodesk_sim.od_store import LengthCheck
 from servodesk_sim.pdo import PdoRules, RemapRule
@@ -43,8 +42,6 @@ class DriveConfig:
     node_id_source: NodeIdSource
     node_id_object: ObjectRef | None
     bitrate_objects: tuple[ObjectRef, ...]
-    faults_by_code: dict[int, FaultEntry]
-    faults_by_kind: dict[FaultKind, FaultEntry]
 
 
 def drive_config(data: DriveData) -> DriveConfig:
@@ -70,10 +67,6 @@ def drive_config(data: DriveData) -> DriveConfig:
         reference_found_bit15=quirks.homing_reference_found_bit15,
         max_speed=(*quirks.max_speed_object, "rpm"),
     )
-    by_kind: dict[FaultKind, FaultEntry] = {}
-    for entry in data.faults:
-        for kind in entry.kinds:
-            by_kind.setdefault(kind, entry)
     return DriveConfig(
         length_check=_LENGTH[quirks.sdo_length_check],
         sdo_block_transfer=quirks.sdo_block_transfer,
@@ -89,6 +82,4 @@ def drive_config(data: DriveData) -> DriveConfig:
         node_id_source=quirks.node_id_source,
         node_id_object=quirks.node_id_object,
         bitrate_objects=quirks.bitrate_objects,
-        faults_by_code={entry.code: entry for entry in data.faults},
-        faults_by_kind=by_kind,
     )
