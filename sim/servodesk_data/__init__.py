@@ -29,7 +29,7 @@ from servodesk_data.model import (
 
 PROFILE_NAMES: tuple[str, ...] = ("mdi-s1c", "kinco", "cia402")
 
-# seed 000 §2.2: the MDi drive parameters PA-n are reached over CANopen in the manufacturer
+# MDi-S1-C manual §2.2: the MDi drive parameters PA-n are reached over CANopen in the manufacturer
 # area, 16 per index starting at 2000h; sub 0 holds the highest sub-index.
 MDI_PA_BASE = 0x2000
 MDI_PA_PER_INDEX = 16
@@ -67,7 +67,7 @@ def mdi_pa_object(number: int) -> ObjectRef:
 def bitrate_of(data: DriveData, values: Mapping[ObjectRef, int]) -> int | None:
     """The bitrate (bit/s) the drive's bitrate objects select; None if absent or unknown.
 
-    MDi: PA-106 code 0–6 (seed 000 §2.2); Kinco: the 2F81h/2F82h pair (seed 001 §4).
+    MDi: PA-106 code 0–6 (MDi-S1-C manual §2.2); Kinco: the 2F81h/2F82h pair (Kinco manual §4).
     """
     objects = data.quirks.bitrate_objects
     if not objects or any(ref not in values for ref in objects):

@@ -17,24 +17,26 @@ ObjectRef = tuple[int, int]  # (index, sub-index), written "2006:08" in the TOML
 
 
 class EmcyFormat(StrEnum):
-    ALARM_NUMBER = "alarm_number"  # MDi: 2 data bytes = alarm number (seed 000 §2.7)
-    KINCO = "kinco"  # 8 bytes, low 16 bits of the 603Fh code (seed 001 §5.6, §8)
-    CIA301 = "cia301"  # 8 bytes: code, 1001h, manufacturer bytes (seed 003 EMCY)
+    ALARM_NUMBER = "alarm_number"  # MDi: 2 data bytes = alarm number (MDi-S1-C manual §2.7)
+    KINCO = "kinco"  # 8 bytes, low 16 bits of the 603Fh code (Kinco manual §5.6, §8)
+    CIA301 = "cia301"  # 8 bytes: code, 1001h, manufacturer bytes (Nanotec article EMCY)
 
 
 class SdoLengthCheck(StrEnum):
-    GENERIC = "generic"  # any size mismatch -> 06070010h (seed 000 table 2.18)
-    SPECIFIC = "specific"  # too long 06070012h / too short 06070013h (seed 003)
+    GENERIC = "generic"  # any size mismatch -> 06070010h (MDi-S1-C manual table 2.18)
+    SPECIFIC = "specific"  # too long 06070012h / too short 06070013h (Nanotec article)
 
 
 class PdoRemapRule(StrEnum):
-    WHILE_INVALID = "while_invalid"  # only while the PDO's COB-ID bit 31 is set (seed 000 §5.2)
-    OUTSIDE_OPERATIONAL = "outside_operational"  # not in NMT Operational, 08000022h (seed 003)
+    # only while the PDO's COB-ID bit 31 is set (MDi-S1-C manual §5.2)
+    WHILE_INVALID = "while_invalid"
+    # not in NMT Operational, 08000022h (Nanotec article)
+    OUTSIDE_OPERATIONAL = "outside_operational"
 
 
 class NodeIdSource(StrEnum):
-    PARAMETER = "parameter"  # MDi PA-105 (seed 000 §2.2)
-    DIP_PLUS_OFFSET = "dip_plus_offset"  # Kinco DIP switch + 2F80h (seed 001 §5.1)
+    PARAMETER = "parameter"  # MDi PA-105 (MDi-S1-C manual §2.2)
+    DIP_PLUS_OFFSET = "dip_plus_offset"  # Kinco DIP switch + 2F80h (Kinco manual §5.1)
     FIXED = "fixed"  # set outside CANopen (not described by the manual)
 
 

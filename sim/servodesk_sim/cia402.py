@@ -1,14 +1,15 @@
 """CiA 402 drive state machine on controlword 6040h / statusword 6041h, as pure functions.
 
-Commands and transition numbers follow seed 000 §3.2.2 (figure 3.2); statusword patterns follow
-seed 000 §3.2.3 and CiA 402 (bits 0, 1, 2, 3, 5, 6 encode the state).
+Commands and transition numbers follow MDi-S1-C manual §3.2.2 (figure 3.2); statusword patterns
+follow
+MDi-S1-C manual §3.2.3 and CiA 402 (bits 0, 1, 2, 3, 5, 6 encode the state).
 """
 
 from __future__ import annotations
 
 from enum import IntEnum
 
-# Controlword 6040h bits (seed 000 §3.2.2)
+# Controlword 6040h bits (MDi-S1-C manual §3.2.2)
 CW_SWITCH_ON = 0x0001
 CW_ENABLE_VOLTAGE = 0x0002
 CW_QUICK_STOP = 0x0004  # active low: 0 requests a quick stop
@@ -19,7 +20,7 @@ CW_RELATIVE = 0x0040  # PP only
 CW_FAULT_RESET = 0x0080  # acts on its 0 -> 1 edge only
 CW_HALT = 0x0100
 
-# Statusword 6041h bits (seed 000 §3.2.3)
+# Statusword 6041h bits (MDi-S1-C manual §3.2.3)
 SW_READY_TO_SWITCH_ON = 0x0001
 SW_SWITCHED_ON = 0x0002
 SW_OPERATION_ENABLED = 0x0004
@@ -33,9 +34,9 @@ SW_TARGET_REACHED = 0x0400
 SW_INTERNAL_LIMIT = 0x0800
 SW_MODE_BIT12 = 0x1000
 SW_MODE_BIT13 = 0x2000
-SW_REFERENCE_FOUND = 0x8000  # Kinco manufacturer bit (seed 001 §5.4.6)
+SW_REFERENCE_FOUND = 0x8000  # Kinco manufacturer bit (Kinco manual §5.4.6)
 
-# Transition numbers of CiA 402 figure 3.1 / seed 000 figure 3.2
+# Transition numbers of CiA 402 figure 3.1 / MDi-S1-C manual figure 3.2
 T_SHUTDOWN_FROM_DISABLED = 2
 T_SWITCH_ON = 3
 T_ENABLE_OPERATION = 4
@@ -65,7 +66,8 @@ class Cia402State(IntEnum):
 
 
 class Command(IntEnum):
-    """Device control commands of seed 000 figure 3.2 (bit 7 handled as an edge elsewhere)."""
+    """Device control commands of MDi-S1-C manual figure 3.2 (bit 7 handled as an edge
+    elsewhere)."""
 
     SHUTDOWN = 1
     SWITCH_ON = 2  # bit 3 = 0: also "disable operation" in Operation enabled
@@ -75,7 +77,7 @@ class Command(IntEnum):
 
 
 class QuickStopOption(IntEnum):
-    """605Ah quick stop option code (CiA 402; MDi accepts 1, 2, 5, 6 — seed 000 §5.3)."""
+    """605Ah quick stop option code (CiA 402; MDi accepts 1, 2, 5, 6 — MDi-S1-C manual §5.3)."""
 
     DISABLE_DRIVE = 0
     SLOW_DOWN_RAMP = 1
@@ -115,7 +117,7 @@ def quick_stop_stays(option: int) -> bool:
 _S = Cia402State
 _C = Command
 
-# (state, command) -> (next state, transition number), seed 000 figure 3.2.
+# (state, command) -> (next state, transition number), MDi-S1-C manual figure 3.2.
 _TABLE: dict[tuple[Cia402State, Command], tuple[Cia402State, int]] = {
     (_S.SWITCH_ON_DISABLED, _C.SHUTDOWN): (_S.READY_TO_SWITCH_ON, T_SHUTDOWN_FROM_DISABLED),
     (_S.READY_TO_SWITCH_ON, _C.SWITCH_ON): (_S.SWITCHED_ON, T_SWITCH_ON),

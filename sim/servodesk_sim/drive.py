@@ -110,7 +110,7 @@ class SimDrive:
 
     def _commission_node_id(self, node_id: int) -> None:
         """Set the drive's own node-id parameter so it boots at `node_id` (as if commissioned)."""
-        # Kinco: the DIP switch gives the address and 2F80h adds an offset (seed 001 §5.1), so a
+        # Kinco: the DIP switch gives the address and 2F80h adds an offset (Kinco manual §5.1), so a
         # drive started at `node_id` has its DIP switch there and offset 0.
         self._dip_node_id = node_id
         cfg = self.config
@@ -262,7 +262,7 @@ class SimDrive:
         if HEARTBEAT_BASE < can_id <= HEARTBEAT_BASE + 127 and not frame.rtr:
             self.consumer.on_heartbeat(can_id - HEARTBEAT_BASE, now)
             return []
-        if not state.allows_sdo:  # Stopped: only NMT and error control (seed 000 table 2.8)
+        if not state.allows_sdo:  # Stopped: only NMT and error control (MDi-S1-C manual table 2.8)
             return []
         if can_id == SDO_RX_BASE + self._node_id and not frame.rtr:
             replies = self.sdo.on_request(frame.data, now)

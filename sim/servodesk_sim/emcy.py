@@ -1,9 +1,9 @@
 """EMCY producer and fault bookkeeping: 603Fh, 1001h, 1003h, Kinco 2600h:02 and the EMCY frame.
 
 Each drive family words its EMCY differently:
-- MDi (seed 000 §2.7): 2 data bytes, the alarm number little-endian.
-- Kinco (seed 001 §5.6, §8): 8 bytes, the low 16 bits of the 603Fh code, the rest zero.
-- CiA 301 (seed 003 EMCY): EMCY code, 1001h error register, 5 manufacturer bytes.
+- MDi (MDi-S1-C manual §2.7): 2 data bytes, the alarm number little-endian.
+- Kinco (Kinco manual §5.6, §8): 8 bytes, the low 16 bits of the 603Fh code, the rest zero.
+- CiA 301 (Nanotec article EMCY): EMCY code, 1001h error register, 5 manufacturer bytes.
 """
 
 from __future__ import annotations
@@ -19,20 +19,21 @@ ERROR_REGISTER = 0x1001  # Error register
 ERROR_HISTORY = 0x1003  # Pre-defined error field
 EMCY_COB_ID = 0x1014  # COB-ID EMCY
 ERROR_CODE = 0x603F  # Error code (CiA 402)
-KINCO_FAULTS = 0x2600  # Kinco fault object; sub 2 = Detected_Faults bits (seed 001 §8)
+KINCO_FAULTS = 0x2600  # Kinco fault object; sub 2 = Detected_Faults bits (Kinco manual §8)
 KINCO_DETECTED_SUB = 2
 
 EMCY_BASE = 0x80
-COB_INVALID = 1 << 31  # 1014h bit 31: EMCY switched off (seed 000 §2.7)
+COB_INVALID = 1 << 31  # 1014h bit 31: EMCY switched off (MDi-S1-C manual §2.7)
 CAN_ID_MASK = 0x7FF
 GENERIC_ERROR_BIT = 0x01  # 1001h bit 0 is set whenever any error is active (CiA 301)
 MAX_HISTORY = 254
 
 
 class EmcyFormat(Enum):
-    ALARM_NUMBER = "alarm_number"  # MDi: 2 data bytes = alarm number LE (seed 000 §2.7)
-    KINCO = "kinco"  # 8 bytes: low 16 bits of the 603Fh code, then zeros (seed 001 §5.6, §8)
-    CIA301 = "cia301"  # 8 bytes: code LE, 1001h error register, 5 manufacturer bytes (seed 003)
+    ALARM_NUMBER = "alarm_number"  # MDi: 2 data bytes = alarm number LE (MDi-S1-C manual §2.7)
+    KINCO = "kinco"  # 8 bytes: low 16 bits of the 603Fh code, then zeros (Kinco manual §5.6, §8)
+    # 8 bytes: code LE, 1001h error register, 5 manufacturer bytes (Nanotec article)
+    CIA301 = "cia301"
 
 
 @dataclass(frozen=True)
@@ -40,16 +41,16 @@ class Fault:
     code: int  # the profile's own number: MDi alarm no., Kinco 603Fh code, cia402 EMCY code
     emcy_code: int  # CiA 301/402 class code, for 1003h (and the EMCY of the CiA 301 format)
     error_register: int  # 1001h bits to set (bit 0 generic is always added)
-    kinco_bits: int = 0  # 2600h:02 bit(s) for Kinco (seed 001 §8 table)
+    kinco_bits: int = 0  # 2600h:02 bit(s) for Kinco (Kinco manual §8 table)
 
 
 def emcy_payload(fmt: EmcyFormat, fault: Fault | None, error_register: int) -> bytes:
     """Data bytes of an EMCY frame; `fault` None is the "error reset / no error" EMCY."""
     if fmt is EmcyFormat.ALARM_NUMBER:
-        # seed 000 §2.7: 2 bytes, low byte first; alarm 0 means "normal" (§4.1 "--").
+        # MDi-S1-C manual §2.7: 2 bytes, low byte first; alarm 0 means "normal" (§4.1 "--").
         return (0 if fault is None else fault.code & 0xFFFF).to_bytes(2, "little")
     if fmt is EmcyFormat.KINCO:
-        # seed 001 §8: only the low 2 bytes of 603Fh travel in the EMCY; §5.6: rest unused.
+        # Kinco manual §8: only the low 2 bytes of 603Fh travel in the EMCY; §5.6: rest unused.
         code = 0 if fault is None else fault.code & 0xFFFF
         return code.to_bytes(2, "little") + bytes(6)
     code = 0 if fault is None else fault.emcy_code & 0xFFFF
@@ -58,7 +59,7 @@ def emcy_payload(fmt: EmcyFormat, fault: Fault | None, error_register: int) -> b
 
 
 def history_entry(fault: Fault, error_register: int) -> int:
-    """1003h entry: EMCY code in bits 0–15, error register in 16–23 (seed 003: the EMCY code,
+    """1003h entry: EMCY code in bits 0–15, error register in 16–23 (Nanotec article: the EMCY code,
     the error register and a manufacturer code are written together; the last is 0 here)."""
     return (fault.emcy_code & 0xFFFF) | ((error_register & 0xFF) << 16)
 
@@ -93,7 +94,7 @@ class FaultManager:
         `now` is the time of the fault (kept in the signature for an EMCY inhibit time, 1015h).
         """
         if any(known.code == fault.code for known in self._active):
-            return []  # seed 001 §5.6: a persisting fault generates one EMCY only
+            return []  # Kinco manual §5.6: a persisting fault generates one EMCY only
         self._active.append(fault)
         register = self._error_register()
         self._publish(fault.code, register)
@@ -143,7 +144,7 @@ class FaultManager:
         if sub != 0:
             raise SdoAbort(READ_ONLY, "1003h entries are read-only")
         if value != 0:
-            # seed 003 SDO abort table, 06090031: "1003h:00 can only be set to 0".
+            # Nanotec article SDO abort table, 06090031: "1003h:00 can only be set to 0".
             raise SdoAbort(VALUE_TOO_HIGH, "write 0 to 1003h:00 to clear the history")
 
     def _history_written(self, _sub: int, _value: Value) -> None:

@@ -1,7 +1,8 @@
 """NMT error control of a simulated drive: heartbeat producer and consumer, node/life guarding.
 
-CiA 301 §7.2.8.3.2; seed 000 §2.3.2; seed 003 "心跳和节点保护". Pure classes with explicit time
-(seconds); the drive feeds them 1016h/1017h/100Ch/100Dh values and raises the faults they report.
+CiA 301 §7.2.8.3.2; MDi-S1-C manual §2.3.2; Nanotec article "心跳和节点保护". Pure classes with
+explicit time (seconds); the drive feeds them 1016h/1017h/100Ch/100Dh values and raises the
+faults they report.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from servodesk_sim.frames import Frame
 from servodesk_sim.nmt_state import NmtState
 
 ERROR_CONTROL_BASE = 0x700  # heartbeat and guarding answers: 700h+id
-GUARD_TOGGLE = 0x80  # bit 7 of a node-guarding answer (seed 000 table 2.11)
+GUARD_TOGGLE = 0x80  # bit 7 of a node-guarding answer (MDi-S1-C manual table 2.11)
 US_PER_MS = 1000
 
 
@@ -35,7 +36,7 @@ def _active(node: int, time_ms: int) -> bool:
 
 
 class HeartbeatProducer:
-    """Sends the NMT state on 700h+id every 1017h ms (seed 000 §2.3.2, table 2.12)."""
+    """Sends the NMT state on 700h+id every 1017h ms (MDi-S1-C manual §2.3.2, table 2.12)."""
 
     def __init__(self) -> None:
         self._last: float | None = None  # time the current period started
@@ -63,7 +64,7 @@ class HeartbeatProducer:
 @dataclass
 class _Watch:
     time_ms: int
-    last: float | None = None  # first heartbeat starts monitoring (seed 000 §2.3.2)
+    last: float | None = None  # first heartbeat starts monitoring (MDi-S1-C manual §2.3.2)
     lost: bool = False
 
 
@@ -77,7 +78,7 @@ class HeartbeatConsumer:
     def validate(entries: Sequence[int]) -> None:
         """Refuse two active 1016h entries for the same node with 06040043.
 
-        Seed 000 1016h: "不可以对同一个节点设置两个消费者时间" (CiA 301 1016h likewise).
+        The MDi-S1-C manual 1016h: "不可以对同一个节点设置两个消费者时间" (CiA 301 1016h likewise).
         """
         seen: set[int] = set()
         for raw in entries:
@@ -118,7 +119,7 @@ class HeartbeatConsumer:
 
 
 class NodeGuarding:
-    """Answers guarding RTRs and watches the master's life time (seed 000 §2.3.2 1))."""
+    """Answers guarding RTRs and watches the master's life time (MDi-S1-C manual §2.3.2 1))."""
 
     def __init__(self) -> None:
         self._toggle = 0
@@ -139,7 +140,7 @@ class NodeGuarding:
         """True once when the master's RTRs stayed away for 100Ch × 100Dh ms.
 
         Life guarding runs once 100Ch and 100Dh are non-zero and the first RTR arrived; never
-        together with a heartbeat (seed 000 §2.3.2 note 1), so 1017h ≠ 0 switches it off.
+        together with a heartbeat (MDi-S1-C manual §2.3.2 note 1), so 1017h ≠ 0 switches it off.
         """
         if heartbeat_active or guard_time_ms <= 0 or life_factor <= 0:
             return False

@@ -76,10 +76,10 @@ class MotionConfig:
     homing_methods: frozenset[int]  # {17, 18, 23, 27, 35} (+ profile additions)
     immediate_setpoint: bool  # PP controlword bit 5 honoured (MDi: False)
     unsupported_mode_display: int | None  # MDi: 6061h shows 0; None: keep the old mode
-    reference_found_bit15: bool  # Kinco statusword 0x8000 after homing (seed 001 §5.4.6)
+    reference_found_bit15: bool  # Kinco statusword 0x8000 after homing (Kinco manual §5.4.6)
     max_speed: tuple[int, int, str]  # overspeed limit object and unit ("rpm")
-    ip_period_ms: tuple[int, int] = (1, 20)  # 60C2h clamp (seed 000 §3.8 note 5)
-    homing_timeout_s: float = 60.0  # "回零发生超时" (seed 000 §3.7.1 bit 13)
+    ip_period_ms: tuple[int, int] = (1, 20)  # 60C2h clamp (MDi-S1-C manual §3.8 note 5)
+    homing_timeout_s: float = 60.0  # "回零发生超时" (MDi-S1-C manual §3.7.1 bit 13)
     plant: PlantParams = field(default_factory=PlantParams)
 
     def __post_init__(self) -> None:
@@ -367,7 +367,7 @@ class MotionCore:
             word |= mode.status_bits(axis)
         # Error bits 13 stay visible through the fault they caused, until re-enabled / rehomed.
         if self._following_error and isinstance(mode, ProfilePosition):
-            word |= SW_MODE_BIT13  # PP bit 13 "跟随误差" (seed 000 §3.4.1)
+            word |= SW_MODE_BIT13  # PP bit 13 "跟随误差" (MDi-S1-C manual §3.4.1)
         if mode is self._homing and self._homing.phase is Phase.ERROR:
             word |= SW_MODE_BIT13  # HM bit 13 "回零错误"
         if self._config.reference_found_bit15 and self._homing.referenced:

@@ -1,4 +1,5 @@
-"""NMT slave state machine of a simulated drive (CiA 301 §7.2.8.3; seed 000 §2.3.1, seed 003 NMT).
+"""NMT slave state machine of a simulated drive (CiA 301 §7.2.8.3; MDi-S1-C manual §2.3.1, Nanotec
+article NMT).
 
 Pure: it decodes NMT commands and keeps the state. Resets are handed back to the drive, which
 reloads its object dictionary and then calls `boot` again.
@@ -9,8 +10,8 @@ from __future__ import annotations
 from servodesk_sim.frames import Frame
 from servodesk_sim.nmt_state import NmtCommand, NmtState
 
-NMT_FRAME_LENGTH = 2  # [command specifier, node id] (seed 000 table 2.6)
-BROADCAST = 0  # node id 0 addresses every node (seed 000 §2.3.1)
+NMT_FRAME_LENGTH = 2  # [command specifier, node id] (MDi-S1-C manual table 2.6)
+BROADCAST = 0  # node id 0 addresses every node (MDi-S1-C manual §2.3.1)
 BOOTUP_BASE = 0x700  # boot-up shares the error-control COB-ID 700h+id
 
 _TARGET_STATE = {

@@ -13,7 +13,7 @@ class NmtState(IntEnum):
 
     @property
     def allows_sdo(self) -> bool:
-        # seed 000 table 2.8: no SDO, PDO, SYNC or EMCY in Stopped
+        # MDi-S1-C manual table 2.8: no SDO, PDO, SYNC or EMCY in Stopped
         return self in (NmtState.PRE_OPERATIONAL, NmtState.OPERATIONAL)
 
     @property

@@ -33,8 +33,8 @@ from servodesk_sim.abort_codes import (
 class LengthCheck(Enum):
     """How a drive answers an SDO download whose size does not match a fixed-size object."""
 
-    GENERIC = "generic"  # any size mismatch -> 06070010 (MDi, seed 000 table 2.18; Kinco)
-    SPECIFIC = "specific"  # too long -> 06070012, too short -> 06070013 (cia402, seed 003)
+    GENERIC = "generic"  # any size mismatch -> 06070010 (MDi, MDi-S1-C manual table 2.18; Kinco)
+    SPECIFIC = "specific"  # too long -> 06070012, too short -> 06070013 (cia402, Nanotec article)
 
 
 Value = int | float | str | bytes
@@ -225,7 +225,8 @@ class ObjectStore:
     def reset_node(self) -> None:
         """NMT reset node: every area back to its last stored values, else the EDS defaults.
 
-        Seed 000 §2.3.1: reset node restores the manufacturer and profile areas to the last saved
+        The MDi-S1-C manual §2.3.1: reset node restores the manufacturer and profile areas to the
+        last saved
         values; CiA 301 resets communication as part of it, so that area is reloaded too.
         """
         self._load(self._vars)

@@ -1,4 +1,5 @@
-"""PDO engine: receive and transmit PDOs of one drive (seed 000 §2.5, seed 001 §5.4, seed 003 PDO).
+"""PDO engine: receive and transmit PDOs of one drive (MDi-S1-C manual §2.5, Kinco manual §5.4,
+Nanotec article PDO).
 
 Communication parameters live at 1400h+n (RPDO) / 1800h+n (TPDO), mappings at 1600h+n / 1A00h+n.
 Values always go through the object store: TPDOs read with `read_bytes` (so whatever the drive
@@ -53,7 +54,7 @@ from servodesk_sim.pdo_mapping import (
     unpack,
 )
 
-# seed 000 §5.2 1600h/1800h notes: these sub-indices change only while the PDO is invalid.
+# MDi-S1-C manual §5.2 1600h/1800h notes: these sub-indices change only while the PDO is invalid.
 _WHILE_INVALID_SUBS = frozenset({SUB_TRANSMISSION, SUB_INHIBIT, SUB_EVENT_TIMER})
 _EPSILON = 1e-9  # s: float clocks must not make a deadline miss by rounding
 
@@ -63,7 +64,7 @@ class RemapRule(Enum):
     WHILE_INVALID = "while_invalid"
     # cia402: 1400h–1407h/1600h–1607h/1800h–1807h/1A00h–1A07h writes in Operational → 08000022
     OUTSIDE_OPERATIONAL = "outside_operational"
-    # Only the CiA 301 sub-0 procedure: seed 001 §5.4.4/§5.4.5 (Kinco) write the type and the
+    # Only the CiA 301 sub-0 procedure: Kinco manual §5.4.4/§5.4.5 (Kinco) write the type and the
     # mapping of PDOs whose COB-ID is valid (181h, 201h), which WHILE_INVALID would refuse.
     UNRESTRICTED = "unrestricted"
 
@@ -72,14 +73,15 @@ class RemapRule(Enum):
 class PdoRules:
     rpdo_count: int  # 4 (MDi, Kinco) or 8 (cia402)
     tpdo_count: int
-    byte_granular: bool  # MDi: whole-byte mapping lengths only (seed 000 §5.2 1600h note)
+    byte_granular: bool  # MDi: whole-byte mapping lengths only (MDi-S1-C manual §5.2 1600h note)
     remap_rule: RemapRule
     rtr_transmission: bool  # cia402: TPDO types 252/253; MDi: COB-ID bit 30 is meaningless
     fixed_cob_ids: int  # PDOs 1..n whose CAN id is fixed to the node-id default
-    # seed 000 §2.5.3 4): a send for any reason restarts the event timer; seed 003 180Nh:05:
+    # MDi-S1-C manual §2.5.3 4): a send for any reason restarts the event timer; Nanotec article
+    # 180Nh:05:
     # the timer restarts only when it expires ("而不是基于另一个事件").
     event_timer_restarts_on_send: bool = True
-    # seed 003 140Nh:01: a new CAN id takes effect only after a reset (communication); the
+    # Nanotec article 140Nh:01: a new CAN id takes effect only after a reset (communication); the
     # valid bit still acts at once so configuring in Pre-operational and starting works.
     cob_id_change_needs_reset: bool = False
 
@@ -177,7 +179,7 @@ class PdoEngine:
                 self._store, channel.mapping, raw, channel.direction, byte_granular=granular
             )
             return
-        # CiA 301 mapping procedure (seed 000 §2.5 steps 3–5): entries change only while
+        # CiA 301 mapping procedure (MDi-S1-C manual §2.5 steps 3–5): entries change only while
         # sub 0 is 0. Writing 0 clears an unused entry and needs no target.
         if self._store.get(channel.mapping, 0) != 0:
             raise SdoAbort(UNSUPPORTED_ACCESS, "set sub 0 to 0 before changing entries")
@@ -188,11 +190,11 @@ class PdoEngine:
     def _check_change_allowed(self, channel: _Channel, *, restricted: bool) -> None:
         rule = self._rules.remap_rule
         if rule is RemapRule.OUTSIDE_OPERATIONAL:
-            # seed 003 SDO abort table, 08000022: no writes to these objects in Operational.
+            # Nanotec article SDO abort table, 08000022: no writes to these objects in Operational.
             if self._nmt_state() is NmtState.OPERATIONAL:
                 raise SdoAbort(DEVICE_STATE, "PDO parameters change outside Operational only")
         elif rule is RemapRule.WHILE_INVALID and restricted and not self._invalid(channel):
-            # seed 000 §5.2 says "only while the PDO is invalid" without a code; 06010000 is
+            # MDi-S1-C manual §5.2 says "only while the PDO is invalid" without a code; 06010000 is
             # what CiA 301 devices commonly answer (Copley, CCT PDO 23 accepts it).
             raise SdoAbort(UNSUPPORTED_ACCESS, "PDO must be invalid (COB-ID bit 31) to change")
 
@@ -278,14 +280,14 @@ class PdoEngine:
             return []
         data = frame.data[:needed]  # longer than mapped: the extra bytes are ignored
         if self._param(rpdo, SUB_TRANSMISSION) <= SYNC_CYCLIC_MAX:
-            rpdo.buffered = data  # seed 000 §2.5.3 2): synchronous data applies at next SYNC
+            rpdo.buffered = data  # MDi-S1-C manual §2.5.3 2): synchronous data applies at next SYNC
         else:
             self._apply(rpdo, data)
         return []
 
     def _answer_rtr(self, channel: _Channel, now: float) -> list[Frame]:
         if not (self._operational() and self._rules.rtr_transmission):
-            return []  # MDi: RTR-triggered PDOs are not supported (seed 000 §5.2 1800h:01)
+            return []  # MDi: RTR-triggered PDOs are not supported (MDi-S1-C manual §5.2 1800h:01)
         if self._cob_id(channel) & COB_NO_RTR:
             return []
         ttype = self._param(channel, SUB_TRANSMISSION)
@@ -310,7 +312,7 @@ class PdoEngine:
                 continue
             ttype = self._param(tpdo, SUB_TRANSMISSION)
             if ttype == 0:
-                # seed 000 §2.5.3 2): acyclic, sent at a SYNC only if the data changed
+                # MDi-S1-C manual §2.5.3 2): acyclic, sent at a SYNC only if the data changed
                 data = self._tpdo_data(tpdo)
                 if data is not None and data != tpdo.last_sent:
                     out.append(self._send(tpdo, data, now))
@@ -328,7 +330,7 @@ class PdoEngine:
             start = self._param(channel, SUB_SYNC_START)
             if counter is not None and start > 0:
                 # CiA 301 §7.5.2.36: the SYNC whose counter equals the start value counts as the
-                # first one; before it the PDO stays silent (seed 003 180Nh:06).
+                # first one; before it the PDO stays silent (Nanotec article 180Nh:06).
                 if counter != start:
                     return False
                 channel.sync_started = True
@@ -362,7 +364,8 @@ class PdoEngine:
             if not (expired or data != tpdo.last_sent):
                 continue
             if now + _EPSILON < tpdo.inhibit_until:
-                continue  # seed 000 §2.5.3 3): the change goes out when the inhibit time ends
+                # MDi-S1-C manual §2.5.3 3): the change goes out when the inhibit time ends
+                continue
             if expired and tpdo.event_deadline is not None:
                 # Next period counts from the expiry, not from this poll: no drift.
                 following = tpdo.event_deadline + timer
@@ -371,7 +374,8 @@ class PdoEngine:
         return out
 
     def on_nmt_state(self, state: NmtState, now: float) -> list[Frame]:
-        """NMT state changed: entering Operational sends event-driven TPDOs once (seed 003)."""
+        """NMT state changed: entering Operational sends event-driven TPDOs once (Nanotec
+        article)."""
         entering = state is NmtState.OPERATIONAL and not self._was_operational
         leaving = state is not NmtState.OPERATIONAL and self._was_operational
         self._was_operational = state is NmtState.OPERATIONAL

@@ -1,6 +1,7 @@
 """PDO parameters: mapping entries (16xxh / 1Axxh), bit packing and COB-ID / type checks.
 
-A mapping entry is `index << 16 | subindex << 8 | length in bits` (seed 000 §2.5.4 table 2.41,
+A mapping entry is `index << 16 | subindex << 8 | length in bits` (MDi-S1-C manual §2.5.4 table
+2.41,
 CiA 301 §7.4.7.3). Mapped objects are packed little-endian, one bit field after the other.
 """
 
@@ -41,11 +42,11 @@ COB_ID_BITS = 0x1FFFFFFF & ~COB_NO_RTR  # the identifier part of a COB-ID value
 CAN_ID_MASK = 0x7FF
 
 SYNC_CYCLIC_MAX = 240  # 0 acyclic, 1–240 every n-th SYNC
-SYNC_RTR = 252  # sample at SYNC, send on RTR (seed 003 FCh)
-EVENT_RTR = 253  # sample and send on RTR (seed 003 FDh)
+SYNC_RTR = 252  # sample at SYNC, send on RTR (Nanotec article FCh)
+EVENT_RTR = 253  # sample and send on RTR (Nanotec article FDh)
 EVENT_DRIVEN = (254, 255)
 
-MAX_ENTRIES = 8  # seed 000 §5.2 1600h:00 range 0–8
+MAX_ENTRIES = 8  # MDi-S1-C manual §5.2 1600h:00 range 0–8
 MAX_PDO_BITS = 64  # one classic CAN frame
 
 # CiA 301 "general parameter incompatibility". Chosen over 06070010 for an entry whose length
@@ -53,7 +54,7 @@ MAX_PDO_BITS = 64  # one classic CAN frame
 # it was not (a 4-byte UNSIGNED32 was written); the parameter contradicts the object.
 
 # CiA 301 §7.4.7.2: the data-type indices 0001h–0007h stand for dummy entries that fill gaps
-# (seed 003 TX mapping "可为间隔使用虚拟对象"). Usable only where the OD declares them
+# (Nanotec article TX mapping "可为间隔使用虚拟对象"). Usable only where the OD declares them
 # ([DummyUsage] in the EDS); value = their size in bits.
 DUMMY_BITS = {
     0x0001: 1,  # BOOLEAN
@@ -117,13 +118,13 @@ def check_entry(
         var = store.variable(entry.index, entry.subindex)  # 06020000 / 06090011
         if not var.pdo_mappable:
             raise SdoAbort(NOT_MAPPABLE, f"{entry.index:04X}h:{entry.subindex:02X} not mappable")
-        # seed 000 §5.2 1600h: an RPDO target must be writable; a TPDO source readable.
+        # MDi-S1-C manual §5.2 1600h: an RPDO target must be writable; a TPDO source readable.
         usable = var.writable if direction is Direction.RECEIVE else var.readable
         if not usable:
             raise SdoAbort(NOT_MAPPABLE, f"{entry.index:04X}h access {var.access_type}")
         allowed = accepted_bits(var)
     if byte_granular and entry.bits % 8:
-        # seed 000 §5.2 1600h note: "只支持按字节映射，不支持按位映射". A bit field is an
+        # MDi-S1-C manual §5.2 1600h note: "只支持按字节映射，不支持按位映射". A bit field is an
         # object the drive cannot map at all, hence 06040041 rather than a length error.
         raise SdoAbort(NOT_MAPPABLE, f"{entry.bits}-bit entry: byte-granular mapping only")
     if entry.bits not in allowed:
@@ -223,7 +224,8 @@ def check_cob_id(value: int, current: int, *, fixed_id: int | None) -> None:
         raise SdoAbort(INVALID_VALUE, "29-bit identifiers are not supported")
     new_id = value & COB_ID_BITS
     if fixed_id is not None:
-        # seed 000 §5.2 1400h/1800h, seed 003 140Nh:01: only bit 31 (and 30) may change.
+        # MDi-S1-C manual §5.2 1400h/1800h, Nanotec article 140Nh:01: only bit 31 (and 30) may
+        # change.
         if new_id != fixed_id:
             raise SdoAbort(INVALID_VALUE, f"CAN id is fixed at {fixed_id:#x}")
         return

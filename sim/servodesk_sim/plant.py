@@ -1,6 +1,6 @@
 """Motor + load of a simulated servo axis, its control cascade, and the unit conversions.
 
-Units used by every motion core (the literal reading of seed 000 §3.1 and §5.3):
+Units used by every motion core (the literal reading of MDi-S1-C manual §3.1 and §5.3):
 
 - Positions (607Ah, 607Ch, 6064h, 60C1h:01, 60F4h, 6065h, 6067h) are user units. The gear
   ratio 6091h maps 6091h:01 motor increments to 6091h:02 user units (default 131072 : 100000,
@@ -23,7 +23,7 @@ from enum import Enum
 
 from servodesk_sim.values import ValueStore
 
-ENCODER_RESOLUTION = 131072  # 17-bit encoder, increments per revolution (seed 000 §3.1)
+ENCODER_RESOLUTION = 131072  # 17-bit encoder, increments per revolution (MDi-S1-C manual §3.1)
 DEFAULT_MAX_TORQUE = 3000  # 6072h default when absent: 300 % of rated torque
 
 _INT32_SPAN = 1 << 32
@@ -45,7 +45,7 @@ def wrap_int32(value: float) -> int:
 
 @dataclass(frozen=True, slots=True)
 class Scaling:
-    """Factor group: gear ratio 6091h and polarity 607Eh (seed 000 §3.1, §5.3)."""
+    """Factor group: gear ratio 6091h and polarity 607Eh (MDi-S1-C manual §3.1, §5.3)."""
 
     motor_increments: int = ENCODER_RESOLUTION  # 6091h:01
     user_units: int = 100000  # 6091h:02
@@ -101,7 +101,7 @@ class ControlKind(Enum):
     OFF = "off"  # power stage off: the axis coasts
     POSITION = "position"  # position P + velocity feed-forward -> velocity PI
     VELOCITY = "velocity"  # velocity PI
-    TORQUE = "torque"  # torque reference, speed capped at a limit (seed 000 §3.6)
+    TORQUE = "torque"  # torque reference, speed capped at a limit (MDi-S1-C manual §3.6)
 
 
 @dataclass(frozen=True, slots=True)
@@ -218,7 +218,7 @@ class Plant:
         wanted = command.torque * p.rated_torque / 1000.0
         ceiling = command.velocity_limit * self._rad_per_inc
         # Above the speed limit the torque loop hands over to a speed regulator
-        # ("当速度达到限幅值将进入调速阶段", seed 000 §3.6).
+        # ("当速度达到限幅值将进入调速阶段", MDi-S1-C manual §3.6).
         if wanted >= 0.0:
             wanted = min(wanted, p.velocity_gain * (ceiling - self._speed))
         else:

@@ -46,8 +46,10 @@ class DriveConfig:
 
 def drive_config(data: DriveData) -> DriveConfig:
     quirks = data.quirks
-    # seed 003: the Nanotec-style controller restarts its event timer only when it expires and
-    # takes a new PDO CAN-ID only after a reset; the MDi and Kinco act at once (seed 000 §2.5.3).
+    # Nanotec article: the Nanotec-style controller restarts its event timer only when it expires
+    # and
+    # takes a new PDO CAN-ID only after a reset; the MDi and Kinco act at once (MDi-S1-C manual
+    # §2.5.3).
     nanotec_timing = quirks.pdo_remap_rule is PdoRemapRule.OUTSIDE_OPERATIONAL
     pdo_rules = PdoRules(
         rpdo_count=quirks.rpdo_count,

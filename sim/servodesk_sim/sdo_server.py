@@ -182,7 +182,8 @@ class SdoServer:
             if ccs == Ccs.BLOCK_UPLOAD:
                 return self._block_upload(data, now)
             return self._block_download(data, now)
-        # Unknown specifier, or block transfer on a drive without it (seed 000 §2.4.2 supports
+        # Unknown specifier, or block transfer on a drive without it (MDi-S1-C manual §2.4.2
+        # supports
         # only expedited and segmented transfer; table 2.32 echoes the request's object).
         if transfer is None:
             self._abort_at = _requested(data)
@@ -261,7 +262,7 @@ class SdoServer:
         if 0 < len(payload) <= 4:
             command = 0x43 | (4 - len(payload)) << 2  # e=1, s=1, n = unused bytes
             return [_frame(command, index, sub, payload)]
-        # Segmented (seed 000 table 2.33): 41h with the size in bytes 4–7.
+        # Segmented (MDi-S1-C manual table 2.33): 41h with the size in bytes 4–7.
         self._transfer = _Transfer(_Phase.SEGMENT_UPLOAD, index, sub, now, data=bytearray(payload))
         return [_frame(0x41, index, sub, len(payload).to_bytes(4, "little"))]
 
@@ -276,7 +277,7 @@ class SdoServer:
         last = transfer.offset >= len(transfer.data)
         if last:
             self._transfer = None
-        # seed 000 tables 2.34/2.35: t bit, n = unused bytes, c = last segment
+        # MDi-S1-C manual tables 2.34/2.35: t bit, n = unused bytes, c = last segment
         command = toggle | (SEGMENT_DATA - len(chunk)) << 1 | (LAST_SEGMENT if last else 0)
         return [(bytes([command]) + chunk).ljust(FRAME_LENGTH, b"\0")]
 

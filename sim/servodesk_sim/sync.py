@@ -1,4 +1,5 @@
-"""SYNC producer and consumer bookkeeping (seed 000 §2.6, seed 003 SYNC, CiA 301 §7.2.5).
+"""SYNC producer and consumer bookkeeping (MDi-S1-C manual §2.6, Nanotec article SYNC, CiA 301
+§7.2.5).
 
 1005h holds the SYNC COB-ID (bits 0–10) and, in bit 30, whether this node produces SYNC;
 1006h is the communication cycle period in µs; 1019h > 1 adds a 1-byte counter to the frame.
@@ -30,7 +31,7 @@ _EPSILON = 1e-9  # s: float clocks must not make a deadline miss by rounding
 
 @dataclass(frozen=True)
 class SyncRules:
-    min_period_us: int  # MDi 500 (seed 000 §2.6 note), others 0 (no limit beyond 1)
+    min_period_us: int  # MDi 500 (MDi-S1-C manual §2.6 note), others 0 (no limit beyond 1)
     require_period_before_enable: bool  # MDi: enabling 1005h bit 30 while 1006h = 0 is refused
 
 
@@ -77,7 +78,7 @@ class SyncProducer:
         if not cob & PRODUCER_BIT:
             return
         if self._rules.require_period_before_enable and self._get(CYCLE_PERIOD, 0) == 0:
-            # seed 000 §2.6 step 3: 1006h "不可为0，否则下一步无法执行" — the manual names no
+            # MDi-S1-C manual §2.6 step 3: 1006h "不可为0，否则下一步无法执行" — the manual names no
             # code; 08000022 says "not in the present device state", which is what it is.
             raise SdoAbort(DEVICE_STATE, "set 1006h before enabling the SYNC producer")
         current = self._get(SYNC_COB_ID, DEFAULT_COB_ID)
@@ -88,7 +89,7 @@ class SyncProducer:
     def _check_period(self, _sub: int, value: Value) -> None:
         period = _as_int(value)
         if 0 < period < self._rules.min_period_us:
-            # seed 000 §2.6 note: no SYNC producer below 500 µs.
+            # MDi-S1-C manual §2.6 note: no SYNC producer below 500 µs.
             raise SdoAbort(VALUE_TOO_LOW, f"SYNC period below {self._rules.min_period_us} µs")
 
     def _check_overflow(self, _sub: int, value: Value) -> None:

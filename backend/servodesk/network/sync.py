@@ -15,7 +15,7 @@ from servodesk.models import BusState, BusStatus, SyncConfig
 
 US = 1_000_000
 # python-can's thread-based cyclic sender cannot hold a shorter period steadily; drives that
-# need more (MDi: ≥ 500 µs, seed 000 §2.6) are at the edge of what a PC can produce.
+# need more (MDi: ≥ 500 µs, MDi-S1-C manual §2.6) are at the edge of what a PC can produce.
 MIN_PERIOD_US = 500
 MAX_PERIOD_US = 0xFFFFFFFF  # 1006h Communication cycle period is UNSIGNED32 µs
 

@@ -1,11 +1,12 @@
 """The order in which a parameter set is written to a drive (pure; table-tested).
 
 Writing a DCF entry by entry in file order fails on real drives: a PDO's mapping can only be
-changed while the PDO is invalid (seed 000 §5.2, CiA 301 §7.5.2.35), its count only after its
+changed while the PDO is invalid (MDi-S1-C manual §5.2, CiA 301 §7.5.2.35), its count only after its
 entries, and SYNC-related objects depend on each other. So:
 
 1. communication area (1000h–1FFFh) without the PDOs, in index order, except that the SYNC COB-ID
-   1005h comes after the cycle period 1006h and window 1007h (seed 000 §2.6: a drive may refuse
+   1005h comes after the cycle period 1006h and window 1007h (MDi-S1-C manual §2.6: a drive may
+   refuse
    to become SYNC producer before it has a period);
 2. each PDO as a unit, receive PDOs first: its COB-ID with bit 31 set (invalid), mapping count
    0, the mapping entries, the mapping count, the other communication parameters, and last the

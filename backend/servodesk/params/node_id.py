@@ -157,7 +157,7 @@ class NodeIdService:
                     f"{object_label(data, ref)} takes {low}..{high}; node {new} is outside"
                 )
             return new, ""
-        # Kinco: node id = DIP-switch address + offset 2F80h (seed 001 §5.1)
+        # Kinco: node id = DIP-switch address + offset 2F80h (Kinco manual §5.1)
         index, subindex = ref
         current = await self._sdo.read(node, index, subindex)
         if not isinstance(current.value, int):

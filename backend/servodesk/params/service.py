@@ -33,7 +33,8 @@ def effect_message(takes_effect: TakesEffect) -> str:
     if takes_effect is TakesEffect.IMMEDIATELY:
         return APPLIED
     # after_reset and after_store_and_reset read alike: a reset node (or power cycle) reloads
-    # the stored set (seed 000 §2.3.1), so a change that waits for a reset must be stored first
+    # the stored set (MDi-S1-C manual §2.3.1), so a change that waits for a reset must be stored
+    # first
     return AFTER_RESET
 
 

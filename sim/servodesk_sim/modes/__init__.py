@@ -1,4 +1,4 @@
-"""CiA 402 operating modes of the simulated drives (seed 000 ch. 3), one module per mode."""
+"""CiA 402 operating modes of the simulated drives (MDi-S1-C manual ch. 3), one module per mode."""
 
 from __future__ import annotations
 

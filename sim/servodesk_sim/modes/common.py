@@ -21,7 +21,7 @@ _EPSILON = 1e-6
 
 
 class OperationMode(IntEnum):
-    """6060h / 6061h values the simulated drives can run (seed 000 §3.3)."""
+    """6060h / 6061h values the simulated drives can run (MDi-S1-C manual §3.3)."""
 
     NO_MODE = 0
     PROFILE_POSITION = 1

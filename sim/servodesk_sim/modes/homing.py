@@ -1,4 +1,4 @@
-"""Homing mode (6060h = 6), methods 17, 18, 23, 27 and 35 as seed 000 §3.7.3 describes them.
+"""Homing mode (6060h = 6), methods 17, 18, 23, 27 and 35 as MDi-S1-C manual §3.7.3 describes them.
 
 Every search method is the same shape: from outside its switch it runs fast (6099h:01) in its
 first direction until the switch's rising edge, then brakes, reverses and runs slow (6099h:02)
@@ -8,11 +8,12 @@ switch in their first direction ("遇到限位开关，自动反向"), then look
 same direction. 35 takes the current position. Ramps use 609Ah.
 
 On completion the axis stops and its position becomes the home offset 607Ch ("原点回零成后，电机
-停止位置为机械原点", seed 000 §3.7). Switches and directions are those of the motor frame, so the
+停止位置为机械原点", MDi-S1-C manual §3.7). Switches and directions are those of the motor frame, so
+the
 physical switches stay put under 607Eh polarity. A limit switch other than the method's own, or
 no home within the homing timeout, is a homing error. Controlword bit 4 0 -> 1 starts homing;
 1 -> 0 only acknowledges it ("1-->0: 驱动接收到回零信号"). Halt (bit 8) interrupts it.
-Statusword bits 13/12/10 follow CiA 402 (seed 000's "回零" wording for bit 12 is read as
+Statusword bits 13/12/10 follow CiA 402 (MDi-S1-C manual's "回零" wording for bit 12 is read as
 "homing attained"): in progress 0/0/0, interrupted or not started 0/0/1, attained while still
 moving 0/1/0, done 0/1/1, error 1/0/0 moving or 1/0/1 at standstill.
 """

@@ -1,4 +1,4 @@
-"""Interpolated position mode (6060h = 7), linear interpolation on SYNC (seed 000 §3.8).
+"""Interpolated position mode (6060h = 7), linear interpolation on SYNC (MDi-S1-C manual §3.8).
 
 Controlword bit 4 enables interpolation while it is 1 (statusword bit 12 "插补有效" shows it).
 Each SYNC takes the absolute point in 60C1h:01. Following figure 3.6 notes 1–3 the drive plans
@@ -21,7 +21,7 @@ SYNC_LOSS_PERIODS = 3
 
 
 def interpolation_period(values: ValueStore, clamp_ms: tuple[int, int]) -> float:
-    """60C2h in seconds, clamped to the drive's supported range (seed 000 §3.8 note 5)."""
+    """60C2h in seconds, clamped to the drive's supported range (MDi-S1-C manual §3.8 note 5)."""
     value = read_or(values, 0x60C2, 1, 1)  # Interpolation time period value
     index = read_or(values, 0x60C2, 2, -3)  # Interpolation time index (-3 = ms)
     milliseconds = value * 10.0 ** (index + 3)

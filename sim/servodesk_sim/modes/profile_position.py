@@ -1,13 +1,16 @@
-"""Profile position mode (6060h = 1): set-point handshake and trapezoidal moves (seed 000 §3.4).
+"""Profile position mode (6060h = 1): set-point handshake and trapezoidal moves (MDi-S1-C manual
+§3.4).
 
 Handshake: a 0 -> 1 edge of controlword bit 4 offers 607Ah (absolute, or relative with bit 6)
 with 6081h/6083h/6084h; it is taken only while statusword bit 12 is 0, and bit 12 then shows 1.
 
-- Non-immediate on the MDi ("驱动器只支持非立即更新功能", seed 000 §3.4.2 first timing): bit 12
+- Non-immediate on the MDi ("驱动器只支持非立即更新功能", MDi-S1-C manual §3.4.2 first timing): bit
+12
   means "position running / cannot take a new target"; it stays 1 until the move has ended and
   bit 4 is back to 0, so the master waits for the current move before offering the next.
 - Drives that honour bit 5 (CiA 402): with bit 5 = 1 the new set-point replaces the running one
-  at once and bit 12 follows bit 4 back to 0 (seed 000 §3.4.2 second timing); with bit 5 = 0 it
+  at once and bit 12 follows bit 4 back to 0 (MDi-S1-C manual §3.4.2 second timing); with bit 5 = 0
+  it
   is buffered and started when the running move reaches its target, bit 12 staying 1 while the
   buffer is full.
 

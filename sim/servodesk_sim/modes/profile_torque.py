@@ -1,4 +1,4 @@
-"""Profile torque mode (6060h = 4): 6071h reached over the 6087h slope (seed 000 §3.6).
+"""Profile torque mode (6060h = 4): 6071h reached over the 6087h slope (MDi-S1-C manual §3.6).
 
 "当速度达到限幅值将进入调速阶段": once the speed reaches the limit (the overspeed object,
 2006h:08 or 6080h) the drive regulates speed instead of torque; the plant does that part.

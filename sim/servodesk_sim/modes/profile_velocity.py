@@ -1,8 +1,8 @@
-"""Profile velocity mode (6060h = 3): 60FFh reached over a 6083h ramp (seed 000 §3.5).
+"""Profile velocity mode (6060h = 3): 60FFh reached over a 6083h ramp (MDi-S1-C manual §3.5).
 
 "轮廓加速度应用于速度模式的加减速": 6083h is used for speeding up and for slowing down.
 The target is not clamped to the overspeed limit: asking for more shows statusword bit 13
-("速度超限", seed 000 §3.2.3) and then trips the overspeed alarm, as the real drive would.
+("速度超限", MDi-S1-C manual §3.2.3) and then trips the overspeed alarm, as the real drive would.
 """
 
 from __future__ import annotations
