@@ -13,6 +13,7 @@ from fastapi.middleware.trustedhost import TrustedHostMiddleware
 from servodesk import __version__
 from servodesk.api import bus, health, nodes, od, params, paramsets, sdo, ws
 from servodesk.api.errors import install_error_handlers
+from servodesk.api.schema import install_schema
 from servodesk.api.security import LOOPBACK_HOSTS
 from servodesk.api.static import mount_frontend
 from servodesk.bus.connection import BusFactory
@@ -66,6 +67,7 @@ def create_app(
     # Requests naming another host are refused (DNS rebinding); see api/security.py.
     app.add_middleware(TrustedHostMiddleware, allowed_hosts=[*LOOPBACK_HOSTS, "testserver"])
     install_error_handlers(app)
+    install_schema(app)
     app.include_router(api_router())
     if static_dir is not None:
         mount_frontend(app, static_dir)
@@ -88,7 +90,8 @@ async def _connect_at_start(services: Services) -> None:
         return  # the user connects from the Network page
     try:
         await services.bus.connect(config)
-        await services.registry.scan(sdo_sweep=True, timeout_ms=round(settings.scan_timeout * 1000))
     except ServodeskError as error:
         # The server still starts: the Network page shows the error and offers to reconnect.
         log.warning("could not connect at start-up: %s", error)
+        return
+    await services.registry.settled()  # the scan that follows every connect

@@ -42,6 +42,25 @@ class NodeNotFoundError(ServodeskError):
         super().__init__(f"node {node_id} is not known; scan the bus first")
 
 
+class NodeStoppedError(ServodeskError):
+    """The node is in NMT Stopped, where SDO is not available (MDi-S1-C manual table 2.8)."""
+
+    def __init__(self, node_id: int) -> None:
+        self.node_id = node_id
+        super().__init__(
+            f"node {node_id} is Stopped: SDO is not available in that state — set it "
+            "Pre-operational or Operational"
+        )
+
+
+class RequestInterruptedError(ServodeskError):
+    """A request waited for a node whose connection was renewed (bus reconnect, node moved)."""
+
+    def __init__(self, node_id: int, reason: str) -> None:
+        self.node_id = node_id
+        super().__init__(f"node {node_id}: {reason}; nothing was sent — send the request again")
+
+
 class BusNotConnectedError(ServodeskError):
     def __init__(self, detail: str = "the CAN bus is not connected") -> None:
         super().__init__(detail)
@@ -53,3 +72,7 @@ class InvalidValueError(ServodeskError):
 
 class ConfirmationRequiredError(ServodeskError):
     """An action that changes stored drive data needs an explicit confirmation."""
+
+
+class IdentityMismatchError(ConfirmationRequiredError):
+    """A file made for another device (vendor, product or device type differ) needs confirm."""

@@ -9,7 +9,7 @@ from __future__ import annotations
 from enum import StrEnum
 from typing import Any, Literal
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, ConfigDict, Field
 
 Value = int | float | str | None
 
@@ -37,7 +37,14 @@ class NmtCommandName(StrEnum):
     RESET_COMMUNICATION = "reset-communication"
 
 
-class BusConfig(BaseModel):
+class RequestBody(BaseModel):
+    """What clients send: no silent coercion ("12" is not 12, "true" is not true) and no
+    unknown fields (a misspelt "comfirm" must not be ignored)."""
+
+    model_config = ConfigDict(strict=True, extra="forbid")
+
+
+class BusConfig(RequestBody):
     interface: str | None = None
     channel: str | None = None
     bitrate: int | None = None
@@ -86,7 +93,7 @@ class NodeInfo(BaseModel):
     od_warnings: int = 0
 
 
-class ScanRequest(BaseModel):
+class ScanRequest(RequestBody):
     sdo_sweep: bool = True
     timeout_ms: int = Field(default=50, ge=5, le=2000)
 
@@ -96,15 +103,16 @@ class ScanResult(BaseModel):
     duration_ms: int
 
 
-class NmtRequest(BaseModel):
-    command: NmtCommandName
+class NmtRequest(RequestBody):
+    # FastAPI validates parsed JSON in Python mode, where strict enums would refuse the string
+    command: NmtCommandName = Field(strict=False)
 
 
-class HeartbeatConfig(BaseModel):
+class HeartbeatConfig(RequestBody):
     producer_ms: int = Field(ge=0, le=65535)
 
 
-class SyncConfig(BaseModel):
+class SyncConfig(RequestBody):
     producing: bool = False
     period_us: int | None = Field(default=None, ge=0)
 
@@ -175,7 +183,7 @@ class SdoValue(BaseModel):
     text: str
 
 
-class SdoWrite(BaseModel):
+class SdoWrite(RequestBody):
     value: int | float | str
     size: Literal[1, 2, 4] | None = None
 
@@ -220,7 +228,7 @@ class Param(BaseModel):
     error: str | None = None
 
 
-class ParamWriteRequest(BaseModel):
+class ParamWriteRequest(RequestBody):
     value: int | str
 
 
@@ -231,7 +239,7 @@ class ParamWriteResult(BaseModel):
     requires_store: bool
 
 
-class Confirm(BaseModel):
+class Confirm(RequestBody):
     confirm: bool = False
 
 
@@ -239,7 +247,7 @@ class MessageResult(BaseModel):
     message: str
 
 
-class NodeIdChange(BaseModel):
+class NodeIdChange(RequestBody):
     new_node: int = Field(ge=1, le=127)
     confirm: bool = False
 
@@ -251,7 +259,7 @@ class NodeIdChangeResult(BaseModel):
     node: NodeInfo
 
 
-class BitrateChange(BaseModel):
+class BitrateChange(RequestBody):
     bitrate: int
     confirm: bool = False
 

@@ -41,13 +41,15 @@ class Services:
 def build_services(settings: Settings, *, bus_factory: BusFactory | None = None) -> Services:
     bus = BusManager(settings, bus_factory=bus_factory)
     registry = NodeRegistry(bus, settings)
+    jobs = JobManager(registry)
+    registry.add_od_listener(jobs.dictionary_changed)
     return Services(
         settings=settings,
         bus=bus,
         registry=registry,
         sync=SyncService(bus),
         sdo=SdoService(registry),
-        jobs=JobManager(registry),
+        jobs=jobs,
         params=ParamService(registry),
         node_ids=NodeIdService(registry, settings),
         paramsets=ParamSetService(registry),

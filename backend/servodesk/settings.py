@@ -32,6 +32,9 @@ class Settings(BaseSettings):
     reconnect_initial_delay: float = 0.5
     reconnect_max_delay: float = 5.0
     boot_wait: float = 3.0  # waiting for a boot-up after a reset
+    # Find the nodes by themselves after a (re)connect and when an unknown node boots; the CLI
+    # turns this off because each of its commands says what to look for.
+    auto_scan: bool = True
 
     # Files: uploaded object dictionaries live here, per node
     data_dir: Path = Path.home() / ".local" / "share" / "servodesk"

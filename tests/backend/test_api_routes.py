@@ -96,9 +96,22 @@ def test_sdo_read_write_and_abort(client: TestClient) -> None:
 
 def test_nmt_per_node_and_broadcast(client: TestClient) -> None:
     assert ok(client.post("/api/nodes/2/nmt", json={"command": "stop"}))["nmt_state"] == "stopped"
-    timeout = client.get("/api/nodes/2/sdo/1000/0")  # no SDO in Stopped (seed 000 table 2.8)
-    assert timeout.status_code == 504
-    assert timeout.json()["error"] == "timeout"
+    # no SDO in Stopped (MDi-S1-C manual table 2.8): said at once, not a bare timeout
+    stopped = client.get("/api/nodes/2/sdo/1000/0")
+    assert stopped.status_code == 409
+    assert stopped.json() == {
+        "error": "node_stopped",
+        "message": "node 2 is Stopped: SDO is not available in that state — set it "
+        "Pre-operational or Operational",
+        "node": 2,
+    }
+    for blocked in (
+        client.get("/api/nodes/2/params"),
+        client.get("/api/nodes/2/heartbeat"),
+        client.put("/api/nodes/2/sdo/6060/0", json={"value": 3}),
+    ):
+        assert blocked.status_code == 409, blocked.text
+        assert blocked.json()["error"] == "node_stopped"
     assert ok(client.post("/api/nmt", json={"command": "start"})) == {"sent": "start"}
     assert wait_for(lambda: client.get("/api/nodes/2/sdo/1000/0").status_code == 200)
     assert client.post("/api/nodes/2/nmt", json={"command": "jump"}).status_code == 422
@@ -244,7 +257,11 @@ def test_bus_disconnect_and_reconnect(client: TestClient) -> None:
     ok(client.post("/api/scan", json={}))
     assert ok(client.get("/api/nodes/1/sdo/1008/0"))["value"] == "DVS_CANOPEN"
     assert ok(client.post("/api/bus/reconnect"))["state"] == "connected"
-    bad = ok(client.post("/api/bus/connect", json={"interface": "nonexistent-if"}))
+    refused = client.post("/api/bus/connect", json={"interface": "nonexistent-if"})
+    assert refused.status_code == 422
+    assert "unknown CAN interface 'nonexistent-if'" in refused.json()["message"]
+    assert ok(client.get("/api/bus"))["state"] == "connected"  # the working bus is kept
+    bad = ok(client.post("/api/bus/connect", json={"interface": "socketcan", "channel": "nocan9"}))
     assert bad["state"] == "error"
     assert bad["error"]
 
@@ -256,6 +273,7 @@ def test_foreign_host_header_is_refused(client: TestClient) -> None:
 def test_udp_multicast_is_refused_and_not_offered(client: TestClient) -> None:
     names = {i["name"] for i in ok(client.get("/api/bus/interfaces"))}
     assert "udp_multicast" not in names
-    status = ok(client.post("/api/bus/connect", json={"interface": "udp_multicast"}))
-    assert status["state"] == "error"
-    assert "local network" in status["error"]
+    refused = client.post("/api/bus/connect", json={"interface": "udp_multicast"})
+    assert refused.status_code == 422
+    assert "local network" in refused.json()["message"]
+    assert ok(client.get("/api/bus"))["state"] == "connected"

@@ -12,7 +12,12 @@ import canopen
 import pytest
 from canopen.objectdictionary import ODRecord, ODVariable
 
-from servodesk.errors import CommTimeoutError, InvalidValueError, NodeNotFoundError
+from servodesk.errors import (
+    CommTimeoutError,
+    InvalidValueError,
+    NodeNotFoundError,
+    NodeStoppedError,
+)
 from servodesk.models import NmtCommandName, NmtStateName
 from servodesk.od import load_od
 from servodesk_data import eds_path
@@ -59,8 +64,8 @@ async def test_nmt_stop_and_start_reach_the_drive() -> None:
         await rig.registry.add(1)
         info = await rig.registry.nmt(1, NmtCommandName.STOP)
         assert info.nmt_state is NmtStateName.STOPPED
-        # a Stopped drive does not answer SDO (seed 000 table 2.8)
-        with pytest.raises(CommTimeoutError):
+        # a Stopped drive does not answer SDO (MDi-S1-C manual table 2.8): said at once
+        with pytest.raises(NodeStoppedError, match="node 1 is Stopped"):
             await rig.registry.session(1).upload(0x1000, 0)  # Device type
         # ... and being stopped by us, it is not declared lost for it
         await asyncio.sleep(0.3)  # longer than one monitor tick

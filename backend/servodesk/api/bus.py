@@ -5,10 +5,11 @@ from __future__ import annotations
 from fastapi import APIRouter
 
 from servodesk.api.deps import ServicesDep
+from servodesk.api.errors import BUS_ERRORS
 from servodesk.bus.interfaces import INTERFACES
 from servodesk.models import BusConfig, BusStatus, InterfaceInfo, SyncConfig
 
-router = APIRouter(prefix="/bus", tags=["bus"])
+router = APIRouter(prefix="/bus", tags=["bus"], responses=BUS_ERRORS)
 
 
 @router.get("")
@@ -36,7 +37,7 @@ async def interfaces() -> list[InterfaceInfo]:
     return list(INTERFACES)
 
 
-sync_router = APIRouter(prefix="/sync", tags=["bus"])
+sync_router = APIRouter(prefix="/sync", tags=["bus"], responses=BUS_ERRORS)
 
 
 @sync_router.get("")

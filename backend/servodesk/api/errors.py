@@ -1,26 +1,60 @@
-"""The one place where domain errors become HTTP answers (docs/api.md, "Errors")."""
+"""The one place where errors become HTTP answers (docs/api.md, "Errors").
+
+Every error the API returns has the one documented shape, `ErrorBody` {error, message, …}: the
+domain errors of servodesk.errors, request validation (FastAPI's own 422 would say {"detail"}),
+Starlette's HTTP errors (400 unparsable body, 404, 405 with the route's real methods in `Allow`)
+and anything unexpected (500, with the traceback in the server log only).
+"""
 
 from __future__ import annotations
 
-from fastapi import FastAPI, Request
-from fastapi.responses import JSONResponse
+import logging
+from collections.abc import Sequence
+from typing import Any
 
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+from starlette.exceptions import HTTPException
+
+from servodesk.api.schema import allowed_methods
 from servodesk.errors import (
     BusNotConnectedError,
     CommTimeoutError,
     ConfirmationRequiredError,
+    IdentityMismatchError,
     InvalidValueError,
     NodeNotFoundError,
+    NodeStoppedError,
+    RequestInterruptedError,
     SdoAbortError,
     ServodeskError,
 )
 from servodesk.models import ErrorBody
 from servodesk.sdo.jobs import JobNotFoundError
 
+log = logging.getLogger(__name__)
+
+HTTP_ERRORS = {
+    400: "bad_request",
+    404: "not_found",
+    405: "method_not_allowed",
+    413: "too_large",
+    415: "unsupported_media_type",
+}
+
 
 def error_response(error: ServodeskError) -> JSONResponse:
     status, body = _describe(error)
-    return JSONResponse(status_code=status, content=body.model_dump(exclude_none=True))
+    return body_response(status, body)
+
+
+def body_response(
+    status: int, body: ErrorBody, headers: dict[str, str] | None = None
+) -> JSONResponse:
+    return JSONResponse(
+        status_code=status, content=body.model_dump(exclude_none=True), headers=headers
+    )
 
 
 def _describe(error: ServodeskError) -> tuple[int, ErrorBody]:
@@ -33,8 +67,12 @@ def _describe(error: ServodeskError) -> tuple[int, ErrorBody]:
             index=error.index,
             subindex=error.subindex,
         )
+    if isinstance(error, NodeStoppedError):
+        return 409, ErrorBody(error="node_stopped", message=str(error), node=error.node_id)
     if isinstance(error, CommTimeoutError):
         return 504, ErrorBody(error="timeout", message=str(error), node=error.node_id)
+    if isinstance(error, RequestInterruptedError):
+        return 503, ErrorBody(error="interrupted", message=str(error), node=error.node_id)
     if isinstance(error, JobNotFoundError):
         return 404, ErrorBody(error="job_not_found", message=str(error))
     if isinstance(error, NodeNotFoundError):
@@ -43,25 +81,76 @@ def _describe(error: ServodeskError) -> tuple[int, ErrorBody]:
         return 503, ErrorBody(error="bus_not_connected", message=str(error))
     if isinstance(error, InvalidValueError):
         return 422, ErrorBody(error="invalid_value", message=str(error))
+    if isinstance(error, IdentityMismatchError):
+        return 428, ErrorBody(error="identity_mismatch", message=str(error))
     if isinstance(error, ConfirmationRequiredError):
         return 428, ErrorBody(error="confirmation_required", message=str(error))
     return 500, ErrorBody(error="error", message=str(error))
 
 
+def validation_message(errors: Sequence[Any]) -> str:
+    """FastAPI's validation errors as one line: "body.value: Field required; path.node: …"."""
+    parts: list[str] = []
+    for item in errors:
+        where = ".".join(str(part) for part in item.get("loc", ()) if part != "body") or "request"
+        parts.append(f"{where}: {item.get('msg', 'invalid')}")
+    return "; ".join(parts) or "invalid request"
+
+
 def install_error_handlers(app: FastAPI) -> None:
-    async def handle(_request: Request, error: Exception) -> JSONResponse:
+    async def domain(_request: Request, error: Exception) -> JSONResponse:
         if not isinstance(error, ServodeskError):  # registered for ServodeskError only
             raise error
         return error_response(error)
 
-    app.add_exception_handler(ServodeskError, handle)
+    async def validation(_request: Request, error: Exception) -> JSONResponse:
+        if not isinstance(error, RequestValidationError):
+            raise error
+        body = ErrorBody(error="invalid_request", message=validation_message(error.errors()))
+        return body_response(422, body)
+
+    async def http(request: Request, error: Exception) -> JSONResponse:
+        if not isinstance(error, HTTPException):
+            raise error
+        headers = dict(error.headers or {})
+        if error.status_code == 405:
+            methods = allowed_methods(request.app, request.url.path)
+            if methods:
+                headers["Allow"] = ", ".join(methods)
+        kind = HTTP_ERRORS.get(error.status_code, "error")
+        body = ErrorBody(error=kind, message=str(error.detail))
+        return body_response(error.status_code, body, headers or None)
+
+    async def unexpected(request: Request, error: Exception) -> JSONResponse:
+        # A bug of ours: the user gets one line in the documented shape, the log the traceback.
+        log.error("%s %s failed", request.method, request.url.path, exc_info=error)
+        body = ErrorBody(
+            error="internal", message=f"internal error ({type(error).__name__}); see the log"
+        )
+        return body_response(500, body)
+
+    app.add_exception_handler(ServodeskError, domain)
+    app.add_exception_handler(RequestValidationError, validation)
+    app.add_exception_handler(HTTPException, http)
+    app.add_exception_handler(Exception, unexpected)
 
 
-# Responses every node route can give, for the OpenAPI schema (and so the generated client).
+def _error(description: str) -> dict[str, object]:
+    return {"model": ErrorBody, "description": description}
+
+
+# What routes can answer besides success, for the OpenAPI schema (and so the generated client).
+# 400 (unparsable body), 403 (cross-site) and 422 (invalid request) are added to every
+# operation by servodesk.api.openapi.
 NODE_ERRORS: dict[int | str, dict[str, object]] = {
-    404: {"model": ErrorBody, "description": "Unknown node"},
-    409: {"model": ErrorBody, "description": "SDO abort (abort_code and its meaning)"},
-    422: {"model": ErrorBody, "description": "Invalid value"},
-    503: {"model": ErrorBody, "description": "Bus not connected"},
-    504: {"model": ErrorBody, "description": "Node did not answer"},
+    404: _error("Unknown node"),
+    409: _error("SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped)"),
+    503: _error("Bus not connected, or the connection was renewed during the request"),
+    504: _error("Node did not answer"),
+}
+CONFIRM_ERRORS: dict[int | str, dict[str, object]] = {
+    428: _error("Needs confirmation: send again with confirm=true"),
+}
+BUS_ERRORS: dict[int | str, dict[str, object]] = {
+    503: _error("Bus not connected"),
 }

@@ -5,7 +5,7 @@ from __future__ import annotations
 from fastapi import APIRouter
 
 from servodesk.api.deps import NodeId, ServicesDep
-from servodesk.api.errors import NODE_ERRORS
+from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
 from servodesk.models import (
     BitrateChange,
     BitrateChangeResult,
@@ -38,24 +38,24 @@ async def set_param(
     return await services.params.set(node, name, body.value)
 
 
-@router.post("/store")
+@router.post("/store", responses=CONFIRM_ERRORS)
 async def store(node: NodeId, body: Confirm, services: ServicesDep) -> MessageResult:
     return await services.params.store(node, confirm=body.confirm)
 
 
-@router.post("/restore-defaults")
+@router.post("/restore-defaults", responses=CONFIRM_ERRORS)
 async def restore_defaults(node: NodeId, body: Confirm, services: ServicesDep) -> MessageResult:
     return await services.params.restore_defaults(node, confirm=body.confirm)
 
 
-@router.post("/change-node-id")
+@router.post("/change-node-id", responses=CONFIRM_ERRORS)
 async def change_node_id(
     node: NodeId, body: NodeIdChange, services: ServicesDep
 ) -> NodeIdChangeResult:
     return await services.node_ids.change_node_id(node, body.new_node, confirm=body.confirm)
 
 
-@router.post("/change-bitrate")
+@router.post("/change-bitrate", responses=CONFIRM_ERRORS)
 async def change_bitrate(
     node: NodeId, body: BitrateChange, services: ServicesDep
 ) -> BitrateChangeResult:

@@ -8,7 +8,7 @@ from fastapi import APIRouter, File, UploadFile
 from fastapi.responses import PlainTextResponse
 
 from servodesk.api.deps import NodeId, ServicesDep
-from servodesk.api.errors import NODE_ERRORS
+from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
 from servodesk.models import CompareResult, DcfLoadResult
 
 router = APIRouter(prefix="/nodes/{node}", tags=["parameter sets"], responses=NODE_ERRORS)
@@ -26,7 +26,7 @@ async def save_dcf(node: NodeId, services: ServicesDep) -> PlainTextResponse:
     )
 
 
-@router.post("/dcf")
+@router.post("/dcf", responses=CONFIRM_ERRORS)
 async def load_dcf(node: NodeId, file: UploadFile, services: ServicesDep) -> DcfLoadResult:
     data = await file.read(MAX_DCF_FILE)
     return await services.paramsets.load_dcf(node, data, file.filename or "upload.dcf")

@@ -6,7 +6,7 @@ from typing import Annotated
 
 from fastapi import APIRouter, Query
 
-from servodesk.api.deps import NodeId, ServicesDep, parse_hex
+from servodesk.api.deps import Index, NodeId, ServicesDep, Subindex, parse_hex
 from servodesk.api.errors import NODE_ERRORS
 from servodesk.models import Job, SdoValue, SdoWrite
 
@@ -14,7 +14,9 @@ router = APIRouter(tags=["sdo"], responses=NODE_ERRORS)
 
 
 @router.get("/nodes/{node}/sdo/{index}/{subindex}")
-async def read_entry(node: NodeId, index: str, subindex: str, services: ServicesDep) -> SdoValue:
+async def read_entry(
+    node: NodeId, index: Index, subindex: Subindex, services: ServicesDep
+) -> SdoValue:
     return await services.sdo.read(
         node,
         parse_hex(index, maximum=0xFFFF, what="index"),
@@ -24,7 +26,7 @@ async def read_entry(node: NodeId, index: str, subindex: str, services: Services
 
 @router.put("/nodes/{node}/sdo/{index}/{subindex}")
 async def write_entry(
-    node: NodeId, index: str, subindex: str, body: SdoWrite, services: ServicesDep
+    node: NodeId, index: Index, subindex: Subindex, body: SdoWrite, services: ServicesDep
 ) -> SdoValue:
     return await services.sdo.write(
         node,

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 import can
 import canopen
 
+from servodesk.bus.config_check import check_bus_config
 from servodesk.bus.counters import BusCounters
 from servodesk.bus.interfaces import REFUSED
 from servodesk.bus.link import Link, close_link, open_link
@@ -98,6 +99,8 @@ class BusManager:
         A bus that cannot be opened leaves the manager in ERROR with the reason; it is not
         retried automatically (the configuration is probably wrong), `reconnect()` retries it.
         """
+        # An incomplete or unknown configuration is refused before the working bus is touched.
+        config = check_bus_config(config)
         async with self._lock:
             self._loop = asyncio.get_running_loop()
             await self._shutdown()

@@ -301,8 +301,8 @@ class NodeMonitor:
         known = node in self._nodes
         note = "" if known else " (not scanned yet)"
         self._event("boot-up", node, f"node {node} booted{note}")
-        if known and self._on_boot_hook is not None:
-            self._on_boot_hook(node)
+        if self._on_boot_hook is not None:
+            self._on_boot_hook(node)  # known or not: the registry decides
 
     def _event(self, kind: EventKind, node: int | None, message: str) -> None:
         self._emit(LiveEvent(time=self._wall(), node=node, kind=kind, message=message))

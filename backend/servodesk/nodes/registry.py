@@ -11,7 +11,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Coroutine
 from dataclasses import replace
 from pathlib import Path
 from typing import Any, ParamSpec
@@ -26,6 +26,7 @@ from servodesk.errors import (
     CommTimeoutError,
     InvalidValueError,
     NodeNotFoundError,
+    NodeStoppedError,
     ServodeskError,
 )
 from servodesk.models import (
@@ -51,6 +52,7 @@ from servodesk_data import DriveData
 log = logging.getLogger(__name__)
 
 EventListener = Callable[[LiveEvent], None]
+OdListener = Callable[[int], None]  # (node) whose dictionary was replaced
 P = ParamSpec("P")
 MAX_HEARTBEAT_MS = 0xFFFF  # 1017h is UNSIGNED16
 
@@ -68,10 +70,12 @@ class NodeRegistry:
         self._known_profiles = load_known()
         self._dictionaries = ProfileDictionaries()
         self._event_listeners: list[EventListener] = []
+        self._od_listeners: list[OdListener] = []
         self._monitor = NodeMonitor(settings, self._emit, on_boot=self._on_boot)
         self._scan_lock = asyncio.Lock()
         self._node_locks: dict[int, asyncio.Lock] = {}
         self._background: set[asyncio.Task[None]] = set()
+        self._auto_scan: asyncio.Task[None] | None = None
         self._bus_state: BusState | None = None
         self._unsubscribe = [
             bus.add_frame_listener(self._monitor.watch),
@@ -119,6 +123,16 @@ class NodeRegistry:
 
         return remove
 
+    def add_od_listener(self, fn: OdListener) -> Callable[[], None]:
+        """Call `fn(node)` when a node's dictionary is replaced; returns its remover."""
+        self._od_listeners.append(fn)
+
+        def remove() -> None:
+            if fn in self._od_listeners:
+                self._od_listeners.remove(fn)
+
+        return remove
+
     # ------------------------------------------------------------------ adding and scanning
 
     async def add(self, node: int) -> NodeInfo:
@@ -127,6 +141,14 @@ class NodeRegistry:
         A node already known keeps an uploaded dictionary while it is the same kind of device.
         CommTimeoutError when nothing answers at `node`."""
         _check_id(node)
+        if node in self._nodes:
+            return await self._add(node)
+        # An unknown node is probed with raw SDO: never while a scan's sweep asks every id
+        # (two requests to one node would steal each other's answers).
+        async with self._scan_lock:
+            return await self._add(node)
+
+    async def _add(self, node: int) -> NodeInfo:
         self._monitor.attach_loop()
         async with self._node_locks.setdefault(node, asyncio.Lock()):
             identity = await self._identify(node)
@@ -156,7 +178,12 @@ class NodeRegistry:
 
     async def _scan_one(self, node: int, heard_only: bool) -> None:
         try:
-            await self.add(node)
+            await self._add(node)  # the scan holds the scan lock
+        except NodeStoppedError:
+            # Stopped nodes have no SDO: keep what is known, or list the node unidentified.
+            if node not in self._nodes:
+                async with self._node_locks.setdefault(node, asyncio.Lock()):
+                    await self._register(node, Identity())
         except CommTimeoutError:
             if node in self._nodes:
                 self._monitor.absent(node)  # vanished since the last scan: listed offline
@@ -272,8 +299,15 @@ class NodeRegistry:
             else self._dictionaries.filename(entry.profile)
         )
         entry.canopen_od = to_canopen(model, node)
-        entry.unbind()
-        self._bind_if_connected(entry)
+        session, network = entry.session, entry.network
+        if session is not None and network is not None:
+            # Requests already queued for the node finish with the old dictionary; the new one
+            # takes over after them on the node's own thread (no request is cut off).
+            session.replace_remote(canopen.RemoteNode(node, entry.canopen_od), network)
+        else:
+            self._bind_if_connected(entry)
+        for fn in list(self._od_listeners):
+            fn(node)
         return self.info(node)
 
     def reset_od(self, node: int) -> NodeInfo:
@@ -341,6 +375,9 @@ class NodeRegistry:
             for entry in self._nodes.values():
                 if entry.network is not network:
                     self._bound(entry, network)  # a new connection: new sessions
+            if previous is not BusState.CONNECTED and self._settings.auto_scan:
+                # the nodes come back by themselves after any (re)connect, no manual scan
+                self._auto_scan = self._spawn(self._scan_quietly())
         if status.state is previous or status.state is BusState.CONNECTING:
             return
         if status.state is BusState.CONNECTED:
@@ -351,11 +388,40 @@ class NodeRegistry:
         elif previous is not None:
             self._event("bus", None, "bus disconnected")
 
+    async def settled(self) -> None:
+        """Wait for the scan that follows a connect (if one is running)."""
+        task = self._auto_scan
+        if task is not None and not task.done():
+            await asyncio.wait({task})
+
     def _on_boot(self, node: int) -> None:
-        """A known node booted: its 1017h may be back at the stored value, read it again."""
-        task = asyncio.get_running_loop().create_task(self._refresh_heartbeat(node))
+        """A known node booted: its 1017h may be back at the stored value, read it again. An
+        unknown one is identified and listed (it joined the bus after the last scan)."""
+        if node in self._nodes:
+            self._spawn(self._refresh_heartbeat(node))
+        elif self._settings.auto_scan:
+            self._spawn(self._add_quietly(node))
+
+    def _spawn(self, work: Coroutine[Any, Any, None]) -> asyncio.Task[None]:
+        task = asyncio.get_running_loop().create_task(work)
         self._background.add(task)
         task.add_done_callback(self._background.discard)
+        return task
+
+    async def _scan_quietly(self) -> None:
+        try:
+            await self.scan(sdo_sweep=True, timeout_ms=round(self._settings.scan_timeout * 1000))
+        except ServodeskError as error:
+            log.info("scan after connecting failed: %s", error)
+
+    async def _add_quietly(self, node: int) -> None:
+        try:
+            async with self._scan_lock:
+                if node in self._nodes:
+                    return  # a scan found it meanwhile
+                await self._add(node)
+        except ServodeskError as error:
+            log.info("node %d booted but could not be identified: %s", node, error)
 
     async def _refresh_heartbeat(self, node: int) -> None:
         try:
@@ -377,6 +443,7 @@ class NodeRegistry:
             sdo_timeout=self._settings.sdo_timeout,
             on_outcome=self._monitor.sdo_outcome,
             on_heartbeat_written=self._heartbeat_known,
+            state_of=lambda node: self._monitor.health(node).nmt_state,
         )
 
     def _bound(self, entry: NodeEntry, network: canopen.Network) -> TrackedSession:

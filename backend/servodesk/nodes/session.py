@@ -18,9 +18,17 @@ import can
 import canopen
 from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
 
-from servodesk.errors import BusNotConnectedError, CommTimeoutError, SdoAbortError
+from servodesk.errors import (
+    BusNotConnectedError,
+    CommTimeoutError,
+    RequestInterruptedError,
+    SdoAbortError,
+)
 
 T = TypeVar("T")
+
+WRITE_ONLY = 0x06010001  # SDO abort: attempt to read a write-only object
+CLOSED = "the connection to it was renewed (bus reconnected or node moved) while the request waited"
 
 
 class NodeSession:
@@ -53,7 +61,7 @@ class NodeSession:
         which object an SDO abort is about (canopen's abort exception does not carry it).
         """
         if self._closed:
-            raise RuntimeError(f"node {self.node_id} session is closed")
+            raise RequestInterruptedError(self.node_id, CLOSED)
         loop = asyncio.get_running_loop()
         call = functools.partial(self._call, fn, what, index, subindex)
         return await loop.run_in_executor(self._executor, call)
@@ -76,20 +84,70 @@ class NodeSession:
             subindex=subindex,
         )
 
+    async def write_and_read(
+        self, index: int, subindex: int, data: bytes, *, read_back: bool
+    ) -> bytes | None:
+        """Download `data` and upload the entry again as one step on the node's thread, so no
+        other request's write can land between the two. None when there is nothing to read
+        back (`read_back` false, or the drive calls the entry write-only)."""
+
+        def step(remote: canopen.RemoteNode) -> bytes | None:
+            remote.sdo.download(index, subindex, data)
+            if not read_back:
+                return None
+            try:
+                return bytes(remote.sdo.upload(index, subindex))
+            except SdoAbortedError as abort:
+                if int(abort.code) == WRITE_ONLY:
+                    return None
+                raise
+
+        return await self.run(
+            step, what=f"write {index:04X}h:{subindex:02X}h", index=index, subindex=subindex
+        )
+
+    def replace_remote(self, remote: canopen.RemoteNode, network: canopen.Network) -> None:
+        """Use `remote` (e.g. with a new object dictionary) for every call queued from now on.
+
+        Queued as a step on the node's thread: calls already waiting complete on the old
+        remote, later ones use the new one, and the two never overlap on the bus."""
+        if self._closed:
+            raise RequestInterruptedError(self.node_id, CLOSED)
+
+        def swap() -> None:
+            network.add_node(remote)  # unsubscribes the old RemoteNode at this id
+            remote.sdo.RESPONSE_TIMEOUT = self.remote.sdo.RESPONSE_TIMEOUT
+            self.remote = remote
+
+        self._executor.submit(swap)
+
     def _call(
         self, fn: Callable[[canopen.RemoteNode], T], what: str, index: int, subindex: int
     ) -> T:
+        if self._closed:
+            # queued before the connection was renewed: its remote is gone, send nothing
+            raise RequestInterruptedError(self.node_id, CLOSED)
         try:
             return fn(self.remote)
         except SdoAbortedError as abort:
             raise SdoAbortError(int(abort.code), self.node_id, index, subindex) from abort
         except SdoCommunicationError as error:
+            if self._closed:  # the answer went to the old connection's listeners
+                raise RequestInterruptedError(self.node_id, CLOSED) from error
             raise CommTimeoutError(self.node_id, what) from error
+        except RuntimeError as error:
+            # canopen's "Not connected to CAN bus": the connection closed during the call
+            network = self.remote.network
+            if self._closed or network is None or network.bus is None:
+                raise RequestInterruptedError(self.node_id, CLOSED) from error
+            raise
         except can.CanError as error:
             # The adapter itself failed (unplugged, bus-off): the bus manager reconnects.
             raise BusNotConnectedError(f"CAN adapter error during {what}: {error}") from error
 
     def close(self) -> None:
-        """Stop the worker thread after the call in progress (no new calls are accepted)."""
+        """Stop the worker thread after the call in progress. Calls still queued are not
+        cancelled (their callers would see a bare CancelledError): each ends at once with
+        RequestInterruptedError, and no new calls are accepted."""
         self._closed = True
-        self._executor.shutdown(wait=False, cancel_futures=True)
+        self._executor.shutdown(wait=False, cancel_futures=False)

@@ -1,8 +1,11 @@
-"""A node session that tells the heartbeat monitor how its SDO exchanges went.
+"""A node session that tells the heartbeat monitor how its SDO exchanges went, and names NMT
+Stopped instead of a bare timeout.
 
 For nodes without heartbeats the only evidence of loss is an SDO request that timed out, and
 the only evidence of life an answer (an abort is an answer too). A write of 1017h through the
-session also tells the monitor the node's new heartbeat period.
+session also tells the monitor the node's new heartbeat period. A node known to be Stopped
+(its heartbeat says so, or the tool stopped it) has no SDO (MDi-S1-C manual table 2.8): a request
+is refused at once with NodeStoppedError, and a timeout that turns out to be that is named so.
 """
 
 from __future__ import annotations
@@ -12,7 +15,8 @@ from typing import TypeVar
 
 import canopen
 
-from servodesk.errors import CommTimeoutError, SdoAbortError
+from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
+from servodesk.models import NmtStateName
 from servodesk.nodes.identity import PRODUCER_HEARTBEAT
 from servodesk.nodes.session import NodeSession
 
@@ -20,6 +24,7 @@ T = TypeVar("T")
 
 Outcome = Callable[[int, bool], None]  # (node, answered)
 HeartbeatWritten = Callable[[int, int], None]  # (node, period ms)
+StateOf = Callable[[int], NmtStateName]  # the node's NMT state as the monitor sees it
 
 
 class TrackedSession(NodeSession):
@@ -30,10 +35,15 @@ class TrackedSession(NodeSession):
         sdo_timeout: float,
         on_outcome: Outcome,
         on_heartbeat_written: HeartbeatWritten,
+        state_of: StateOf | None = None,
     ) -> None:
         super().__init__(remote, sdo_timeout=sdo_timeout)
         self._on_outcome = on_outcome
         self._on_heartbeat_written = on_heartbeat_written
+        self._state_of = state_of
+
+    def _stopped(self) -> bool:
+        return self._state_of is not None and self._state_of(self.node_id) is NmtStateName.STOPPED
 
     async def run(
         self,
@@ -43,10 +53,14 @@ class TrackedSession(NodeSession):
         index: int = 0,
         subindex: int = 0,
     ) -> T:
+        if self._stopped():
+            raise NodeStoppedError(self.node_id)
         try:
             result = await super().run(fn, what=what, index=index, subindex=subindex)
-        except CommTimeoutError:
+        except CommTimeoutError as timeout:
             self._on_outcome(self.node_id, False)
+            if self._stopped():  # a heartbeat said "stopped" while we waited
+                raise NodeStoppedError(self.node_id) from timeout
             raise
         except SdoAbortError:
             self._on_outcome(self.node_id, True)
@@ -58,3 +72,11 @@ class TrackedSession(NodeSession):
         await super().download(index, subindex, data)
         if index == PRODUCER_HEARTBEAT and subindex == 0 and data:
             self._on_heartbeat_written(self.node_id, int.from_bytes(data[:2], "little"))
+
+    async def write_and_read(
+        self, index: int, subindex: int, data: bytes, *, read_back: bool
+    ) -> bytes | None:
+        result = await super().write_and_read(index, subindex, data, read_back=read_back)
+        if index == PRODUCER_HEARTBEAT and subindex == 0 and data:
+            self._on_heartbeat_written(self.node_id, int.from_bytes(data[:2], "little"))
+        return result

@@ -16,7 +16,7 @@ import uuid
 from dataclasses import dataclass, field
 from typing import Literal
 
-from servodesk.errors import ServodeskError
+from servodesk.errors import RequestInterruptedError, ServodeskError
 from servodesk.models import Job, JobResult
 from servodesk.nodes.access import NodeAccess
 from servodesk.nodes.session import NodeSession
@@ -33,6 +33,7 @@ KEEP_FINISHED = 20  # finished jobs kept for their results; older ones are forgo
 NO_ANSWER = "no answer in time"
 STALLED = "node stopped answering"
 CLOSED = "the connection to the node was closed (node moved, removed or bus disconnected)"
+OD_CHANGED = "cancelled: the node's dictionary changed"
 
 
 class JobNotFoundError(ServodeskError):
@@ -56,6 +57,7 @@ class _JobRecord:
     reads: list[EntryRead] = field(default_factory=list)
     results: list[JobResult] = field(default_factory=list)
     stop: threading.Event = field(default_factory=threading.Event)
+    stop_reason: str | None = None  # why it was stopped when not by the user
     task: asyncio.Task[None] | None = None
     started: float = field(default_factory=time.monotonic)
     finished: float | None = None
@@ -143,6 +145,13 @@ class JobManager:
         self._forget_old()
         return record.snapshot()
 
+    def dictionary_changed(self, node: int) -> None:
+        """The node's dictionary was replaced: its running jobs read entries of the old one."""
+        for record in self._jobs.values():
+            if record.node == node and record.state == "running" and not record.stop.is_set():
+                record.stop_reason = OD_CHANGED
+                record.stop.set()
+
     def get(self, job_id: str, since: int = 0) -> Job:
         return self._record(job_id).snapshot(since)
 
@@ -194,6 +203,10 @@ class JobManager:
             record.state = "failed"
             record.error = CLOSED
             return
+        except RequestInterruptedError:
+            record.state = "failed"
+            record.error = CLOSED
+            return
         except Exception as error:
             # a background job has no caller to raise to: the job carries the failure
             log.exception("upload-all of node %d failed", record.node)
@@ -205,5 +218,6 @@ class JobManager:
             record.error = STALLED
         elif outcome is BulkOutcome.CANCELLED:
             record.state = "cancelled"
+            record.error = record.stop_reason
         else:
             record.state = "done"

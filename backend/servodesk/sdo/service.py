@@ -6,14 +6,12 @@ is refused before a frame is sent. SDO aborts arrive as SdoAbortError from the n
 
 from __future__ import annotations
 
-from servodesk.errors import InvalidValueError, SdoAbortError
+from servodesk.errors import InvalidValueError
 from servodesk.models import SdoValue
 from servodesk.nodes.access import NodeAccess
 from servodesk.od import ObjectDictionaryModel
 from servodesk.od import datatypes as dt
 from servodesk.sdo import codec
-
-WRITE_ONLY = 0x06010001  # SDO abort: attempt to read a write-only object
 
 
 def where(index: int, subindex: int) -> str:
@@ -73,16 +71,12 @@ class SdoService:
         session = self._access.session(node)
         model = self._access.od(node)
         data = self.encode(model, index, subindex, value, size)
-        await session.download(index, subindex, data)
         sub = model.get(index, subindex)
-        if sub is not None and sub.access == "wo":
-            return sdo_value(node, model, index, subindex, data)
-        try:
-            return await self.read(node, index, subindex)
-        except SdoAbortError as abort:
-            if sub is None and abort.code == WRITE_ONLY:
-                return sdo_value(node, model, index, subindex, data)
-            raise
+        # one step on the node: a parallel write cannot land between the write and its read-back
+        back = await session.write_and_read(
+            index, subindex, data, read_back=sub is None or sub.access != "wo"
+        )
+        return sdo_value(node, model, index, subindex, data if back is None else back)
 
     @staticmethod
     def encode(

@@ -659,11 +659,6 @@ export interface components {
             /** Subindex */
             subindex?: number | null;
         };
-        /** HTTPValidationError */
-        HTTPValidationError: {
-            /** Detail */
-            detail?: components["schemas"]["ValidationError"][];
-        };
         /** Health */
         Health: {
             bus: components["schemas"]["BusStatus"];
@@ -1047,19 +1042,6 @@ export interface components {
              */
             producing: boolean;
         };
-        /** ValidationError */
-        ValidationError: {
-            /** Context */
-            ctx?: Record<string, never>;
-            /** Input */
-            input?: unknown;
-            /** Location */
-            loc: (string | number)[];
-            /** Message */
-            msg: string;
-            /** Error Type */
-            type: string;
-        };
     };
     responses: never;
     parameters: never;
@@ -1087,6 +1069,15 @@ export interface operations {
                     "application/json": components["schemas"]["BusStatus"];
                 };
             };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     connect_api_bus_connect_post: {
@@ -1111,13 +1102,40 @@ export interface operations {
                     "application/json": components["schemas"]["BusStatus"];
                 };
             };
-            /** @description Validation Error */
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["HTTPValidationError"];
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
         };
@@ -1140,6 +1158,24 @@ export interface operations {
                     "application/json": components["schemas"]["BusStatus"];
                 };
             };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     interfaces_api_bus_interfaces_get: {
@@ -1160,6 +1196,15 @@ export interface operations {
                     "application/json": components["schemas"]["InterfaceInfo"][];
                 };
             };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     reconnect_api_bus_reconnect_post: {
@@ -1178,6 +1223,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
         };
@@ -1234,7 +1297,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -1243,7 +1306,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -1252,7 +1315,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -1292,6 +1355,15 @@ export interface operations {
                     "application/json": components["schemas"]["Job"];
                 };
             };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -1301,7 +1373,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -1310,7 +1382,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -1319,7 +1391,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -1361,6 +1433,24 @@ export interface operations {
                     "application/json": components["schemas"]["NmtSent"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -1370,7 +1460,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -1379,7 +1469,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -1388,7 +1478,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -1435,7 +1525,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -1444,16 +1534,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
-            422: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["ErrorBody"];
-                };
-            };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -1503,7 +1584,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -1512,7 +1593,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -1521,7 +1602,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -1566,6 +1647,24 @@ export interface operations {
                     "application/json": components["schemas"]["BitrateChangeResult"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -1575,7 +1674,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -1584,7 +1683,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -1593,7 +1692,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -1638,6 +1746,24 @@ export interface operations {
                     "application/json": components["schemas"]["NodeIdChangeResult"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -1647,7 +1773,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -1656,7 +1782,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -1665,7 +1791,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -1710,6 +1845,24 @@ export interface operations {
                     "application/json": components["schemas"]["CompareResult"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -1719,7 +1872,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -1728,7 +1881,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -1737,7 +1890,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -1784,34 +1937,34 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "text/plain": components["schemas"]["ErrorBody"];
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
                 };
                 content: {
-                    "text/plain": components["schemas"]["ErrorBody"];
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
                 };
                 content: {
-                    "text/plain": components["schemas"]["ErrorBody"];
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
                 };
                 content: {
-                    "text/plain": components["schemas"]["ErrorBody"];
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Node did not answer */
@@ -1820,7 +1973,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "text/plain": components["schemas"]["ErrorBody"];
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
         };
@@ -1850,6 +2003,24 @@ export interface operations {
                     "application/json": components["schemas"]["DcfLoadResult"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -1859,7 +2030,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -1868,7 +2039,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -1877,7 +2048,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -1927,7 +2107,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -1936,7 +2116,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -1945,7 +2125,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -1990,6 +2170,24 @@ export interface operations {
                     "application/json": components["schemas"]["HeartbeatConfig"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -1999,7 +2197,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2008,7 +2206,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2017,7 +2215,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2062,6 +2260,24 @@ export interface operations {
                     "application/json": components["schemas"]["NodeInfo"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -2071,7 +2287,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2080,7 +2296,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2089,7 +2305,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2139,7 +2355,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2148,7 +2364,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2157,7 +2373,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2202,6 +2418,24 @@ export interface operations {
                     "application/json": components["schemas"]["OdTree"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -2211,7 +2445,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2220,7 +2454,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2229,7 +2463,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2270,6 +2504,15 @@ export interface operations {
                     "application/json": components["schemas"]["OdTree"];
                 };
             };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -2279,7 +2522,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2288,7 +2531,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2297,7 +2540,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2347,7 +2590,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2356,7 +2599,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2365,7 +2608,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2416,7 +2659,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2425,7 +2668,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2434,7 +2677,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2480,6 +2723,24 @@ export interface operations {
                     "application/json": components["schemas"]["ParamWriteResult"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -2489,7 +2750,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2498,7 +2759,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2507,7 +2768,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2552,6 +2813,24 @@ export interface operations {
                     "application/json": components["schemas"]["MessageResult"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -2561,7 +2840,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2570,7 +2849,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2579,7 +2858,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2606,7 +2894,9 @@ export interface operations {
             path: {
                 /** @description CANopen node id 1–127 */
                 node: number;
+                /** @description index, 4 hex digits: 6041 */
                 index: string;
+                /** @description sub-index, 1–2 hex digits: 0, 0A */
                 subindex: string;
             };
             cookie?: never;
@@ -2631,7 +2921,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2640,7 +2930,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2649,7 +2939,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2676,7 +2966,9 @@ export interface operations {
             path: {
                 /** @description CANopen node id 1–127 */
                 node: number;
+                /** @description index, 4 hex digits: 6041 */
                 index: string;
+                /** @description sub-index, 1–2 hex digits: 0, 0A */
                 subindex: string;
             };
             cookie?: never;
@@ -2696,6 +2988,24 @@ export interface operations {
                     "application/json": components["schemas"]["SdoValue"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -2705,7 +3015,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2714,7 +3024,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2723,7 +3033,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2768,6 +3078,24 @@ export interface operations {
                     "application/json": components["schemas"]["MessageResult"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -2777,7 +3105,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2786,7 +3114,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2795,7 +3123,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2836,6 +3173,15 @@ export interface operations {
                     "application/json": components["schemas"]["Job"];
                 };
             };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -2845,7 +3191,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2854,7 +3200,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2863,7 +3209,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2905,6 +3251,24 @@ export interface operations {
                     "application/json": components["schemas"]["OdCheckResult"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -2914,7 +3278,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2923,7 +3287,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2932,7 +3296,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -2974,6 +3338,24 @@ export interface operations {
                     "application/json": components["schemas"]["ScanResult"];
                 };
             };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -2983,7 +3365,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description SDO abort (abort_code and its meaning) */
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -2992,7 +3374,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Invalid value */
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -3001,7 +3383,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Bus not connected */
+            /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -3039,6 +3421,15 @@ export interface operations {
                     "application/json": components["schemas"]["SyncConfig"];
                 };
             };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     set_sync_api_sync_put: {
@@ -3063,13 +3454,40 @@ export interface operations {
                     "application/json": components["schemas"]["SyncConfig"];
                 };
             };
-            /** @description Validation Error */
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["HTTPValidationError"];
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
         };
