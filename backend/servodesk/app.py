@@ -8,13 +8,12 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 
 from fastapi import APIRouter, FastAPI
-from fastapi.middleware.trustedhost import TrustedHostMiddleware
 
 from servodesk import __version__
 from servodesk.api import bus, health, nodes, od, params, paramsets, sdo, ws
 from servodesk.api.errors import install_error_handlers
 from servodesk.api.schema import install_schema
-from servodesk.api.security import LOOPBACK_HOSTS
+from servodesk.api.security import HostGuard, SameOriginGuard
 from servodesk.api.static import mount_frontend
 from servodesk.bus.connection import BusFactory
 from servodesk.errors import ServodeskError
@@ -65,7 +64,10 @@ def create_app(
         redoc_url=None,
     )
     # Requests naming another host are refused (DNS rebinding); see api/security.py.
-    app.add_middleware(TrustedHostMiddleware, allowed_hosts=[*LOOPBACK_HOSTS, "testserver"])
+    # State-changing requests from other sites' pages are refused (see api/security.py).
+    app.add_middleware(SameOriginGuard)
+    # Requests naming another host are refused (DNS rebinding); added last, so checked first.
+    app.add_middleware(HostGuard)
     install_error_handlers(app)
     install_schema(app)
     app.include_router(api_router())

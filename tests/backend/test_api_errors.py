@@ -89,7 +89,9 @@ def test_error_mapping(error: ServodeskError, status: int, body: dict[str, objec
     [
         (None, True),  # scripts, curl: no Origin header
         ("http://127.0.0.1:8000", True),
-        ("http://localhost:5173", True),
+        ("http://localhost:8000", True),  # another name of the same loopback server
+        ("http://localhost:5173", False),  # another local web app on another port
+        ("file://", False),
         ("http://[::1]:8000", True),
         ("http://evil.example", False),
         ("http://127.0.0.1.evil.example", False),

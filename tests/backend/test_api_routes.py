@@ -267,7 +267,14 @@ def test_bus_disconnect_and_reconnect(client: TestClient) -> None:
 
 
 def test_foreign_host_header_is_refused(client: TestClient) -> None:
-    assert client.get("/api/health", headers={"host": "evil.example"}).status_code == 400
+    refused = client.get("/api/health", headers={"host": "evil.example"})
+    assert refused.status_code == 400
+    assert refused.json() == {
+        "error": "bad_host",
+        "message": "refused a request for host 'evil.example': ServoDesk answers only to "
+        "127.0.0.1, localhost and [::1]",
+    }
+    assert client.get("/api/health", headers={"host": "localhost:8000"}).status_code == 200
 
 
 def test_udp_multicast_is_refused_and_not_offered(client: TestClient) -> None:

@@ -20,9 +20,7 @@ async def get_services(request: Request) -> Services:
 ServicesDep = Annotated[Services, Depends(get_services)]
 NodeId = Annotated[int, Path(ge=1, le=127, description="CANopen node id 1–127")]
 # Object-dictionary paths are hexadecimal without prefix, exactly as the manuals print them.
-Index = Annotated[
-    str, Path(pattern=r"^[0-9A-Fa-f]{4}$", description="index, 4 hex digits: 6041")
-]
+Index = Annotated[str, Path(pattern=r"^[0-9A-Fa-f]{4}$", description="index, 4 hex digits: 6041")]
 Subindex = Annotated[
     str, Path(pattern=r"^[0-9A-Fa-f]{1,2}$", description="sub-index, 1–2 hex digits: 0, 0A")
 ]
