@@ -8,39 +8,83 @@
     servodesk eds-check FILE
 
 Bus flags are python-can's own (`--interface/--channel/--bitrate/--bus-kwargs`); without them
-python-can's config file and environment apply.
+python-can's config file and environment apply. Every error is one line on stderr and a
+non-zero exit code; `--debug` adds the traceback and the libraries' log.
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import logging
 import sys
+import traceback
 from collections.abc import AsyncIterator, Awaitable, Callable, Sequence
 from contextlib import asynccontextmanager
-from typing import Any, TypeVar
+from typing import Any, NoReturn, TypeVar
 
 from can.cli import add_bus_arguments
 from tqdm import tqdm
 
 from servodesk import __version__
 from servodesk.api.security import LOOPBACK_HOSTS
+from servodesk.bus.config_check import check_bus_config
 from servodesk.errors import ServodeskError
-from servodesk.models import BusConfig
+from servodesk.models import BusConfig, BusState
 from servodesk.od import OdImportError, lint_report, load_od
 from servodesk.services import Services, build_services
 from servodesk.settings import Settings
 
 T = TypeVar("T")
+USAGE_ERROR = 2
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse prints the whole usage (several lines with python-can's bus flags) before an
+    error; a user needs the error and where to look."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(USAGE_ERROR, f"{self.prog}: {message} (see {self.prog} --help)\n")
+
+
+def _hex(what: str, maximum: int) -> Callable[[str], int]:
+    def parse(text: str) -> int:
+        try:
+            value = int(text, 16)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{what} {text!r} is not hexadecimal (e.g. {'6041' if maximum > 0xFF else '0'})"
+            ) from None
+        if not 0 <= value <= maximum:
+            raise argparse.ArgumentTypeError(f"{what} {text!r} is outside 0–{maximum:X}")
+        return value
+
+    parse.__name__ = what  # argparse names the type in some messages
+    return parse
+
+
+def _node_id(text: str) -> int:
+    try:
+        value = int(text, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"node id {text!r} is not a number") from None
+    if not 1 <= value <= 127:
+        raise argparse.ArgumentTypeError(f"node id {value} is outside 1–127")
+    return value
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="servodesk",
         description="Commissioning and diagnostics for CANopen (CiA 301 / CiA 402) servo drives.",
     )
     parser.add_argument("--version", action="version", version=f"servodesk {__version__}")
-    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    parser.add_argument(
+        "--debug", action="store_true", help="show tracebacks and the libraries' log"
+    )
+    commands = parser.add_subparsers(
+        dest="command", required=True, metavar="COMMAND", parser_class=OneLineParser
+    )
 
     serve = commands.add_parser("serve", help="run the web app (http://127.0.0.1:8000)")
     _bus_flags(serve)
@@ -63,7 +107,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     dump = commands.add_parser("dump", help="save a node's configuration as DCF to stdout")
     _bus_flags(dump)
-    dump.add_argument("node", type=int)
+    dump.add_argument("node", type=_node_id)
 
     check = commands.add_parser("eds-check", help="load an EDS/DCF/XDD and list its problems")
     check.add_argument("file")
@@ -76,9 +120,9 @@ def _bus_flags(parser: argparse.ArgumentParser) -> None:
 
 
 def _entry_args(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("node", type=int)
-    parser.add_argument("index", help="hexadecimal, e.g. 6041")
-    parser.add_argument("sub", help="hexadecimal, e.g. 0")
+    parser.add_argument("node", type=_node_id)
+    parser.add_argument("index", type=_hex("index", 0xFFFF), help="hexadecimal, e.g. 6041")
+    parser.add_argument("sub", type=_hex("sub-index", 0xFF), help="hexadecimal, e.g. 0")
 
 
 def bus_config(args: argparse.Namespace) -> BusConfig:
@@ -94,6 +138,7 @@ def bus_config(args: argparse.Namespace) -> BusConfig:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    _quiet_libraries(args.debug)
     try:
         if args.command == "serve":
             return serve(args)
@@ -101,10 +146,29 @@ def main(argv: Sequence[str] | None = None) -> int:
             return eds_check(args.file)
         return asyncio.run(_field_command(args))
     except ServodeskError as error:
-        print(f"servodesk: {error}", file=sys.stderr)
+        _say(str(error), debug=args.debug)
         return 1
     except KeyboardInterrupt:
         return 130
+    except Exception as error:
+        # a failure we did not foresee: one line, the traceback only when asked for
+        _say(f"{type(error).__name__}: {error}; run with --debug for the details", args.debug)
+        return 1
+
+
+def _say(message: str, debug: bool) -> None:
+    if debug:
+        traceback.print_exc()
+    print(f"servodesk: {message}", file=sys.stderr)
+
+
+def _quiet_libraries(debug: bool) -> None:
+    """The libraries log what they do to stderr (canopen: "Transfer aborted by client …" before
+    our own message about the same timeout); the user gets one message per problem."""
+    if debug:
+        logging.basicConfig(level=logging.DEBUG, format="%(levelname)s %(name)s: %(message)s")
+    else:
+        logging.basicConfig(level=logging.CRITICAL + 1, handlers=[logging.NullHandler()])
 
 
 def serve(args: argparse.Namespace) -> int:
@@ -154,9 +218,13 @@ def eds_check(path: str) -> int:
 
 @asynccontextmanager
 async def _connected(args: argparse.Namespace) -> AsyncIterator[Services]:
-    services = build_services(Settings())
+    config = check_bus_config(bus_config(args))  # before anything starts
+    # each command says which node it wants: no scan of its own after connecting
+    services = build_services(Settings(auto_scan=False))
     try:
-        await services.bus.connect(bus_config(args))
+        status = await services.bus.connect(config)
+        if status.state is not BusState.CONNECTED:
+            raise ServodeskError(f"could not open the CAN bus: {status.error}")
         yield services
     finally:
         await services.close()
@@ -179,12 +247,12 @@ async def _field_command(args: argparse.Namespace) -> int:
             return 0
         await registry.add(args.node)
         if args.command == "read":
-            value = await services.sdo.read(args.node, int(args.index, 16), int(args.sub, 16))
+            value = await services.sdo.read(args.node, args.index, args.sub)
             print(value.text)
             return 0
         if args.command == "write":
             written = await services.sdo.write(
-                args.node, int(args.index, 16), int(args.sub, 16), args.value, size=args.size
+                args.node, args.index, args.sub, args.value, size=args.size
             )
             print(written.text)
             return 0

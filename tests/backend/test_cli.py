@@ -67,3 +67,74 @@ def test_every_command_takes_python_can_bus_flags() -> None:
         ["read", "1", "1008", "0", "-i", "socketcand", "-c", "can0", "--bus-kwargs", "port=1"]
     )
     assert (args.interface, args.channel, args.bus_kwargs) == ("socketcand", "can0", {"port": 1})
+
+
+def one_line_error(capsys: pytest.CaptureFixture[str]) -> str:
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert 1 <= len(lines) <= 2, err
+    return err
+
+
+@pytest.mark.parametrize(
+    ("argv", "says"),
+    [
+        (["read", "1", "zz", "0", "--sim"], "index 'zz' is not hexadecimal"),
+        (["read", "1", "10000", "0", "--sim"], "index '10000' is outside 0–FFFF"),
+        (["read", "1", "1008", "100", "--sim"], "sub-index '100' is outside 0–FF"),
+        (["read", "0", "1008", "0", "--sim"], "node id 0 is outside 1–127"),
+        (["write", "x", "1008", "0", "1", "--sim"], "node id 'x' is not a number"),
+        (["dump", "128", "--sim"], "node id 128 is outside 1–127"),
+    ],
+)
+def test_bad_arguments_are_one_line(
+    capsys: pytest.CaptureFixture[str], argv: list[str], says: str
+) -> None:
+    with pytest.raises(SystemExit) as exited:
+        main(argv)
+    assert exited.value.code == 2
+    assert says in one_line_error(capsys)
+
+
+@pytest.fixture
+def no_can_config(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """A machine where python-can finds no configuration (no file, no environment)."""
+    monkeypatch.setenv("HOME", str(tmp_path))
+    monkeypatch.chdir(tmp_path)
+    for name in ("CAN_INTERFACE", "CAN_CHANNEL", "CAN_BITRATE", "CAN_CONFIG"):
+        monkeypatch.delenv(name, raising=False)
+
+
+@pytest.mark.usefixtures("no_can_config")
+@pytest.mark.parametrize("argv", [["scan"], ["read", "1", "1008", "0"], ["dump", "1"]])
+def test_no_interface_says_what_to_pass(
+    capsys: pytest.CaptureFixture[str], argv: list[str]
+) -> None:
+    assert main(argv) == 1
+    err = one_line_error(capsys)
+    assert "no CAN interface given: pass -i/--interface" in err
+    assert "--sim" in err
+
+
+def test_a_bus_that_cannot_open_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["scan", "-i", "socketcan", "-c", "nocan9"]) == 1
+    assert "servodesk: could not open the CAN bus:" in one_line_error(capsys)
+
+
+def test_an_absent_node_is_one_message(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["read", "5", "1008", "0", "--sim"]) == 1
+    err = one_line_error(capsys)
+    assert err == "servodesk: node 5: no answer to identify node 5 (read 1000h)\n"
+
+
+def test_an_abort_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["write", "1", "6041", "0", "6", "--sim"]) == 1
+    assert "0x06010002" in one_line_error(capsys)
+
+
+def test_debug_shows_the_traceback(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["--debug", "read", "5", "1008", "0", "--sim"]) == 1
+    err = capsys.readouterr().err
+    assert "Traceback" in err
+    assert err.strip().endswith("servodesk: node 5: no answer to identify node 5 (read 1000h)")
