@@ -154,6 +154,12 @@ class SimDrive:
         for index, sub in self.data.quirks.enumerated_objects:
             allowed = self._choices_of(index, sub)
             store.add_validator(index, self._enumerated_validator(sub, allowed))
+        quirks = self.data.quirks
+        if quirks.unsupported_mode_display is None and store.has(0x6060):
+            # Drives that do not show an unsupported mode as 0 in 6061h (the MDi does, MDi-S1-C
+            # manual §3.3) refuse it: only the modes of 6502h, or 0 (no mode).
+            modes = quirks.supported_modes | {0}
+            store.add_validator(0x6060, self._enumerated_validator(0, frozenset(modes)))
 
     def _choices_of(self, index: int, sub: int) -> frozenset[int]:
         for parameter in self.data.parameters:
