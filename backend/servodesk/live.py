@@ -18,6 +18,7 @@ from servodesk.nodes.registry import NodeRegistry
 NODES_PERIOD = 0.2  # s: node states at 5 Hz
 BUS_PERIOD = 2.0  # s: bus status (counters) even when nothing changed
 EVENT_BACKLOG = 100  # per client; older events are dropped for a client that does not read
+RECENT_EVENTS = 200  # kept by the server for pages that connect later (a reload loses none)
 
 
 class LiveClient:
@@ -49,6 +50,7 @@ class LiveHub:
         self._bus = bus
         self._registry = registry
         self._clients: set[LiveClient] = set()
+        self._recent: deque[dict[str, Any]] = deque(maxlen=RECENT_EVENTS)
         self._task: asyncio.Task[None] | None = None
         self._unsubscribe = [
             bus.add_listener(self._on_bus),
@@ -71,6 +73,8 @@ class LiveHub:
     def connect(self) -> LiveClient:
         client = LiveClient()
         self._clients.add(client)
+        # first the recent events (a page that reloads or reconnects replaces its list with it)
+        client.event({"type": "history", "events": list(self._recent)})
         client.offer("bus", self._bus_message(self._bus.status()))
         client.offer("nodes", self._nodes_message())
         return client
@@ -90,7 +94,9 @@ class LiveHub:
             client.offer("bus", message)
 
     def _on_event(self, event: LiveEvent) -> None:
-        message = {"type": "event", "event": event.model_dump(mode="json")}
+        dumped = event.model_dump(mode="json")
+        self._recent.append(dumped)
+        message = {"type": "event", "event": dumped}
         for client in self._clients:
             client.event(message)
 

@@ -112,6 +112,11 @@ class HeartbeatConfig(RequestBody):
     producer_ms: int = Field(ge=0, le=65535)
 
 
+class HeartbeatWrite(HeartbeatConfig):
+    # below 10 ms the node floods the bus: only on purpose
+    confirm: bool = False
+
+
 class SyncConfig(RequestBody):
     producing: bool = False
     period_us: int | None = Field(default=None, ge=0)

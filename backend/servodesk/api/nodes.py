@@ -6,9 +6,10 @@ from fastapi import APIRouter
 from pydantic import BaseModel
 
 from servodesk.api.deps import NodeId, ServicesDep
-from servodesk.api.errors import NODE_ERRORS
+from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
 from servodesk.models import (
     HeartbeatConfig,
+    HeartbeatWrite,
     NmtCommandName,
     NmtRequest,
     NodeInfo,
@@ -54,10 +55,9 @@ async def heartbeat(node: NodeId, services: ServicesDep) -> HeartbeatConfig:
     return HeartbeatConfig(producer_ms=await services.registry.heartbeat(node))
 
 
-@router.put("/nodes/{node}/heartbeat")
+@router.put("/nodes/{node}/heartbeat", responses=CONFIRM_ERRORS)
 async def set_heartbeat(
-    node: NodeId, config: HeartbeatConfig, services: ServicesDep
+    node: NodeId, config: HeartbeatWrite, services: ServicesDep
 ) -> HeartbeatConfig:
-    return HeartbeatConfig(
-        producer_ms=await services.registry.set_heartbeat(node, config.producer_ms)
-    )
+    ms = await services.registry.set_heartbeat(node, config.producer_ms, confirm=config.confirm)
+    return HeartbeatConfig(producer_ms=ms)

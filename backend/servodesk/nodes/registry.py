@@ -24,6 +24,7 @@ from servodesk.bus.connection import BusManager
 from servodesk.errors import (
     BusNotConnectedError,
     CommTimeoutError,
+    ConfirmationRequiredError,
     InvalidValueError,
     NodeNotFoundError,
     NodeStoppedError,
@@ -55,6 +56,7 @@ EventListener = Callable[[LiveEvent], None]
 OdListener = Callable[[int], None]  # (node) whose dictionary was replaced
 P = ParamSpec("P")
 MAX_HEARTBEAT_MS = 0xFFFF  # 1017h is UNSIGNED16
+HEARTBEAT_FLOOR_MS = 10  # faster is 100+ frames/s from one node: only with confirmation
 
 
 def _check_id(node: int) -> None:
@@ -276,10 +278,15 @@ class NodeRegistry:
         self._heartbeat_known(node, ms)
         return ms
 
-    async def set_heartbeat(self, node: int, ms: int) -> int:
+    async def set_heartbeat(self, node: int, ms: int, *, confirm: bool = False) -> int:
         """Write 1017h and return the value read back."""
         if not 0 <= ms <= MAX_HEARTBEAT_MS:
             raise InvalidValueError(f"heartbeat time {ms} ms is outside 0–{MAX_HEARTBEAT_MS} ms")
+        if 0 < ms < HEARTBEAT_FLOOR_MS and not confirm:
+            raise ConfirmationRequiredError(
+                f"a heartbeat every {ms} ms puts {1000 // ms} frames/s on the bus from node "
+                f"{node} alone; below {HEARTBEAT_FLOOR_MS} ms needs confirm"
+            )
         await self.session(node).download(PRODUCER_HEARTBEAT, 0, ms.to_bytes(2, "little"))
         return await self.heartbeat(node)
 

@@ -3,22 +3,30 @@
 
 export type ApiErrorKind =
   | "sdo_abort"
+  | "node_stopped"
   | "timeout"
+  | "interrupted"
   | "node_not_found"
   | "bus_not_connected"
   | "invalid_value"
+  | "invalid_request"
   | "confirmation_required"
+  | "identity_mismatch"
   | "validation_error"
   | "network"
   | "error";
 
 const KNOWN_KINDS: ReadonlySet<string> = new Set<ApiErrorKind>([
   "sdo_abort",
+  "node_stopped",
   "timeout",
+  "interrupted",
   "node_not_found",
   "bus_not_connected",
   "invalid_value",
+  "invalid_request",
   "confirmation_required",
+  "identity_mismatch",
   "validation_error",
   "network",
   "error",
@@ -28,13 +36,22 @@ export class ApiError extends Error {
   readonly status: number;
   readonly kind: ApiErrorKind;
   readonly abortCode: string | null;
+  /** The node the error concerns, when the server names one. */
+  readonly node: number | null;
 
-  constructor(status: number, kind: ApiErrorKind, message: string, abortCode: string | null) {
+  constructor(
+    status: number,
+    kind: ApiErrorKind,
+    message: string,
+    abortCode: string | null,
+    node: number | null = null,
+  ) {
     super(message);
     this.name = "ApiError";
     this.status = status;
     this.kind = kind;
     this.abortCode = abortCode;
+    this.node = node;
   }
 
   /** What the user reads: an SDO abort shows its raw code beside the meaning. */
@@ -74,7 +91,8 @@ export function toApiError(status: number, body: unknown, statusText = ""): ApiE
       const kind = KNOWN_KINDS.has(body.error) ? (body.error as ApiErrorKind) : "error";
       const message = typeof body.message === "string" ? body.message : body.error;
       const abort = typeof body.abort_code === "string" ? body.abort_code : null;
-      return new ApiError(status, kind, message, abort);
+      const node = typeof body.node === "number" ? body.node : null;
+      return new ApiError(status, kind, message, abort, node);
     }
     if ("detail" in body) {
       return new ApiError(status, "validation_error", describeValidation(body.detail), null);

@@ -23,6 +23,7 @@ export type ServerMessage =
   | { type: "bus"; bus: BusStatus }
   | { type: "nodes"; nodes: LiveNode[] }
   | { type: "event"; event: LiveEvent }
+  | { type: "history"; events: LiveEvent[] }
   | { type: "pong" };
 
 const NMT_STATES: ReadonlySet<string> = new Set<NmtStateName>([
@@ -80,6 +81,11 @@ export function parseMessage(text: string): ServerMessage | null {
     case "event": {
       const event = parseEvent(data.event);
       return event ? { type: "event", event } : null;
+    }
+    case "history": {
+      if (!Array.isArray(data.events)) return null;
+      const events = data.events.map(parseEvent).filter((e): e is LiveEvent => e !== null);
+      return { type: "history", events };
     }
     case "pong":
       return { type: "pong" };

@@ -85,6 +85,16 @@ describe("LiveStore", () => {
     expect(events.at(-1)?.message).toBe(`event ${EVENT_LIMIT + 4}`);
   });
 
+  it("replaces its events with the server's history, so a reconnect lists none twice", () => {
+    const store = new LiveStore();
+    const booted = { time: 1, node: 1, kind: "boot-up" as const, message: "node 1 booted" };
+    const lost = { time: 2, node: 2, kind: "node-lost" as const, message: "node 2 lost" };
+    store.apply({ type: "history", events: [booted] });
+    store.apply({ type: "event", event: lost });
+    store.apply({ type: "history", events: [booted, lost] });
+    expect(store.getSnapshot().events).toEqual([booted, lost]);
+  });
+
   it("stops notifying after unsubscribe", () => {
     const store = new LiveStore();
     const listener = vi.fn();
@@ -130,6 +140,17 @@ describe("parseMessage", () => {
         '{"type":"event","event":{"time":5,"node":null,"kind":"bus","message":"bus error"}}',
       ),
     ).toEqual({ type: "event", event: { time: 5, node: null, kind: "bus", message: "bus error" } });
+  });
+
+  it("reads the history sent first on every connection", () => {
+    expect(
+      parseMessage(
+        '{"type":"history","events":[{"time":5,"node":3,"kind":"nmt","message":"NMT stop"},7]}',
+      ),
+    ).toEqual({
+      type: "history",
+      events: [{ time: 5, node: 3, kind: "nmt", message: "NMT stop" }],
+    });
   });
 
   it("drops what it cannot use", () => {

@@ -78,6 +78,11 @@ export class LiveStore {
       case "event":
         this.update({ events: [...this.snapshot.events, message.event].slice(-EVENT_LIMIT) });
         return;
+      case "history":
+        // the server's recent events, sent first on every connection: replacing (not
+        // appending) keeps a reconnect from listing them twice
+        this.update({ events: message.events.slice(-EVENT_LIMIT) });
+        return;
       case "pong":
         return;
     }

@@ -1,9 +1,11 @@
 import { useState, type SubmitEvent, type ReactNode } from "react";
 
 import { api, call } from "../../api/client";
+import { ErrorText } from "../../components/ErrorText";
 import { useAction, useApi } from "../../lib/useApi";
 
-/** The node's heartbeat producer time (1017h): read on show, written on Set. */
+/** The node's heartbeat producer time (1017h): read on show, written on Set. Below 10 ms the
+ * server asks first (the node alone would put 100+ frames/s on the bus); "Set anyway" confirms. */
 export function HeartbeatEditor({ node }: { node: number }): ReactNode {
   const current = useApi(
     (signal) =>
@@ -12,9 +14,12 @@ export function HeartbeatEditor({ node }: { node: number }): ReactNode {
   );
   const [text, setText] = useState<string | null>(null);
   const [inputError, setInputError] = useState<string | null>(null);
-  const save = useAction(async (producer_ms: number) => {
+  const save = useAction(async (producer_ms: number, confirm: boolean) => {
     const result = await call(
-      api.PUT("/api/nodes/{node}/heartbeat", { params: { path: { node } }, body: { producer_ms } }),
+      api.PUT("/api/nodes/{node}/heartbeat", {
+        params: { path: { node } },
+        body: { producer_ms, confirm },
+      }),
     );
     current.setData(() => result);
     setText(null);
@@ -29,10 +34,12 @@ export function HeartbeatEditor({ node }: { node: number }): ReactNode {
       return;
     }
     setInputError(null);
-    void save.run(value);
+    void save.run(value, false);
   }
 
-  const error = inputError ?? save.error?.describe() ?? current.error?.describe() ?? null;
+  const failure = save.error ?? current.error ?? null;
+  const error = inputError ?? failure?.describe() ?? null;
+  const needsConfirm = inputError === null && save.error?.kind === "confirmation_required";
   return (
     <form className="hb-editor" onSubmit={submit}>
       <input
@@ -49,10 +56,20 @@ export function HeartbeatEditor({ node }: { node: number }): ReactNode {
       <button type="submit" className="small" disabled={save.busy || text === null}>
         Set
       </button>
-      {error && (
-        <span className="error-text small" role="alert">
-          {error}
-        </span>
+      {inputError ? (
+        <ErrorText error={inputError} inline />
+      ) : (
+        <ErrorText error={failure} inline onRetry={current.reload} />
+      )}
+      {needsConfirm && (
+        <button
+          type="button"
+          className="small danger"
+          disabled={save.busy}
+          onClick={() => void save.run(Number(shown), true)}
+        >
+          Set anyway
+        </button>
       )}
     </form>
   );

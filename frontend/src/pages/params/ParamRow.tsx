@@ -43,13 +43,15 @@ export const ParamRow = memo(function ParamRow({ node, param, onWritten }: Props
 
   function submit(event: SubmitEvent): void {
     event.preventDefault();
+    // a new attempt replaces what the row said about the last one, success or failure
+    setMessage(null);
+    write.clearError();
     const parsed = parseParamValue(shown, param);
     if (!parsed.ok) {
       setInputError(parsed.error);
       return;
     }
     setInputError(null);
-    setMessage(null);
     void write.run(parsed.value);
   }
 

@@ -83,6 +83,60 @@ describe("ParamsPage", () => {
     expect(fetch.calls.some((c) => c.method === "PUT")).toBe(false);
   });
 
+  it("replaces a row's earlier success with the failure of a new attempt", async () => {
+    stubFetch({
+      "GET /api/nodes/1/params": [PA103, PA106],
+      "PUT /api/nodes/1/params/PA-103": {
+        param: { ...PA103, value: 5000 },
+        message: "applied",
+        requires_reset: false,
+        requires_store: false,
+      },
+    });
+    renderPage(<ParamsPage node={1} />, "/nodes/1/parameters");
+    const input = await screen.findByLabelText("PA-103", { selector: "input" });
+    await userEvent.clear(input);
+    await userEvent.type(input, "5000");
+    await userEvent.click(screen.getByRole("button", { name: "Write PA-103" }));
+    expect(await screen.findByText("PA-103: applied")).toBeTruthy();
+
+    await userEvent.clear(input);
+    await userEvent.type(input, "7000");
+    await userEvent.click(screen.getByRole("button", { name: "Write PA-103" }));
+    expect(screen.getByRole("alert").textContent).toBe("7000 is outside 0…6000");
+    expect(screen.queryByText("PA-103: applied")).toBeNull();
+    expect(
+      screen.getAllByRole("row").filter((row) => row.textContent.includes("7000 is")),
+    ).toHaveLength(1); // one note row, PA-103's own
+  });
+
+  it("offers to set a Stopped node Pre-operational and reads the parameters again", async () => {
+    let stopped = true;
+    const fetch = stubFetch({
+      "GET /api/nodes/1/params": () =>
+        stopped
+          ? json(
+              {
+                error: "node_stopped",
+                message:
+                  "node 1 is Stopped: SDO is not available in that state — set it Pre-operational or Operational",
+                node: 1,
+              },
+              409,
+            )
+          : [PA103],
+      "POST /api/nodes/1/nmt": () => {
+        stopped = false;
+        return { node: 1, nmt_state: "pre-operational" };
+      },
+    });
+    renderPage(<ParamsPage node={1} />, "/nodes/1/parameters");
+    expect((await screen.findByRole("alert")).textContent).toContain("node 1 is Stopped");
+    await userEvent.click(screen.getByRole("button", { name: "Set node 1 Pre-operational" }));
+    expect(await screen.findByRole("rowheader", { name: "PA-103" })).toBeTruthy();
+    expect(fetch.calls.filter((c) => c.method === "POST")).toHaveLength(1);
+  });
+
   it("shows an SDO abort where the write happened", async () => {
     stubFetch({
       "GET /api/nodes/1/params": [PA103],

@@ -1,4 +1,4 @@
-import { useCallback, type ReactNode } from "react";
+import { useCallback, useState, type ReactNode } from "react";
 import { useLocation } from "react-router";
 
 import { api, call } from "../../api/client";
@@ -11,6 +11,7 @@ import { ConfirmAction } from "./ConfirmAction";
 import { NodeIdWizard, type StepsNotice } from "./NodeIdWizard";
 import { ParamRow } from "./ParamRow";
 import { ParamSetPanel } from "./ParamSetPanel";
+import { ResetAfterRestore } from "./ResetAfterRestore";
 
 function isNotice(value: unknown): value is { notice: StepsNotice } {
   if (typeof value !== "object" || value === null || !("notice" in value)) return false;
@@ -47,12 +48,14 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
       setData((old) => old?.map((p) => (p.name === result.param.name ? result.param : p))),
     [setData],
   );
+  const [restored, setRestored] = useState(false);
   const list = params.data;
   const generic = list !== undefined && list.length === 0;
 
   return (
     <div className="params-page">
       <Notice />
+      {restored && <ResetAfterRestore node={node} onBack={params.reload} />}
       {!generic && (
         <section className="card" aria-labelledby="params-heading">
           <header className="card-header">
@@ -101,13 +104,14 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
                   }),
                 );
                 params.reload();
+                setRestored(true);
                 return answer.message;
               }}
             />
             <NodeIdWizard node={node} />
             <BitrateWizard node={node} />
           </header>
-          <ErrorText error={params.error} />
+          <ErrorText error={params.error} onRetry={params.reload} />
           {list && (
             <div className="table-scroll">
               <table className="data-table params-table">
