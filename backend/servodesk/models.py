@@ -269,6 +269,15 @@ class BitrateChange(RequestBody):
     confirm: bool = False
 
 
+class BitrateOptions(BaseModel):
+    """The bitrates a node can be set to over CANopen, from its profile."""
+
+    settable: bool  # false: the drive sets its bitrate with switches or its own tool
+    supported: list[int]  # bit/s, fastest first; empty when not settable
+    current: int | None = None  # what its bitrate objects select now, when readable
+    note: str  # one sentence for the user: what the drive supports, or how it is set
+
+
 class BitrateChangeResult(BaseModel):
     bitrate: int
     steps: list[str]
@@ -292,6 +301,7 @@ class DcfDifference(BaseModel):
 
 
 class DcfLoadResult(BaseModel):
+    identity: IdentityCheck | None = None
     written: int
     skipped: int
     failed: list[DcfFailure]
@@ -313,8 +323,21 @@ class CompareRow(BaseModel):
     differs_from_default: bool
 
 
+class IdentityCheck(BaseModel):
+    """Whether a parameter set is for the node's kind of device (vendor, product, type)."""
+
+    matches: bool
+    file: str  # "vendor 0x0000026C, product 0x000000C5, device type 0x00020192"
+    device: str
+    message: str | None = None  # what differs, when it does
+
+
 class CompareResult(BaseModel):
+    # what a parameter set carries: the writable configuration
     rows: list[CompareRow]
+    # read-only and status values (6041h …), listed apart and never flagged as differences
+    read_only: list[CompareRow] = Field(default_factory=list)
+    identity: IdentityCheck | None = None  # when a file was given
 
 
 class LiveEvent(BaseModel):

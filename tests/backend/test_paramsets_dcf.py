@@ -171,7 +171,8 @@ async def test_dcf_of_one_node_loads_onto_another_id() -> None:
 
 async def test_compare_without_file_flags_changes_from_the_defaults(nodes: SimNodes) -> None:
     await SdoService(nodes).write(1, 0x2006, 0x08, 3000)  # PA-103
-    rows = rows_by_key((await ParamSetService(nodes).compare(1, None, "")).rows)
+    result = await ParamSetService(nodes).compare(1, None, "")
+    rows = rows_by_key(result.rows)
     speed = rows[(0x2006, 0x08)]
     assert (speed.device, speed.default, speed.file) == (3000, 6000, None)
     assert speed.device_text == "0x0BB8 (3000)"
@@ -182,7 +183,14 @@ async def test_compare_without_file_flags_changes_from_the_defaults(nodes: SimNo
     assert speed.unit == "rpm"
     assert speed.name == "Drive parameters PA-96 to PA-111: PA-103 Maximum speed"
     assert not rows[(0x6065, 0)].differs_from_default
-    assert len(rows) == sum(1 for s in _entries(nodes, 1).values() if s.access != "wo")
+    readable = [s for s in _entries(nodes, 1).values() if s.access != "wo"]
+    # a parameter set is the writable configuration; status values are listed apart, unflagged
+    assert len(rows) == sum(1 for s in readable if s.access in ("rw", "rwr", "rww"))
+    read_only = rows_by_key(result.read_only)
+    assert len(rows) + len(read_only) == len(readable)
+    status = read_only[(0x6041, 0)]  # Statusword
+    assert not status.differs_from_default
+    assert not status.differs_from_file
 
 
 async def test_bad_file_is_an_invalid_value(nodes: SimNodes) -> None:

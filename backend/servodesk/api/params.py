@@ -9,6 +9,7 @@ from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
 from servodesk.models import (
     BitrateChange,
     BitrateChangeResult,
+    BitrateOptions,
     Confirm,
     MessageResult,
     NodeIdChange,
@@ -53,6 +54,11 @@ async def change_node_id(
     node: NodeId, body: NodeIdChange, services: ServicesDep
 ) -> NodeIdChangeResult:
     return await services.node_ids.change_node_id(node, body.new_node, confirm=body.confirm)
+
+
+@router.get("/bitrates")
+async def bitrates(node: NodeId, services: ServicesDep) -> BitrateOptions:
+    return await services.node_ids.bitrate_options(node)
 
 
 @router.post("/change-bitrate", responses=CONFIRM_ERRORS)

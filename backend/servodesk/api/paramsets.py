@@ -4,11 +4,12 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, File, UploadFile
+from fastapi import APIRouter, File, Form, UploadFile
 from fastapi.responses import PlainTextResponse
 
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
+from servodesk.api.uploads import read_limited
 from servodesk.models import CompareResult, DcfLoadResult
 
 router = APIRouter(prefix="/nodes/{node}", tags=["parameter sets"], responses=NODE_ERRORS)
@@ -27,9 +28,15 @@ async def save_dcf(node: NodeId, services: ServicesDep) -> PlainTextResponse:
 
 
 @router.post("/dcf", responses=CONFIRM_ERRORS)
-async def load_dcf(node: NodeId, file: UploadFile, services: ServicesDep) -> DcfLoadResult:
-    data = await file.read(MAX_DCF_FILE)
-    return await services.paramsets.load_dcf(node, data, file.filename or "upload.dcf")
+async def load_dcf(
+    node: NodeId,
+    file: UploadFile,
+    services: ServicesDep,
+    confirm: Annotated[bool, Form(description="write a set made for another device")] = False,
+) -> DcfLoadResult:
+    data = await read_limited(file, MAX_DCF_FILE)
+    name = file.filename or "upload.dcf"
+    return await services.paramsets.load_dcf(node, data, name, confirm=confirm)
 
 
 @router.post("/compare")
@@ -38,6 +45,6 @@ async def compare(
     services: ServicesDep,
     file: Annotated[UploadFile | None, File()] = None,
 ) -> CompareResult:
-    data = await file.read(MAX_DCF_FILE) if file is not None else None
+    data = await read_limited(file, MAX_DCF_FILE) if file is not None else None
     name = file.filename if file is not None and file.filename else "upload.dcf"
     return await services.paramsets.compare(node, data, name)

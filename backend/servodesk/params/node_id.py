@@ -15,7 +15,12 @@ from servodesk.errors import (
     InvalidValueError,
     NodeNotFoundError,
 )
-from servodesk.models import BitrateChangeResult, NmtCommandName, NodeIdChangeResult
+from servodesk.models import (
+    BitrateChangeResult,
+    BitrateOptions,
+    NmtCommandName,
+    NodeIdChangeResult,
+)
 from servodesk.nodes.access import NodeAccess
 from servodesk.params.service import SAVE_ALL, SAVE_SIGNATURE, STORE_PARAMETERS
 from servodesk.sdo.service import SdoService
@@ -82,6 +87,31 @@ class NodeIdService:
         info = await self._access.move(node, new)
         steps.append(f"ServoDesk now talks to the drive as node {new}")
         return NodeIdChangeResult(old_node=node, new_node=new, steps=steps, node=info)
+
+    async def bitrate_options(self, node: int) -> BitrateOptions:
+        """What the bitrate dialog may offer for `node`: only what its profile can set."""
+        data = self._access.profile_data(node)
+        label = self._access.info(node).profile_label
+        if data is None or not data.quirks.bitrate_objects:
+            how = (
+                "ServoDesk does not know how this device (generic profile) sets its bitrate"
+                if data is None
+                else f"{label} sets its bitrate outside CANopen (switches or its own tool)"
+            )
+            return BitrateOptions(settable=False, supported=[], note=f"{how}.")
+        supported = sorted({code.bitrate for code in data.quirks.bitrate_codes}, reverse=True)
+        values: dict[ObjectRef, int] = {}
+        for ref in data.quirks.bitrate_objects:
+            read = await self._sdo.read(node, *ref)
+            if isinstance(read.value, int):
+                values[ref] = read.value
+        listed = ", ".join(f"{kbit(rate)}" for rate in supported)
+        return BitrateOptions(
+            settable=True,
+            supported=supported,
+            current=servodesk_data.bitrate_of(data, values),
+            note=f"{label} supports {listed} kbit/s.",
+        )
 
     async def change_bitrate(self, node: int, bitrate: int, confirm: bool) -> BitrateChangeResult:
         """Set the drive's bitrate objects for `bitrate` bit/s, store and reset. The drive then

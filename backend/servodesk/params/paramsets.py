@@ -7,7 +7,12 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 
-from servodesk.errors import CommTimeoutError, InvalidValueError, SdoAbortError
+from servodesk.errors import (
+    CommTimeoutError,
+    IdentityMismatchError,
+    InvalidValueError,
+    SdoAbortError,
+)
 from servodesk.models import (
     CompareResult,
     CompareRow,
@@ -20,6 +25,7 @@ from servodesk.nodes.session import NodeSession
 from servodesk.od import ObjectDictionaryModel, OdImportError, OdSub, export_dcf, load_od_bytes
 from servodesk.od import datatypes as dt
 from servodesk.od.model import Value
+from servodesk.params.dcf_identity import check_identity
 from servodesk.params.dcf_order import Write, plan_writes, skip_reason
 from servodesk.sdo import codec
 from servodesk.sdo.bulk import BulkOutcome, EntryRead, as_entry_read, read_entries
@@ -151,15 +157,22 @@ class ParamSetService:
             model = dataclasses.replace(model, device=device)
         return export_dcf(model, values, node_id=node)
 
-    async def load_dcf(self, node: int, data: bytes, filename: str) -> DcfLoadResult:
-        """Write a parameter set in a safe order, then read back what was written."""
+    async def load_dcf(
+        self, node: int, data: bytes, filename: str, *, confirm: bool = False
+    ) -> DcfLoadResult:
+        """Write a parameter set in a safe order, then read back what was written. A set made
+        for another kind of device is refused unless `confirm` (IdentityMismatchError)."""
         target = self._access.od(node)
         session = self._access.session(node)
+        model = _load_file(data, filename, node)
+        identity = check_identity(model, filename, self._access.info(node))
+        if not identity.matches and not confirm:
+            raise IdentityMismatchError(
+                f"{identity.message}: nothing was written. Load it anyway with confirm"
+            )
         values: dict[Key, Value] = {}
         skipped = 0
-        for key, (file_sub, value) in sorted(
-            file_values(_load_file(data, filename, node), node).items()
-        ):
+        for key, (file_sub, value) in sorted(file_values(model, node).items()):
             sub = target.get(*key)
             if sub is None or skip_reason(file_sub) or skip_reason(sub):
                 skipped += 1
@@ -174,6 +187,7 @@ class ParamSetService:
         else:
             differences = await self._differences(node, session, target, values, written)
         return DcfLoadResult(
+            identity=identity,
             written=len(written),
             skipped=skipped,
             failed=sorted(failed.values(), key=lambda f: (f.index, f.subindex)),
@@ -184,17 +198,24 @@ class ParamSetService:
         """Device values against a file (if given) and the dictionary's defaults."""
         target = self._access.od(node)
         reads = await self._read_all(node, self._access.session(node), readable_entries(target))
-        in_file = {} if data is None else file_values(_load_file(data, filename, node), node)
+        model = None if data is None else _load_file(data, filename, node)
+        in_file = {} if model is None else file_values(model, node)
+        identity = (
+            None if model is None else check_identity(model, filename, self._access.info(node))
+        )
         profile = self._access.profile_data(node)
         units = {} if profile is None else {p.object: p.unit for p in profile.parameters}
         rows: list[CompareRow] = []
+        read_only: list[CompareRow] = []
         for read in reads:
             sub = read.sub
             key = (sub.index, sub.subindex)
             device = codec.decode(sub, read.data) if read.data is not None else None
             file_value = in_file[key][1] if key in in_file else None
             default = sub.default
-            rows.append(
+            # status and read-only values are not part of a parameter set: listed apart
+            configuration = sub.access in CONFIGURATION_ACCESS
+            (rows if configuration else read_only).append(
                 CompareRow(
                     index=sub.index,
                     subindex=sub.subindex,
@@ -211,18 +232,20 @@ class ParamSetService:
                     file_text=codec.display_text(sub, file_value),
                     default_text=codec.display_text(sub, default),
                     differs_from_file=(
-                        device is not None
+                        configuration
+                        and device is not None
                         and file_value is not None
                         and not codec.same_value(sub, file_value, device)
                     ),
                     differs_from_default=(
-                        device is not None
+                        configuration
+                        and device is not None
                         and default is not None
                         and not codec.same_value(sub, default, device)
                     ),
                 )
             )
-        return CompareResult(rows=rows)
+        return CompareResult(rows=rows, read_only=read_only, identity=identity)
 
     # ------------------------------------------------------------------------------ helpers
 

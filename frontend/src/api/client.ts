@@ -42,10 +42,12 @@ export async function call<T>(request: Promise<CallResult<T>>): Promise<T> {
   return result.data;
 }
 
-/** Multipart body with one `file` field, for the EDS/DCF upload routes. */
-export function fileForm(file: File | null): FormData {
+/** Multipart body with one `file` field (and form fields such as `confirm`), for the EDS/DCF
+ * upload routes. */
+export function fileForm(file: File | null, fields: Record<string, string> = {}): FormData {
   const form = new FormData();
   if (file) form.append("file", file, file.name);
+  for (const [name, value] of Object.entries(fields)) form.append(name, value);
   return form;
 }
 
@@ -54,11 +56,14 @@ export function fileForm(file: File | null): FormData {
  * the browser sends a File inside FormData. This is the one place that bridges the two: the
  * body value is ignored because the serializer builds the form from the File itself.
  */
-export function uploadBody(file: File | null): {
+export function uploadBody(
+  file: File | null,
+  fields: Record<string, string> = {},
+): {
   body: { file: string };
   bodySerializer: () => FormData;
 } {
-  return { body: { file: file?.name ?? "" }, bodySerializer: () => fileForm(file) };
+  return { body: { file: file?.name ?? "" }, bodySerializer: () => fileForm(file, fields) };
 }
 
 /** Object-dictionary address as the routes want it: hex without prefix ("6041", "0A"). */

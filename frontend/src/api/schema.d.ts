@@ -175,6 +175,23 @@ export interface paths {
     patch?: never;
     trace?: never;
   };
+  "/api/nodes/{node}/bitrates": {
+    parameters: {
+      query?: never;
+      header?: never;
+      path?: never;
+      cookie?: never;
+    };
+    /** Bitrates */
+    get: operations["bitrates_api_nodes__node__bitrates_get"];
+    put?: never;
+    post?: never;
+    delete?: never;
+    options?: never;
+    head?: never;
+    patch?: never;
+    trace?: never;
+  };
   "/api/nodes/{node}/change-bitrate": {
     parameters: {
       query?: never;
@@ -480,6 +497,20 @@ export interface components {
       /** Steps */
       steps: string[];
     };
+    /**
+     * BitrateOptions
+     * @description The bitrates a node can be set to over CANopen, from its profile.
+     */
+    BitrateOptions: {
+      /** Current */
+      current?: number | null;
+      /** Note */
+      note: string;
+      /** Settable */
+      settable: boolean;
+      /** Supported */
+      supported: number[];
+    };
     /** Body_check_od_api_od_check_post */
     Body_check_od_api_od_check_post: {
       /** File */
@@ -492,6 +523,12 @@ export interface components {
     };
     /** Body_load_dcf_api_nodes__node__dcf_post */
     Body_load_dcf_api_nodes__node__dcf_post: {
+      /**
+       * Confirm
+       * @description write a set made for another device
+       * @default false
+       */
+      confirm: boolean;
       /** File */
       file: string;
     };
@@ -569,6 +606,9 @@ export interface components {
     };
     /** CompareResult */
     CompareResult: {
+      identity?: components["schemas"]["IdentityCheck"] | null;
+      /** Read Only */
+      read_only?: components["schemas"]["CompareRow"][];
       /** Rows */
       rows: components["schemas"]["CompareRow"][];
     };
@@ -639,6 +679,7 @@ export interface components {
       differences: components["schemas"]["DcfDifference"][];
       /** Failed */
       failed: components["schemas"]["DcfFailure"][];
+      identity?: components["schemas"]["IdentityCheck"] | null;
       /** Skipped */
       skipped: number;
       /** Written */
@@ -681,6 +722,20 @@ export interface components {
       confirm: boolean;
       /** Producer Ms */
       producer_ms: number;
+    };
+    /**
+     * IdentityCheck
+     * @description Whether a parameter set is for the node's kind of device (vendor, product, type).
+     */
+    IdentityCheck: {
+      /** Device */
+      device: string;
+      /** File */
+      file: string;
+      /** Matches */
+      matches: boolean;
+      /** Message */
+      message?: string | null;
     };
     /** InterfaceInfo */
     InterfaceInfo: {
@@ -1583,6 +1638,74 @@ export interface operations {
         };
         content: {
           "application/json": components["schemas"]["NodeInfo"];
+        };
+      };
+      /** @description Unknown node */
+      404: {
+        headers: {
+          [name: string]: unknown;
+        };
+        content: {
+          "application/json": components["schemas"]["ErrorBody"];
+        };
+      };
+      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+      409: {
+        headers: {
+          [name: string]: unknown;
+        };
+        content: {
+          "application/json": components["schemas"]["ErrorBody"];
+        };
+      };
+      /** @description Invalid request: what is wrong, per field */
+      422: {
+        headers: {
+          [name: string]: unknown;
+        };
+        content: {
+          "application/json": components["schemas"]["ErrorBody"];
+        };
+      };
+      /** @description Bus not connected, or the connection was renewed during the request */
+      503: {
+        headers: {
+          [name: string]: unknown;
+        };
+        content: {
+          "application/json": components["schemas"]["ErrorBody"];
+        };
+      };
+      /** @description Node did not answer */
+      504: {
+        headers: {
+          [name: string]: unknown;
+        };
+        content: {
+          "application/json": components["schemas"]["ErrorBody"];
+        };
+      };
+    };
+  };
+  bitrates_api_nodes__node__bitrates_get: {
+    parameters: {
+      query?: never;
+      header?: never;
+      path: {
+        /** @description CANopen node id 1–127 */
+        node: number;
+      };
+      cookie?: never;
+    };
+    requestBody?: never;
+    responses: {
+      /** @description Successful Response */
+      200: {
+        headers: {
+          [name: string]: unknown;
+        };
+        content: {
+          "application/json": components["schemas"]["BitrateOptions"];
         };
       };
       /** @description Unknown node */

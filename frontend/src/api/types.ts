@@ -26,6 +26,8 @@ export type BitrateChangeResult = Schemas["BitrateChangeResult"];
 export type DcfLoadResult = Schemas["DcfLoadResult"];
 export type CompareRow = Schemas["CompareRow"];
 export type CompareResult = Schemas["CompareResult"];
+export type BitrateOptions = Schemas["BitrateOptions"];
+export type IdentityCheck = Schemas["IdentityCheck"];
 
 /** A value as the API carries it: numbers for numeric types, strings otherwise. */
 export type OdValue = number | string | null;

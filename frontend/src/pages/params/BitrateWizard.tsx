@@ -1,16 +1,17 @@
 import { useId, useState, type ReactNode } from "react";
 
 import { api, call } from "../../api/client";
-import type { BitrateChangeResult } from "../../api/types";
+import type { BitrateChangeResult, BitrateOptions } from "../../api/types";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { formatBitrate } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
-import { BITRATES } from "../network/ConnectForm";
 
-/** Change the node's CAN bitrate, then offer to reconnect the tool at the new rate. */
+/** Change the node's CAN bitrate, then offer to reconnect the tool at the new rate. Only the
+ * rates the node's profile can set are offered; a drive that sets its bitrate elsewhere says
+ * so instead of offering a change that cannot succeed. */
 export function BitrateWizard({ node }: { node: number }): ReactNode {
   const selectId = useId();
   const store = useLiveStore();
@@ -18,6 +19,16 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
   const [open, setOpen] = useState(false);
   const [bitrate, setBitrate] = useState(String(bus?.bitrate ?? 500_000));
   const [result, setResult] = useState<BitrateChangeResult | null>(null);
+  const [options, setOptions] = useState<BitrateOptions | null>(null);
+  const fetchOptions = useAction(async () => {
+    const answer = await call(
+      api.GET("/api/nodes/{node}/bitrates", { params: { path: { node } } }),
+    );
+    setOptions(answer);
+    const current = answer.current ?? bus?.bitrate;
+    const other = answer.supported.find((rate) => rate !== current);
+    if (other !== undefined) setBitrate(String(other));
+  });
   const change = useAction(async () => {
     setResult(
       await call(
@@ -47,15 +58,53 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
   function close(): void {
     setOpen(false);
     setResult(null);
+    setOptions(null);
   }
 
   const title = `Change the bitrate of node ${node}`;
   return (
     <>
-      <button type="button" onClick={() => setOpen(true)}>
+      <button
+        type="button"
+        onClick={() => {
+          setOpen(true);
+          void fetchOptions.run();
+        }}
+      >
         Change bitrate…
       </button>
-      {open && !result && (
+      {open && !result && options && !options.settable && (
+        <Dialog
+          title={title}
+          onClose={close}
+          actions={
+            <button type="button" onClick={close}>
+              Close
+            </button>
+          }
+        >
+          <p role="status">{options.note}</p>
+          <p>
+            Set the same bitrate on the drive itself, then reconnect the bus at it on the Network
+            page.
+          </p>
+        </Dialog>
+      )}
+      {open && !result && !options && (
+        <Dialog
+          title={title}
+          onClose={close}
+          actions={
+            <button type="button" onClick={close}>
+              Cancel
+            </button>
+          }
+        >
+          {fetchOptions.busy && <Spinner label="Reading the supported bitrates" />}
+          <ErrorText error={fetchOptions.error} onRetry={() => void fetchOptions.run()} />
+        </Dialog>
+      )}
+      {open && !result && options?.settable && (
         <Dialog
           title={title}
           onClose={close}
@@ -78,12 +127,14 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
         >
           <label htmlFor={selectId}>New bitrate</label>
           <select id={selectId} value={bitrate} onChange={(e) => setBitrate(e.target.value)}>
-            {BITRATES.map((rate) => (
+            {options.supported.map((rate) => (
               <option key={rate} value={String(rate)}>
                 {formatBitrate(rate)}
+                {rate === options.current ? " (now)" : ""}
               </option>
             ))}
           </select>
+          <p className="muted small">{options.note}</p>
           <p>
             The server will write the drive's bitrate parameter, store the parameters and reset the
             node.

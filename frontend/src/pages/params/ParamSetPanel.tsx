@@ -10,6 +10,7 @@ import { Spinner } from "../../components/Spinner";
 import { formatValue, odAddress } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { CompareTable } from "./CompareTable";
+import { LoadDcfDialog } from "./LoadDcfDialog";
 
 const DCF_TYPES = ".dcf,.eds,.DCF";
 
@@ -124,6 +125,8 @@ export function ParamSetPanel({ node }: { node: number }): ReactNode {
     null,
   );
   const [compareOpen, setCompareOpen] = useState(false);
+  // a picked DCF and what it would change: nothing is written before the user confirms
+  const [pending, setPending] = useState<{ file: File; preview: CompareResult } | null>(null);
 
   const save = useAction(async () => {
     const { data, error, response } = await api.GET("/api/nodes/{node}/dcf", {
@@ -134,13 +137,29 @@ export function ParamSetPanel({ node }: { node: number }): ReactNode {
     const text = await call(Promise.resolve({ data, error: parseMaybeJson(error), response }));
     download(text, filenameFrom(response.headers.get("Content-Disposition"), `node${node}.dcf`));
   });
-  const load = useAction(async (file: File) => {
+  const preview = useAction(async (file: File) => {
     setLoadResult(null);
-    setLoadResult(
-      await call(
-        api.POST("/api/nodes/{node}/dcf", { params: { path: { node } }, ...uploadBody(file) }),
-      ),
+    const result = await call(
+      api.POST("/api/nodes/{node}/compare", { params: { path: { node } }, ...uploadBody(file) }),
     );
+    setPending({ file, preview: result });
+  });
+  const load = useAction(async (file: File, confirmIdentity: boolean) => {
+    const upload = uploadBody(file, confirmIdentity ? { confirm: "true" } : {});
+    const result = await call(
+      api.POST("/api/nodes/{node}/dcf", {
+        params: { path: { node } },
+        body: { ...upload.body, confirm: confirmIdentity },
+        bodySerializer: upload.bodySerializer,
+      }),
+    );
+    setPending(null);
+    setLoadResult(result);
+    // the comparison shows the node as it is after the load, not as it was before
+    const after = await call(
+      api.POST("/api/nodes/{node}/compare", { params: { path: { node } }, ...uploadBody(file) }),
+    );
+    setComparison({ result: after, withFile: true });
   });
   const compare = useAction(async (file: File | null) => {
     const result = await call(
@@ -149,7 +168,7 @@ export function ParamSetPanel({ node }: { node: number }): ReactNode {
     setComparison({ result, withFile: file !== null });
     setCompareOpen(false);
   });
-  const busy = save.busy || load.busy || compare.busy;
+  const busy = save.busy || preview.busy || load.busy || compare.busy;
 
   return (
     <section className="card" aria-labelledby="paramset-heading">
@@ -162,14 +181,35 @@ export function ParamSetPanel({ node }: { node: number }): ReactNode {
           label="Load DCF…"
           accept={DCF_TYPES}
           disabled={busy}
-          onFile={(f) => void load.run(f)}
+          onFile={(f) => void preview.run(f)}
         />
         <button type="button" disabled={busy} onClick={() => setCompareOpen(true)}>
           Compare…
         </button>
         {busy && <Spinner label="Working on the parameter set" />}
       </header>
-      <ErrorText error={save.error ?? load.error ?? (compareOpen ? null : compare.error)} />
+      <ErrorText
+        error={
+          save.error ??
+          preview.error ??
+          (pending ? null : load.error) ??
+          (compareOpen ? null : compare.error)
+        }
+      />
+      {pending && (
+        <LoadDcfDialog
+          node={node}
+          filename={pending.file.name}
+          preview={pending.preview}
+          busy={load.busy}
+          error={load.error}
+          onWrite={(confirmIdentity) => void load.run(pending.file, confirmIdentity)}
+          onClose={() => {
+            setPending(null);
+            load.clearError();
+          }}
+        />
+      )}
       {loadResult && <LoadResult result={loadResult} />}
       {comparison && <CompareTable result={comparison.result} withFile={comparison.withFile} />}
       {compareOpen && (
