@@ -71,6 +71,7 @@ test: lint typecheck api-check frontend-check pytest
 bench: install
 	$(BIN)/python bench/sim_realtime.py
 	$(BIN)/python bench/sdo_overhead.py
+	$(BIN)/python bench/od_upload.py
 
 clean:
 	rm -rf $(VENV) node_modules backend/servodesk/static .mypy_cache .pytest_cache .ruff_cache

@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import logging
+import os
 import sys
 import traceback
 from collections.abc import AsyncIterator, Awaitable, Callable, Sequence
@@ -137,11 +138,12 @@ def bus_config(args: argparse.Namespace) -> BusConfig:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    raw = list(sys.argv[1:] if argv is None else argv)
+    args = build_parser().parse_args(raw)
     _quiet_libraries(args.debug)
     try:
         if args.command == "serve":
-            return serve(args)
+            return serve(args, raw)
         if args.command == "eds-check":
             return eds_check(args.file)
         return asyncio.run(_field_command(args))
@@ -171,7 +173,7 @@ def _quiet_libraries(debug: bool) -> None:
         logging.basicConfig(level=logging.CRITICAL + 1, handlers=[logging.NullHandler()])
 
 
-def serve(args: argparse.Namespace) -> int:
+def serve(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
     import uvicorn
 
     from servodesk.app import create_app
@@ -184,6 +186,7 @@ def serve(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 2
+    _use_system_allocator(argv)
     config = bus_config(args)
     settings = Settings(
         bind=args.bind,
@@ -197,6 +200,20 @@ def serve(args: argparse.Namespace) -> int:
     print(f"ServoDesk {__version__} on http://{args.bind}:{args.port}", flush=True)
     uvicorn.run(create_app(settings), host=args.bind, port=args.port, log_level="info")
     return 0
+
+
+def _use_system_allocator(argv: Sequence[str]) -> None:
+    """Run the server on the C library's allocator (PYTHONMALLOC=malloc), re-starting this
+    command once with it set. CPython's own allocator keeps memory in 1 MB arenas that go back
+    to the system only when entirely empty: after a large dictionary upload is dropped, a few
+    objects allocated meanwhile keep most of its arenas, and the server stays tens of MB
+    larger for good. glibc returns freed pages (servodesk.od.parser.release_memory), so the
+    server's memory follows what it holds (bench/od_upload.py measures both)."""
+    if os.environ.get("PYTHONMALLOC") or not sys.platform.startswith("linux"):
+        return  # the user chose, or not glibc
+    env = {**os.environ, "PYTHONMALLOC": "malloc"}
+    sys.stdout.flush()
+    os.execve(sys.executable, [sys.executable, "-m", "servodesk.cli", *argv], env)
 
 
 def eds_check(path: str) -> int:

@@ -9,6 +9,7 @@ from servodesk.bus.connection import BusFactory, BusManager
 from servodesk.live import LiveHub
 from servodesk.network.sync import SyncService
 from servodesk.nodes.registry import NodeRegistry
+from servodesk.od.parser import OdParser
 from servodesk.params.node_id import NodeIdService
 from servodesk.params.paramsets import ParamSetService
 from servodesk.params.service import ParamService
@@ -29,8 +30,10 @@ class Services:
     node_ids: NodeIdService
     paramsets: ParamSetService
     live: LiveHub
+    od_parser: OdParser
 
     async def close(self) -> None:
+        self.od_parser.close()
         await self.live.close()
         await self.jobs.close()
         self.sync.close()
@@ -43,6 +46,7 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
     registry = NodeRegistry(bus, settings)
     jobs = JobManager(registry)
     registry.add_od_listener(jobs.dictionary_changed)
+    od_parser = OdParser()
     return Services(
         settings=settings,
         bus=bus,
@@ -52,6 +56,7 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
         jobs=jobs,
         params=ParamService(registry),
         node_ids=NodeIdService(registry, settings),
-        paramsets=ParamSetService(registry),
+        paramsets=ParamSetService(registry, od_parser),
         live=LiveHub(bus, registry),
+        od_parser=od_parser,
     )

@@ -122,7 +122,7 @@ async def test_uploaded_dictionary_replaces_and_resets() -> None:
     async with sim_rig() as rig:
         await rig.registry.add(1)
         uploaded = load_od(eds_path("cia402"), node_id=1)
-        info = rig.registry.set_od(1, uploaded, "upload")
+        info = await rig.registry.set_od(1, uploaded, "upload")
         assert (info.od_source, info.od_filename) == ("upload", "drive.eds")
         assert rig.registry.od(1) is uploaded
         # the new session works with the new dictionary
@@ -130,7 +130,7 @@ async def test_uploaded_dictionary_replaces_and_resets() -> None:
         # a rescan of the same device keeps the user's dictionary
         await rig.registry.add(1)
         assert rig.registry.info(1).od_source == "upload"
-        info = rig.registry.reset_od(1)
+        info = await rig.registry.reset_od(1)
         assert (info.od_source, info.od_filename) == ("profile", "mdi-s1c/drive.eds")
         assert rig.registry.od(1) is not uploaded
 

@@ -46,6 +46,8 @@ from servodesk.nodes.identity import DEVICE_TYPE, PRODUCER_HEARTBEAT, Identity, 
 from servodesk.nodes.session import NodeSession
 from servodesk.nodes.tracked import TrackedSession
 from servodesk.od import ObjectDictionaryModel, to_canopen
+from servodesk.od.parser import release_memory
+from servodesk.od.to_canopen import dispose
 from servodesk.profiles import ProfileDictionaries, ProfileMatch, load_known, match
 from servodesk.settings import Settings
 from servodesk_data import DriveData
@@ -245,7 +247,7 @@ class NodeRegistry:
                 model=model,
                 od_source="profile",
                 od_filename=self._dictionaries.filename(profile),
-                canopen_od=to_canopen(model, node),
+                canopen_od=self._dictionaries.canopen(model, node),
             )
             self._nodes[node] = entry
             if existing is not None:
@@ -295,9 +297,12 @@ class NodeRegistry:
 
     # ------------------------------------------------------------------ dictionaries, node ids
 
-    def set_od(self, node: int, model: ObjectDictionaryModel, source: OdSource) -> NodeInfo:
-        """Use `model` as the node's dictionary (a new session is bound with it)."""
+    async def set_od(self, node: int, model: ObjectDictionaryModel, source: OdSource) -> NodeInfo:
+        """Use `model` as the node's dictionary. The old one is released (nothing keeps it)."""
+        build = self._dictionaries.canopen if source == "profile" else to_canopen
+        canopen_od = await asyncio.to_thread(build, model, node)  # large files: seconds
         entry = self._entry(node)
+        old_od = entry.canopen_od if entry.od_source == "upload" else None  # not shared
         entry.model = model
         entry.od_source = source
         entry.od_filename = (
@@ -305,22 +310,30 @@ class NodeRegistry:
             if source == "upload"
             else self._dictionaries.filename(entry.profile)
         )
-        entry.canopen_od = to_canopen(model, node)
+        entry.canopen_od = canopen_od
         session, network = entry.session, entry.network
+
+        def retire() -> None:
+            if old_od is not None:
+                dispose(old_od)
+                release_memory()
+
         if session is not None and network is not None:
             # Requests already queued for the node finish with the old dictionary; the new one
             # takes over after them on the node's own thread (no request is cut off).
-            session.replace_remote(canopen.RemoteNode(node, entry.canopen_od), network)
+            session.replace_dictionary(entry.canopen_od, then=retire)
         else:
             self._bind_if_connected(entry)
+            await asyncio.to_thread(retire)
         for fn in list(self._od_listeners):
             fn(node)
         return self.info(node)
 
-    def reset_od(self, node: int) -> NodeInfo:
+    async def reset_od(self, node: int) -> NodeInfo:
         """Back to the profile's dictionary."""
         entry = self._entry(node)
-        return self.set_od(node, self._dictionaries.model(entry.profile, node), "profile")
+        model = await asyncio.to_thread(self._dictionaries.model, entry.profile, node)
+        return await self.set_od(node, model, "profile")
 
     async def move(self, old: int, new: int) -> NodeInfo:
         """The node formerly at `old` answers at `new` now (its node id was changed).

@@ -16,6 +16,7 @@ from typing import TypeVar
 
 import can
 import canopen
+from canopen.objectdictionary import ObjectDictionary
 from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
 
 from servodesk.errors import (
@@ -106,18 +107,25 @@ class NodeSession:
             step, what=f"write {index:04X}h:{subindex:02X}h", index=index, subindex=subindex
         )
 
-    def replace_remote(self, remote: canopen.RemoteNode, network: canopen.Network) -> None:
-        """Use `remote` (e.g. with a new object dictionary) for every call queued from now on.
+    def replace_dictionary(
+        self, od: ObjectDictionary, *, then: Callable[[], None] | None = None
+    ) -> None:
+        """Use `od` for every call queued from now on, then run `then` (e.g. release the old
+        dictionary).
 
-        Queued as a step on the node's thread: calls already waiting complete on the old
-        remote, later ones use the new one, and the two never overlap on the bus."""
+        Queued as a step on the node's thread: calls already waiting complete with the old
+        dictionary, later ones with the new one. The RemoteNode itself stays (its SDO and PDO
+        helpers look the dictionary up when they need it)."""
         if self._closed:
             raise RequestInterruptedError(self.node_id, CLOSED)
 
         def swap() -> None:
-            network.add_node(remote)  # unsubscribes the old RemoteNode at this id
-            remote.sdo.RESPONSE_TIMEOUT = self.remote.sdo.RESPONSE_TIMEOUT
-            self.remote = remote
+            remote = self.remote
+            remote.object_dictionary = od
+            for channel in remote.sdo_channels:
+                channel.od = od
+            if then is not None:
+                then()
 
         self._executor.submit(swap)
 

@@ -64,7 +64,7 @@ class Code(StrEnum):
     PDO_MAPPING = "pdo-mapping"  # default mapping points at a missing or wrong-sized object
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class LintWarning:
     file: str
     line: int | None

@@ -17,7 +17,8 @@ class OdImportError(Exception):
     """Nothing usable could be read: not an INI or XML file, or no object at all."""
 
 
-@dataclass(frozen=True)
+# slots: a large vendor dictionary holds tens of thousands of entries; without a __dict__ each
+@dataclass(frozen=True, slots=True)
 class OdSub:
     """One entry (index, sub-index). A VAR object has exactly one, at sub-index 0."""
 
@@ -44,7 +45,7 @@ class OdSub:
     line: int | None = None  # where the entry is defined, for messages
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class OdObject:
     index: int
     name: str

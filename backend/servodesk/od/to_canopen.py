@@ -95,3 +95,18 @@ def _resolve(
     if not relative or not isinstance(value, int):
         return value
     return value - (loaded_for or 0) + (node_id or 0)
+
+
+def dispose(od: ObjectDictionary) -> None:
+    """Empty a dictionary that is no longer used. canopen links each record member back to its
+    record (`parent`), so a dropped dictionary would wait for the cycle collector, whose full
+    pass over a large heap stops the server for a noticeable time; without the links its
+    entries are freed at once by reference counting."""
+    for obj in list(od.values()):
+        if isinstance(obj, ODRecord | ODArray):
+            for member in list(obj.values()):
+                member.parent = None
+            obj.subindices.clear()
+            obj.names.clear()
+    od.indices.clear()
+    od.names.clear()

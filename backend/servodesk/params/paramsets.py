@@ -10,7 +10,6 @@ from collections.abc import Callable
 from servodesk.errors import (
     CommTimeoutError,
     IdentityMismatchError,
-    InvalidValueError,
     SdoAbortError,
 )
 from servodesk.models import (
@@ -22,9 +21,10 @@ from servodesk.models import (
 )
 from servodesk.nodes.access import NodeAccess
 from servodesk.nodes.session import NodeSession
-from servodesk.od import ObjectDictionaryModel, OdImportError, OdSub, export_dcf, load_od_bytes
+from servodesk.od import ObjectDictionaryModel, OdSub, export_dcf
 from servodesk.od import datatypes as dt
 from servodesk.od.model import Value
+from servodesk.od.parser import OdParser
 from servodesk.params.dcf_identity import check_identity
 from servodesk.params.dcf_order import Write, plan_writes, skip_reason
 from servodesk.sdo import codec
@@ -103,16 +103,13 @@ def _fits(sub: OdSub, value: Value) -> bool:
     return isinstance(value, bytes)
 
 
-def _load_file(data: bytes, filename: str, node: int) -> ObjectDictionaryModel:
-    try:
-        return load_od_bytes(data, filename, node_id=node)
-    except OdImportError as error:
-        raise InvalidValueError(str(error)) from None
-
-
 class ParamSetService:
-    def __init__(self, access: NodeAccess) -> None:
+    def __init__(self, access: NodeAccess, parser: OdParser | None = None) -> None:
         self._access = access
+        self._parser = parser or OdParser()
+
+    async def _load_file(self, data: bytes, filename: str, node: int) -> ObjectDictionaryModel:
+        return await self._parser.parse(data, filename, node_id=node)
 
     async def _read_all(
         self,
@@ -164,7 +161,7 @@ class ParamSetService:
         for another kind of device is refused unless `confirm` (IdentityMismatchError)."""
         target = self._access.od(node)
         session = self._access.session(node)
-        model = _load_file(data, filename, node)
+        model = await self._load_file(data, filename, node)
         identity = check_identity(model, filename, self._access.info(node))
         if not identity.matches and not confirm:
             raise IdentityMismatchError(
@@ -198,7 +195,7 @@ class ParamSetService:
         """Device values against a file (if given) and the dictionary's defaults."""
         target = self._access.od(node)
         reads = await self._read_all(node, self._access.session(node), readable_entries(target))
-        model = None if data is None else _load_file(data, filename, node)
+        model = None if data is None else await self._load_file(data, filename, node)
         in_file = {} if model is None else file_values(model, node)
         identity = (
             None if model is None else check_identity(model, filename, self._access.info(node))

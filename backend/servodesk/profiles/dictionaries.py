@@ -10,7 +10,9 @@ import threading
 from dataclasses import replace
 from pathlib import Path
 
-from servodesk.od import DeviceInfo, ObjectDictionaryModel, load_od
+from canopen.objectdictionary import ObjectDictionary
+
+from servodesk.od import DeviceInfo, ObjectDictionaryModel, load_od, to_canopen
 from servodesk.profiles.match import ProfileMatch
 
 
@@ -20,6 +22,7 @@ class ProfileDictionaries:
     def __init__(self) -> None:
         self._lock = threading.Lock()
         self._models: dict[tuple[Path, int, tuple[int, int] | None], ObjectDictionaryModel] = {}
+        self._canopen: dict[int, tuple[ObjectDictionaryModel, ObjectDictionary]] = {}
 
     def model(self, profile: ProfileMatch, node: int) -> ObjectDictionaryModel:
         """The dictionary of `profile` for node `node` (parses the EDS on first use)."""
@@ -37,6 +40,19 @@ class ProfileDictionaries:
             model = replace(model, objects=objects)
         with self._lock:
             return self._models.setdefault(key, model)
+
+    def canopen(self, model: ObjectDictionaryModel, node: int) -> ObjectDictionary:
+        """`to_canopen(model, node)` for a cached profile model, built once: going back to the
+        profile's dictionary then allocates nothing (new long-lived objects would settle in
+        the holes a large freed upload left, and keep its memory from the system)."""
+        with self._lock:
+            cached = self._canopen.get(id(model))
+        if cached is not None and cached[0] is model:
+            return cached[1]
+        built = to_canopen(model, node)
+        with self._lock:
+            self._canopen[id(model)] = (model, built)
+        return built
 
     @staticmethod
     def filename(profile: ProfileMatch) -> str:

@@ -4,3634 +4,3634 @@
  */
 
 export interface paths {
-  "/api/bus": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/bus": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Bus Status */
+        get: operations["bus_status_api_bus_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Bus Status */
-    get: operations["bus_status_api_bus_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/bus/connect": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/bus/connect": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Connect */
+        post: operations["connect_api_bus_connect_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Connect */
-    post: operations["connect_api_bus_connect_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/bus/disconnect": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/bus/disconnect": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Disconnect */
+        post: operations["disconnect_api_bus_disconnect_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Disconnect */
-    post: operations["disconnect_api_bus_disconnect_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/bus/interfaces": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/bus/interfaces": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Interfaces */
+        get: operations["interfaces_api_bus_interfaces_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Interfaces */
-    get: operations["interfaces_api_bus_interfaces_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/bus/reconnect": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/bus/reconnect": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Reconnect */
+        post: operations["reconnect_api_bus_reconnect_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Reconnect */
-    post: operations["reconnect_api_bus_reconnect_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/health": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/health": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Health */
+        get: operations["health_api_health_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Health */
-    get: operations["health_api_health_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/jobs/{job_id}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/jobs/{job_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Job */
+        get: operations["get_job_api_jobs__job_id__get"];
+        put?: never;
+        post?: never;
+        /** Cancel Job */
+        delete: operations["cancel_job_api_jobs__job_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Get Job */
-    get: operations["get_job_api_jobs__job_id__get"];
-    put?: never;
-    post?: never;
-    /** Cancel Job */
-    delete: operations["cancel_job_api_jobs__job_id__delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nmt": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nmt": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Nmt Broadcast */
+        post: operations["nmt_broadcast_api_nmt_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Nmt Broadcast */
-    post: operations["nmt_broadcast_api_nmt_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List Nodes */
+        get: operations["list_nodes_api_nodes_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** List Nodes */
-    get: operations["list_nodes_api_nodes_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Node */
+        get: operations["get_node_api_nodes__node__get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Get Node */
-    get: operations["get_node_api_nodes__node__get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/bitrates": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/bitrates": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Bitrates */
+        get: operations["bitrates_api_nodes__node__bitrates_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Bitrates */
-    get: operations["bitrates_api_nodes__node__bitrates_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/change-bitrate": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/change-bitrate": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Change Bitrate */
+        post: operations["change_bitrate_api_nodes__node__change_bitrate_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Change Bitrate */
-    post: operations["change_bitrate_api_nodes__node__change_bitrate_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/change-node-id": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/change-node-id": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Change Node Id */
+        post: operations["change_node_id_api_nodes__node__change_node_id_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Change Node Id */
-    post: operations["change_node_id_api_nodes__node__change_node_id_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/compare": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/compare": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Compare */
+        post: operations["compare_api_nodes__node__compare_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Compare */
-    post: operations["compare_api_nodes__node__compare_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/dcf": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/dcf": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Save Dcf */
+        get: operations["save_dcf_api_nodes__node__dcf_get"];
+        put?: never;
+        /** Load Dcf */
+        post: operations["load_dcf_api_nodes__node__dcf_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Save Dcf */
-    get: operations["save_dcf_api_nodes__node__dcf_get"];
-    put?: never;
-    /** Load Dcf */
-    post: operations["load_dcf_api_nodes__node__dcf_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/heartbeat": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/heartbeat": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Heartbeat */
+        get: operations["heartbeat_api_nodes__node__heartbeat_get"];
+        /** Set Heartbeat */
+        put: operations["set_heartbeat_api_nodes__node__heartbeat_put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Heartbeat */
-    get: operations["heartbeat_api_nodes__node__heartbeat_get"];
-    /** Set Heartbeat */
-    put: operations["set_heartbeat_api_nodes__node__heartbeat_put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/nmt": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/nmt": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Nmt */
+        post: operations["nmt_api_nodes__node__nmt_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Nmt */
-    post: operations["nmt_api_nodes__node__nmt_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/od": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/od": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Node Od */
+        get: operations["node_od_api_nodes__node__od_get"];
+        put?: never;
+        /** Upload Od */
+        post: operations["upload_od_api_nodes__node__od_post"];
+        /** Reset Od */
+        delete: operations["reset_od_api_nodes__node__od_delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Node Od */
-    get: operations["node_od_api_nodes__node__od_get"];
-    put?: never;
-    /** Upload Od */
-    post: operations["upload_od_api_nodes__node__od_post"];
-    /** Reset Od */
-    delete: operations["reset_od_api_nodes__node__od_delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/params": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/params": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List Params */
+        get: operations["list_params_api_nodes__node__params_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** List Params */
-    get: operations["list_params_api_nodes__node__params_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/params/{name}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/params/{name}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Param */
+        get: operations["get_param_api_nodes__node__params__name__get"];
+        /** Set Param */
+        put: operations["set_param_api_nodes__node__params__name__put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Get Param */
-    get: operations["get_param_api_nodes__node__params__name__get"];
-    /** Set Param */
-    put: operations["set_param_api_nodes__node__params__name__put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/restore-defaults": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/restore-defaults": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Restore Defaults */
+        post: operations["restore_defaults_api_nodes__node__restore_defaults_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Restore Defaults */
-    post: operations["restore_defaults_api_nodes__node__restore_defaults_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/sdo/{index}/{subindex}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/sdo/{index}/{subindex}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Read Entry */
+        get: operations["read_entry_api_nodes__node__sdo__index___subindex__get"];
+        /** Write Entry */
+        put: operations["write_entry_api_nodes__node__sdo__index___subindex__put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Read Entry */
-    get: operations["read_entry_api_nodes__node__sdo__index___subindex__get"];
-    /** Write Entry */
-    put: operations["write_entry_api_nodes__node__sdo__index___subindex__put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/store": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/store": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Store */
+        post: operations["store_api_nodes__node__store_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Store */
-    post: operations["store_api_nodes__node__store_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/upload-all": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/nodes/{node}/upload-all": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Upload All */
+        post: operations["upload_all_api_nodes__node__upload_all_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Upload All */
-    post: operations["upload_all_api_nodes__node__upload_all_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/od/check": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/od/check": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Check Od */
+        post: operations["check_od_api_od_check_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Check Od */
-    post: operations["check_od_api_od_check_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/scan": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/scan": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Scan */
+        post: operations["scan_api_scan_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    get?: never;
-    put?: never;
-    /** Scan */
-    post: operations["scan_api_scan_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/sync": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
+    "/api/sync": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Sync Status */
+        get: operations["sync_status_api_sync_get"];
+        /** Set Sync */
+        put: operations["set_sync_api_sync_put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
     };
-    /** Sync Status */
-    get: operations["sync_status_api_sync_get"];
-    /** Set Sync */
-    put: operations["set_sync_api_sync_put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
 }
 export type webhooks = Record<string, never>;
 export interface components {
-  schemas: {
-    /** BitrateChange */
-    BitrateChange: {
-      /** Bitrate */
-      bitrate: number;
-      /**
-       * Confirm
-       * @default false
-       */
-      confirm: boolean;
+    schemas: {
+        /** BitrateChange */
+        BitrateChange: {
+            /** Bitrate */
+            bitrate: number;
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+        };
+        /** BitrateChangeResult */
+        BitrateChangeResult: {
+            /** Bitrate */
+            bitrate: number;
+            /**
+             * Reconnect Required
+             * @default true
+             */
+            reconnect_required: boolean;
+            /** Steps */
+            steps: string[];
+        };
+        /**
+         * BitrateOptions
+         * @description The bitrates a node can be set to over CANopen, from its profile.
+         */
+        BitrateOptions: {
+            /** Current */
+            current?: number | null;
+            /** Note */
+            note: string;
+            /** Settable */
+            settable: boolean;
+            /** Supported */
+            supported: number[];
+        };
+        /** Body_check_od_api_od_check_post */
+        Body_check_od_api_od_check_post: {
+            /** File */
+            file: string;
+        };
+        /** Body_compare_api_nodes__node__compare_post */
+        Body_compare_api_nodes__node__compare_post: {
+            /** File */
+            file?: string | null;
+        };
+        /** Body_load_dcf_api_nodes__node__dcf_post */
+        Body_load_dcf_api_nodes__node__dcf_post: {
+            /**
+             * Confirm
+             * @description write a set made for another device
+             * @default false
+             */
+            confirm: boolean;
+            /** File */
+            file: string;
+        };
+        /** Body_upload_od_api_nodes__node__od_post */
+        Body_upload_od_api_nodes__node__od_post: {
+            /** File */
+            file: string;
+        };
+        /** BusConfig */
+        BusConfig: {
+            /** Bitrate */
+            bitrate?: number | null;
+            /** Channel */
+            channel?: string | null;
+            /** Interface */
+            interface?: string | null;
+            /** Options */
+            options?: {
+                [key: string]: unknown;
+            };
+            /**
+             * Simulated
+             * @default false
+             */
+            simulated: boolean;
+        };
+        /**
+         * BusState
+         * @enum {string}
+         */
+        BusState: "connected" | "disconnected" | "connecting" | "error";
+        /** BusStatus */
+        BusStatus: {
+            /** Bitrate */
+            bitrate?: number | null;
+            /**
+             * Bus Errors
+             * @default 0
+             */
+            bus_errors: number;
+            /** Channel */
+            channel?: string | null;
+            /** Error */
+            error?: string | null;
+            /**
+             * Error Frames
+             * @default 0
+             */
+            error_frames: number;
+            /** Interface */
+            interface?: string | null;
+            /**
+             * Reconnects
+             * @default 0
+             */
+            reconnects: number;
+            /**
+             * Rx Frames
+             * @default 0
+             */
+            rx_frames: number;
+            /**
+             * Simulated
+             * @default false
+             */
+            simulated: boolean;
+            /** Since */
+            since?: number | null;
+            state: components["schemas"]["BusState"];
+            /**
+             * Tx Frames
+             * @default 0
+             */
+            tx_frames: number;
+        };
+        /** CompareResult */
+        CompareResult: {
+            identity?: components["schemas"]["IdentityCheck"] | null;
+            /** Read Only */
+            read_only?: components["schemas"]["CompareRow"][];
+            /** Rows */
+            rows: components["schemas"]["CompareRow"][];
+        };
+        /** CompareRow */
+        CompareRow: {
+            /** Default */
+            default?: number | string | null;
+            /** Default Text */
+            default_text: string;
+            /** Device */
+            device?: number | string | null;
+            /** Device Text */
+            device_text: string;
+            /** Differs From Default */
+            differs_from_default: boolean;
+            /** Differs From File */
+            differs_from_file: boolean;
+            /** File */
+            file?: number | string | null;
+            /** File Text */
+            file_text: string;
+            /** Index */
+            index: number;
+            /** Name */
+            name: string;
+            /** Subindex */
+            subindex: number;
+            /** Unit */
+            unit: string;
+        };
+        /** Confirm */
+        Confirm: {
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+        };
+        /** DcfDifference */
+        DcfDifference: {
+            /** Actual */
+            actual: number | string | null;
+            /** Expected */
+            expected: number | string | null;
+            /** Index */
+            index: number;
+            /** Name */
+            name: string;
+            /** Subindex */
+            subindex: number;
+        };
+        /** DcfFailure */
+        DcfFailure: {
+            /** Abort Code */
+            abort_code?: string | null;
+            /** Index */
+            index: number;
+            /** Message */
+            message: string;
+            /** Name */
+            name: string;
+            /** Subindex */
+            subindex: number;
+        };
+        /** DcfLoadResult */
+        DcfLoadResult: {
+            /** Differences */
+            differences: components["schemas"]["DcfDifference"][];
+            /** Failed */
+            failed: components["schemas"]["DcfFailure"][];
+            identity?: components["schemas"]["IdentityCheck"] | null;
+            /** Skipped */
+            skipped: number;
+            /** Written */
+            written: number;
+        };
+        /** ErrorBody */
+        ErrorBody: {
+            /** Abort Code */
+            abort_code?: string | null;
+            /** Error */
+            error: string;
+            /** Index */
+            index?: number | null;
+            /** Message */
+            message: string;
+            /** Node */
+            node?: number | null;
+            /** Subindex */
+            subindex?: number | null;
+        };
+        /** Health */
+        Health: {
+            bus: components["schemas"]["BusStatus"];
+            /** Status */
+            status: string;
+            /** Version */
+            version: string;
+        };
+        /** HeartbeatConfig */
+        HeartbeatConfig: {
+            /** Producer Ms */
+            producer_ms: number;
+        };
+        /** HeartbeatWrite */
+        HeartbeatWrite: {
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+            /** Producer Ms */
+            producer_ms: number;
+        };
+        /**
+         * IdentityCheck
+         * @description Whether a parameter set is for the node's kind of device (vendor, product, type).
+         */
+        IdentityCheck: {
+            /** Device */
+            device: string;
+            /** File */
+            file: string;
+            /** Matches */
+            matches: boolean;
+            /** Message */
+            message?: string | null;
+        };
+        /** InterfaceInfo */
+        InterfaceInfo: {
+            /** Example Channel */
+            example_channel: string;
+            /** Label */
+            label: string;
+            /** Name */
+            name: string;
+            /** Needs Channel */
+            needs_channel: boolean;
+        };
+        /** Job */
+        Job: {
+            /** Done */
+            done: number;
+            /**
+             * Elapsed S
+             * @default 0
+             */
+            elapsed_s: number;
+            /** Error */
+            error?: string | null;
+            /** Id */
+            id: string;
+            /**
+             * Kind
+             * @constant
+             */
+            kind: "upload-all";
+            /** Node */
+            node: number;
+            /** Results */
+            results: components["schemas"]["JobResult"][];
+            /**
+             * Results From
+             * @default 0
+             */
+            results_from: number;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "running" | "done" | "cancelled" | "failed";
+            /** Total */
+            total: number;
+        };
+        /** JobResult */
+        JobResult: {
+            /** Abort Code */
+            abort_code?: string | null;
+            /** Index */
+            index: number;
+            /** Message */
+            message?: string | null;
+            /** Name */
+            name: string;
+            /** Subindex */
+            subindex: number;
+            /** Text */
+            text?: string | null;
+            /** Value */
+            value?: number | string | null;
+        };
+        /** LintWarningModel */
+        LintWarningModel: {
+            /** Code */
+            code: string;
+            /** File */
+            file: string;
+            /** Key */
+            key: string | null;
+            /** Line */
+            line: number | null;
+            /** Message */
+            message: string;
+            /** Section */
+            section: string | null;
+            /**
+             * Severity
+             * @enum {string}
+             */
+            severity: "info" | "warning" | "error";
+        };
+        /** MessageResult */
+        MessageResult: {
+            /** Message */
+            message: string;
+        };
+        /**
+         * NmtCommandName
+         * @enum {string}
+         */
+        NmtCommandName: "start" | "stop" | "pre-operational" | "reset-node" | "reset-communication";
+        /** NmtRequest */
+        NmtRequest: {
+            command: components["schemas"]["NmtCommandName"];
+        };
+        /** NmtSent */
+        NmtSent: {
+            sent: components["schemas"]["NmtCommandName"];
+        };
+        /**
+         * NmtStateName
+         * @enum {string}
+         */
+        NmtStateName: "initialising" | "pre-operational" | "operational" | "stopped" | "unknown";
+        /** NodeIdChange */
+        NodeIdChange: {
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+            /** New Node */
+            new_node: number;
+        };
+        /** NodeIdChangeResult */
+        NodeIdChangeResult: {
+            /** New Node */
+            new_node: number;
+            node: components["schemas"]["NodeInfo"];
+            /** Old Node */
+            old_node: number;
+            /** Steps */
+            steps: string[];
+        };
+        /** NodeInfo */
+        NodeInfo: {
+            /** Device Type */
+            device_type?: number | null;
+            /** Heartbeat Age Ms */
+            heartbeat_age_ms?: number | null;
+            /** Last Seen */
+            last_seen?: number | null;
+            /** Name */
+            name?: string | null;
+            /** @default unknown */
+            nmt_state: components["schemas"]["NmtStateName"];
+            /** Node */
+            node: number;
+            /**
+             * Od Filename
+             * @default
+             */
+            od_filename: string;
+            /**
+             * Od Source
+             * @default profile
+             * @enum {string}
+             */
+            od_source: "profile" | "upload";
+            /**
+             * Od Warnings
+             * @default 0
+             */
+            od_warnings: number;
+            /**
+             * Online
+             * @default false
+             */
+            online: boolean;
+            /** Product Code */
+            product_code?: number | null;
+            /** Profile */
+            profile: string;
+            /** Profile Label */
+            profile_label: string;
+            /** Revision */
+            revision?: number | null;
+            /** Serial */
+            serial?: number | null;
+            /** Vendor Id */
+            vendor_id?: number | null;
+        };
+        /** OdCheckResult */
+        OdCheckResult: {
+            device: components["schemas"]["OdDeviceSummary"];
+            /** Filename */
+            filename: string;
+            /** Format */
+            format: string;
+            /** Objects */
+            objects: number;
+            /** Warnings */
+            warnings: components["schemas"]["LintWarningModel"][];
+        };
+        /** OdDeviceSummary */
+        OdDeviceSummary: {
+            /**
+             * Product Name
+             * @default
+             */
+            product_name: string;
+            /** Product Number */
+            product_number?: number | null;
+            /**
+             * Vendor Name
+             * @default
+             */
+            vendor_name: string;
+            /** Vendor Number */
+            vendor_number?: number | null;
+        };
+        /** OdEntry */
+        OdEntry: {
+            /** Access */
+            access: string;
+            /** Data Type */
+            data_type: number;
+            /** Data Type Name */
+            data_type_name: string;
+            /** Default */
+            default?: number | string | null;
+            /**
+             * Description
+             * @default
+             */
+            description: string;
+            /** High */
+            high?: number | null;
+            /** Index */
+            index: number;
+            /** Low */
+            low?: number | null;
+            /** Name */
+            name: string;
+            /** Pdo Mappable */
+            pdo_mappable: boolean;
+            /** Subindex */
+            subindex: number;
+            /**
+             * Unit
+             * @default
+             */
+            unit: string;
+        };
+        /** OdObject */
+        OdObject: {
+            /** Index */
+            index: number;
+            /** Index Hex */
+            index_hex: string;
+            /** Name */
+            name: string;
+            /** Object Type */
+            object_type: string;
+            /** Subs */
+            subs: components["schemas"]["OdEntry"][];
+        };
+        /** OdTree */
+        OdTree: {
+            /** Filename */
+            filename: string;
+            /** Objects */
+            objects: components["schemas"]["OdObject"][];
+            /**
+             * Source
+             * @enum {string}
+             */
+            source: "profile" | "upload";
+            /** Warnings */
+            warnings: components["schemas"]["LintWarningModel"][];
+        };
+        /** Param */
+        Param: {
+            /** Choices */
+            choices: {
+                [key: string]: string;
+            };
+            /** Default */
+            default: number;
+            /** Description */
+            description: string;
+            /** Error */
+            error?: string | null;
+            /** Index */
+            index: number;
+            /** Label */
+            label: string;
+            /** Max */
+            max: number;
+            /** Min */
+            min: number;
+            /** Name */
+            name: string;
+            /** Object */
+            object: string;
+            /** Subindex */
+            subindex: number;
+            /**
+             * Takes Effect
+             * @enum {string}
+             */
+            takes_effect: "immediately" | "after_reset" | "after_store_and_reset";
+            /** Unit */
+            unit: string;
+            /** Value */
+            value?: number | null;
+        };
+        /** ParamWriteRequest */
+        ParamWriteRequest: {
+            /** Value */
+            value: number | string;
+        };
+        /** ParamWriteResult */
+        ParamWriteResult: {
+            /** Message */
+            message: string;
+            param: components["schemas"]["Param"];
+            /** Requires Reset */
+            requires_reset: boolean;
+            /** Requires Store */
+            requires_store: boolean;
+        };
+        /** ScanRequest */
+        ScanRequest: {
+            /**
+             * Sdo Sweep
+             * @default true
+             */
+            sdo_sweep: boolean;
+            /**
+             * Timeout Ms
+             * @default 50
+             */
+            timeout_ms: number;
+        };
+        /** ScanResult */
+        ScanResult: {
+            /** Duration Ms */
+            duration_ms: number;
+            /** Nodes */
+            nodes: components["schemas"]["NodeInfo"][];
+        };
+        /** SdoValue */
+        SdoValue: {
+            /** Data Type Name */
+            data_type_name?: string | null;
+            /** Index */
+            index: number;
+            /** Name */
+            name?: string | null;
+            /** Node */
+            node: number;
+            /** Raw Hex */
+            raw_hex: string;
+            /** Subindex */
+            subindex: number;
+            /** Text */
+            text: string;
+            /** Value */
+            value: number | string | null;
+        };
+        /** SdoWrite */
+        SdoWrite: {
+            /** Size */
+            size?: (1 | 2 | 4) | null;
+            /** Value */
+            value: number | string;
+        };
+        /** SyncConfig */
+        SyncConfig: {
+            /** Period Us */
+            period_us?: number | null;
+            /**
+             * Producing
+             * @default false
+             */
+            producing: boolean;
+        };
     };
-    /** BitrateChangeResult */
-    BitrateChangeResult: {
-      /** Bitrate */
-      bitrate: number;
-      /**
-       * Reconnect Required
-       * @default true
-       */
-      reconnect_required: boolean;
-      /** Steps */
-      steps: string[];
-    };
-    /**
-     * BitrateOptions
-     * @description The bitrates a node can be set to over CANopen, from its profile.
-     */
-    BitrateOptions: {
-      /** Current */
-      current?: number | null;
-      /** Note */
-      note: string;
-      /** Settable */
-      settable: boolean;
-      /** Supported */
-      supported: number[];
-    };
-    /** Body_check_od_api_od_check_post */
-    Body_check_od_api_od_check_post: {
-      /** File */
-      file: string;
-    };
-    /** Body_compare_api_nodes__node__compare_post */
-    Body_compare_api_nodes__node__compare_post: {
-      /** File */
-      file?: string | null;
-    };
-    /** Body_load_dcf_api_nodes__node__dcf_post */
-    Body_load_dcf_api_nodes__node__dcf_post: {
-      /**
-       * Confirm
-       * @description write a set made for another device
-       * @default false
-       */
-      confirm: boolean;
-      /** File */
-      file: string;
-    };
-    /** Body_upload_od_api_nodes__node__od_post */
-    Body_upload_od_api_nodes__node__od_post: {
-      /** File */
-      file: string;
-    };
-    /** BusConfig */
-    BusConfig: {
-      /** Bitrate */
-      bitrate?: number | null;
-      /** Channel */
-      channel?: string | null;
-      /** Interface */
-      interface?: string | null;
-      /** Options */
-      options?: {
-        [key: string]: unknown;
-      };
-      /**
-       * Simulated
-       * @default false
-       */
-      simulated: boolean;
-    };
-    /**
-     * BusState
-     * @enum {string}
-     */
-    BusState: "connected" | "disconnected" | "connecting" | "error";
-    /** BusStatus */
-    BusStatus: {
-      /** Bitrate */
-      bitrate?: number | null;
-      /**
-       * Bus Errors
-       * @default 0
-       */
-      bus_errors: number;
-      /** Channel */
-      channel?: string | null;
-      /** Error */
-      error?: string | null;
-      /**
-       * Error Frames
-       * @default 0
-       */
-      error_frames: number;
-      /** Interface */
-      interface?: string | null;
-      /**
-       * Reconnects
-       * @default 0
-       */
-      reconnects: number;
-      /**
-       * Rx Frames
-       * @default 0
-       */
-      rx_frames: number;
-      /**
-       * Simulated
-       * @default false
-       */
-      simulated: boolean;
-      /** Since */
-      since?: number | null;
-      state: components["schemas"]["BusState"];
-      /**
-       * Tx Frames
-       * @default 0
-       */
-      tx_frames: number;
-    };
-    /** CompareResult */
-    CompareResult: {
-      identity?: components["schemas"]["IdentityCheck"] | null;
-      /** Read Only */
-      read_only?: components["schemas"]["CompareRow"][];
-      /** Rows */
-      rows: components["schemas"]["CompareRow"][];
-    };
-    /** CompareRow */
-    CompareRow: {
-      /** Default */
-      default?: number | string | null;
-      /** Default Text */
-      default_text: string;
-      /** Device */
-      device?: number | string | null;
-      /** Device Text */
-      device_text: string;
-      /** Differs From Default */
-      differs_from_default: boolean;
-      /** Differs From File */
-      differs_from_file: boolean;
-      /** File */
-      file?: number | string | null;
-      /** File Text */
-      file_text: string;
-      /** Index */
-      index: number;
-      /** Name */
-      name: string;
-      /** Subindex */
-      subindex: number;
-      /** Unit */
-      unit: string;
-    };
-    /** Confirm */
-    Confirm: {
-      /**
-       * Confirm
-       * @default false
-       */
-      confirm: boolean;
-    };
-    /** DcfDifference */
-    DcfDifference: {
-      /** Actual */
-      actual: number | string | null;
-      /** Expected */
-      expected: number | string | null;
-      /** Index */
-      index: number;
-      /** Name */
-      name: string;
-      /** Subindex */
-      subindex: number;
-    };
-    /** DcfFailure */
-    DcfFailure: {
-      /** Abort Code */
-      abort_code?: string | null;
-      /** Index */
-      index: number;
-      /** Message */
-      message: string;
-      /** Name */
-      name: string;
-      /** Subindex */
-      subindex: number;
-    };
-    /** DcfLoadResult */
-    DcfLoadResult: {
-      /** Differences */
-      differences: components["schemas"]["DcfDifference"][];
-      /** Failed */
-      failed: components["schemas"]["DcfFailure"][];
-      identity?: components["schemas"]["IdentityCheck"] | null;
-      /** Skipped */
-      skipped: number;
-      /** Written */
-      written: number;
-    };
-    /** ErrorBody */
-    ErrorBody: {
-      /** Abort Code */
-      abort_code?: string | null;
-      /** Error */
-      error: string;
-      /** Index */
-      index?: number | null;
-      /** Message */
-      message: string;
-      /** Node */
-      node?: number | null;
-      /** Subindex */
-      subindex?: number | null;
-    };
-    /** Health */
-    Health: {
-      bus: components["schemas"]["BusStatus"];
-      /** Status */
-      status: string;
-      /** Version */
-      version: string;
-    };
-    /** HeartbeatConfig */
-    HeartbeatConfig: {
-      /** Producer Ms */
-      producer_ms: number;
-    };
-    /** HeartbeatWrite */
-    HeartbeatWrite: {
-      /**
-       * Confirm
-       * @default false
-       */
-      confirm: boolean;
-      /** Producer Ms */
-      producer_ms: number;
-    };
-    /**
-     * IdentityCheck
-     * @description Whether a parameter set is for the node's kind of device (vendor, product, type).
-     */
-    IdentityCheck: {
-      /** Device */
-      device: string;
-      /** File */
-      file: string;
-      /** Matches */
-      matches: boolean;
-      /** Message */
-      message?: string | null;
-    };
-    /** InterfaceInfo */
-    InterfaceInfo: {
-      /** Example Channel */
-      example_channel: string;
-      /** Label */
-      label: string;
-      /** Name */
-      name: string;
-      /** Needs Channel */
-      needs_channel: boolean;
-    };
-    /** Job */
-    Job: {
-      /** Done */
-      done: number;
-      /**
-       * Elapsed S
-       * @default 0
-       */
-      elapsed_s: number;
-      /** Error */
-      error?: string | null;
-      /** Id */
-      id: string;
-      /**
-       * Kind
-       * @constant
-       */
-      kind: "upload-all";
-      /** Node */
-      node: number;
-      /** Results */
-      results: components["schemas"]["JobResult"][];
-      /**
-       * Results From
-       * @default 0
-       */
-      results_from: number;
-      /**
-       * State
-       * @enum {string}
-       */
-      state: "running" | "done" | "cancelled" | "failed";
-      /** Total */
-      total: number;
-    };
-    /** JobResult */
-    JobResult: {
-      /** Abort Code */
-      abort_code?: string | null;
-      /** Index */
-      index: number;
-      /** Message */
-      message?: string | null;
-      /** Name */
-      name: string;
-      /** Subindex */
-      subindex: number;
-      /** Text */
-      text?: string | null;
-      /** Value */
-      value?: number | string | null;
-    };
-    /** LintWarningModel */
-    LintWarningModel: {
-      /** Code */
-      code: string;
-      /** File */
-      file: string;
-      /** Key */
-      key: string | null;
-      /** Line */
-      line: number | null;
-      /** Message */
-      message: string;
-      /** Section */
-      section: string | null;
-      /**
-       * Severity
-       * @enum {string}
-       */
-      severity: "info" | "warning" | "error";
-    };
-    /** MessageResult */
-    MessageResult: {
-      /** Message */
-      message: string;
-    };
-    /**
-     * NmtCommandName
-     * @enum {string}
-     */
-    NmtCommandName: "start" | "stop" | "pre-operational" | "reset-node" | "reset-communication";
-    /** NmtRequest */
-    NmtRequest: {
-      command: components["schemas"]["NmtCommandName"];
-    };
-    /** NmtSent */
-    NmtSent: {
-      sent: components["schemas"]["NmtCommandName"];
-    };
-    /**
-     * NmtStateName
-     * @enum {string}
-     */
-    NmtStateName: "initialising" | "pre-operational" | "operational" | "stopped" | "unknown";
-    /** NodeIdChange */
-    NodeIdChange: {
-      /**
-       * Confirm
-       * @default false
-       */
-      confirm: boolean;
-      /** New Node */
-      new_node: number;
-    };
-    /** NodeIdChangeResult */
-    NodeIdChangeResult: {
-      /** New Node */
-      new_node: number;
-      node: components["schemas"]["NodeInfo"];
-      /** Old Node */
-      old_node: number;
-      /** Steps */
-      steps: string[];
-    };
-    /** NodeInfo */
-    NodeInfo: {
-      /** Device Type */
-      device_type?: number | null;
-      /** Heartbeat Age Ms */
-      heartbeat_age_ms?: number | null;
-      /** Last Seen */
-      last_seen?: number | null;
-      /** Name */
-      name?: string | null;
-      /** @default unknown */
-      nmt_state: components["schemas"]["NmtStateName"];
-      /** Node */
-      node: number;
-      /**
-       * Od Filename
-       * @default
-       */
-      od_filename: string;
-      /**
-       * Od Source
-       * @default profile
-       * @enum {string}
-       */
-      od_source: "profile" | "upload";
-      /**
-       * Od Warnings
-       * @default 0
-       */
-      od_warnings: number;
-      /**
-       * Online
-       * @default false
-       */
-      online: boolean;
-      /** Product Code */
-      product_code?: number | null;
-      /** Profile */
-      profile: string;
-      /** Profile Label */
-      profile_label: string;
-      /** Revision */
-      revision?: number | null;
-      /** Serial */
-      serial?: number | null;
-      /** Vendor Id */
-      vendor_id?: number | null;
-    };
-    /** OdCheckResult */
-    OdCheckResult: {
-      device: components["schemas"]["OdDeviceSummary"];
-      /** Filename */
-      filename: string;
-      /** Format */
-      format: string;
-      /** Objects */
-      objects: number;
-      /** Warnings */
-      warnings: components["schemas"]["LintWarningModel"][];
-    };
-    /** OdDeviceSummary */
-    OdDeviceSummary: {
-      /**
-       * Product Name
-       * @default
-       */
-      product_name: string;
-      /** Product Number */
-      product_number?: number | null;
-      /**
-       * Vendor Name
-       * @default
-       */
-      vendor_name: string;
-      /** Vendor Number */
-      vendor_number?: number | null;
-    };
-    /** OdEntry */
-    OdEntry: {
-      /** Access */
-      access: string;
-      /** Data Type */
-      data_type: number;
-      /** Data Type Name */
-      data_type_name: string;
-      /** Default */
-      default?: number | string | null;
-      /**
-       * Description
-       * @default
-       */
-      description: string;
-      /** High */
-      high?: number | null;
-      /** Index */
-      index: number;
-      /** Low */
-      low?: number | null;
-      /** Name */
-      name: string;
-      /** Pdo Mappable */
-      pdo_mappable: boolean;
-      /** Subindex */
-      subindex: number;
-      /**
-       * Unit
-       * @default
-       */
-      unit: string;
-    };
-    /** OdObject */
-    OdObject: {
-      /** Index */
-      index: number;
-      /** Index Hex */
-      index_hex: string;
-      /** Name */
-      name: string;
-      /** Object Type */
-      object_type: string;
-      /** Subs */
-      subs: components["schemas"]["OdEntry"][];
-    };
-    /** OdTree */
-    OdTree: {
-      /** Filename */
-      filename: string;
-      /** Objects */
-      objects: components["schemas"]["OdObject"][];
-      /**
-       * Source
-       * @enum {string}
-       */
-      source: "profile" | "upload";
-      /** Warnings */
-      warnings: components["schemas"]["LintWarningModel"][];
-    };
-    /** Param */
-    Param: {
-      /** Choices */
-      choices: {
-        [key: string]: string;
-      };
-      /** Default */
-      default: number;
-      /** Description */
-      description: string;
-      /** Error */
-      error?: string | null;
-      /** Index */
-      index: number;
-      /** Label */
-      label: string;
-      /** Max */
-      max: number;
-      /** Min */
-      min: number;
-      /** Name */
-      name: string;
-      /** Object */
-      object: string;
-      /** Subindex */
-      subindex: number;
-      /**
-       * Takes Effect
-       * @enum {string}
-       */
-      takes_effect: "immediately" | "after_reset" | "after_store_and_reset";
-      /** Unit */
-      unit: string;
-      /** Value */
-      value?: number | null;
-    };
-    /** ParamWriteRequest */
-    ParamWriteRequest: {
-      /** Value */
-      value: number | string;
-    };
-    /** ParamWriteResult */
-    ParamWriteResult: {
-      /** Message */
-      message: string;
-      param: components["schemas"]["Param"];
-      /** Requires Reset */
-      requires_reset: boolean;
-      /** Requires Store */
-      requires_store: boolean;
-    };
-    /** ScanRequest */
-    ScanRequest: {
-      /**
-       * Sdo Sweep
-       * @default true
-       */
-      sdo_sweep: boolean;
-      /**
-       * Timeout Ms
-       * @default 50
-       */
-      timeout_ms: number;
-    };
-    /** ScanResult */
-    ScanResult: {
-      /** Duration Ms */
-      duration_ms: number;
-      /** Nodes */
-      nodes: components["schemas"]["NodeInfo"][];
-    };
-    /** SdoValue */
-    SdoValue: {
-      /** Data Type Name */
-      data_type_name?: string | null;
-      /** Index */
-      index: number;
-      /** Name */
-      name?: string | null;
-      /** Node */
-      node: number;
-      /** Raw Hex */
-      raw_hex: string;
-      /** Subindex */
-      subindex: number;
-      /** Text */
-      text: string;
-      /** Value */
-      value: number | string | null;
-    };
-    /** SdoWrite */
-    SdoWrite: {
-      /** Size */
-      size?: (1 | 2 | 4) | null;
-      /** Value */
-      value: number | string;
-    };
-    /** SyncConfig */
-    SyncConfig: {
-      /** Period Us */
-      period_us?: number | null;
-      /**
-       * Producing
-       * @default false
-       */
-      producing: boolean;
-    };
-  };
-  responses: never;
-  parameters: never;
-  requestBodies: never;
-  headers: never;
-  pathItems: never;
+    responses: never;
+    parameters: never;
+    requestBodies: never;
+    headers: never;
+    pathItems: never;
 }
 export type $defs = Record<string, never>;
 export interface operations {
-  bus_status_api_bus_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BusStatus"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  connect_api_bus_connect_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["BusConfig"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BusStatus"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  disconnect_api_bus_disconnect_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BusStatus"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  interfaces_api_bus_interfaces_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["InterfaceInfo"][];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  reconnect_api_bus_reconnect_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BusStatus"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  health_api_health_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Health"];
-        };
-      };
-    };
-  };
-  get_job_api_jobs__job_id__get: {
-    parameters: {
-      query?: {
-        /** @description only results from this position on */
-        since?: number;
-      };
-      header?: never;
-      path: {
-        job_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Job"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  cancel_job_api_jobs__job_id__delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        job_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Job"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  nmt_broadcast_api_nmt_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["NmtRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NmtSent"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  list_nodes_api_nodes_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NodeInfo"][];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  get_node_api_nodes__node__get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NodeInfo"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  bitrates_api_nodes__node__bitrates_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BitrateOptions"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  change_bitrate_api_nodes__node__change_bitrate_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["BitrateChange"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BitrateChangeResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  change_node_id_api_nodes__node__change_node_id_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["NodeIdChange"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NodeIdChangeResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  compare_api_nodes__node__compare_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: {
-      content: {
-        "multipart/form-data": components["schemas"]["Body_compare_api_nodes__node__compare_post"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["CompareResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  save_dcf_api_nodes__node__dcf_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "text/plain": string;
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  load_dcf_api_nodes__node__dcf_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "multipart/form-data": components["schemas"]["Body_load_dcf_api_nodes__node__dcf_post"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DcfLoadResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  heartbeat_api_nodes__node__heartbeat_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["HeartbeatConfig"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  set_heartbeat_api_nodes__node__heartbeat_put: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["HeartbeatWrite"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["HeartbeatConfig"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  nmt_api_nodes__node__nmt_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["NmtRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NodeInfo"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  node_od_api_nodes__node__od_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["OdTree"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  upload_od_api_nodes__node__od_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "multipart/form-data": components["schemas"]["Body_upload_od_api_nodes__node__od_post"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["OdTree"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  reset_od_api_nodes__node__od_delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["OdTree"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  list_params_api_nodes__node__params_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Param"][];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  get_param_api_nodes__node__params__name__get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-        name: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Param"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  set_param_api_nodes__node__params__name__put: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-        name: string;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["ParamWriteRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ParamWriteResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  restore_defaults_api_nodes__node__restore_defaults_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["Confirm"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MessageResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  read_entry_api_nodes__node__sdo__index___subindex__get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-        /** @description index, 4 hex digits: 6041 */
-        index: string;
-        /** @description sub-index, 1–2 hex digits: 0, 0A */
-        subindex: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["SdoValue"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  write_entry_api_nodes__node__sdo__index___subindex__put: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-        /** @description index, 4 hex digits: 6041 */
-        index: string;
-        /** @description sub-index, 1–2 hex digits: 0, 0A */
-        subindex: string;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["SdoWrite"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["SdoValue"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  store_api_nodes__node__store_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["Confirm"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MessageResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  upload_all_api_nodes__node__upload_all_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Job"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  check_od_api_od_check_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "multipart/form-data": components["schemas"]["Body_check_od_api_od_check_post"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["OdCheckResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  scan_api_scan_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["ScanRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ScanResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  sync_status_api_sync_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["SyncConfig"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  set_sync_api_sync_put: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["SyncConfig"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["SyncConfig"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the request came from another site */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
+    bus_status_api_bus_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    connect_api_bus_connect_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["BusConfig"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    disconnect_api_bus_disconnect_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    interfaces_api_bus_interfaces_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["InterfaceInfo"][];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    reconnect_api_bus_reconnect_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    health_api_health_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Health"];
+                };
+            };
+        };
+    };
+    get_job_api_jobs__job_id__get: {
+        parameters: {
+            query?: {
+                /** @description only results from this position on */
+                since?: number;
+            };
+            header?: never;
+            path: {
+                job_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Job"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    cancel_job_api_jobs__job_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                job_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Job"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    nmt_broadcast_api_nmt_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["NmtRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NmtSent"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    list_nodes_api_nodes_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeInfo"][];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_node_api_nodes__node__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeInfo"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    bitrates_api_nodes__node__bitrates_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BitrateOptions"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    change_bitrate_api_nodes__node__change_bitrate_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["BitrateChange"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BitrateChangeResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    change_node_id_api_nodes__node__change_node_id_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["NodeIdChange"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeIdChangeResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    compare_api_nodes__node__compare_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_compare_api_nodes__node__compare_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CompareResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    save_dcf_api_nodes__node__dcf_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/plain": string;
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    load_dcf_api_nodes__node__dcf_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_load_dcf_api_nodes__node__dcf_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DcfLoadResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    heartbeat_api_nodes__node__heartbeat_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HeartbeatConfig"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    set_heartbeat_api_nodes__node__heartbeat_put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["HeartbeatWrite"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HeartbeatConfig"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    nmt_api_nodes__node__nmt_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["NmtRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeInfo"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    node_od_api_nodes__node__od_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["OdTree"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    upload_od_api_nodes__node__od_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_upload_od_api_nodes__node__od_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["OdTree"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    reset_od_api_nodes__node__od_delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["OdTree"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    list_params_api_nodes__node__params_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Param"][];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_param_api_nodes__node__params__name__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Param"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    set_param_api_nodes__node__params__name__put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["ParamWriteRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ParamWriteResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    restore_defaults_api_nodes__node__restore_defaults_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["Confirm"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MessageResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    read_entry_api_nodes__node__sdo__index___subindex__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+                /** @description index, 4 hex digits: 6041 */
+                index: string;
+                /** @description sub-index, 1–2 hex digits: 0, 0A */
+                subindex: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SdoValue"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    write_entry_api_nodes__node__sdo__index___subindex__put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+                /** @description index, 4 hex digits: 6041 */
+                index: string;
+                /** @description sub-index, 1–2 hex digits: 0, 0A */
+                subindex: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["SdoWrite"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SdoValue"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    store_api_nodes__node__store_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["Confirm"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MessageResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    upload_all_api_nodes__node__upload_all_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Job"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    check_od_api_od_check_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_check_od_api_od_check_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["OdCheckResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    scan_api_scan_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["ScanRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ScanResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    sync_status_api_sync_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SyncConfig"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    set_sync_api_sync_put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["SyncConfig"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SyncConfig"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
     };
-  };
 }
