@@ -7,9 +7,9 @@ every shape; the TypeScript client is generated from the OpenAPI schema they pro
 from __future__ import annotations
 
 from enum import StrEnum
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, StrictBool
 
 Value = int | float | str | None
 
@@ -37,19 +37,29 @@ class NmtCommandName(StrEnum):
     RESET_COMMUNICATION = "reset-communication"
 
 
-class RequestBody(BaseModel):
-    """What clients send: no silent coercion ("12" is not 12, "true" is not true) and no
-    unknown fields (a misspelt "comfirm" must not be ignored)."""
+def _not_text(value: object) -> object:
+    if isinstance(value, str | bool):
+        raise ValueError("a number, not text or true/false")
+    return value
 
-    model_config = ConfigDict(strict=True, extra="forbid")
+
+# A JSON integer: 12 and 12.0 (JSON Schema's integer), never "12" or 12.5.
+JsonInt = Annotated[int, BeforeValidator(_not_text)]
+
+
+class RequestBody(BaseModel):
+    """What clients send: no silent coercion ("12" is not 12, "true" is not true: JsonInt and
+    StrictBool fields) and no unknown fields (a misspelt "comfirm" must not be ignored)."""
+
+    model_config = ConfigDict(extra="forbid")
 
 
 class BusConfig(RequestBody):
     interface: str | None = None
     channel: str | None = None
-    bitrate: int | None = None
+    bitrate: JsonInt | None = None
     options: dict[str, Any] = Field(default_factory=dict)
-    simulated: bool = False
+    simulated: StrictBool = False
 
 
 class BusStatus(BaseModel):
@@ -94,8 +104,8 @@ class NodeInfo(BaseModel):
 
 
 class ScanRequest(RequestBody):
-    sdo_sweep: bool = True
-    timeout_ms: int = Field(default=50, ge=5, le=2000)
+    sdo_sweep: StrictBool = True
+    timeout_ms: JsonInt = Field(default=50, ge=5, le=2000)
 
 
 class ScanResult(BaseModel):
@@ -104,22 +114,21 @@ class ScanResult(BaseModel):
 
 
 class NmtRequest(RequestBody):
-    # FastAPI validates parsed JSON in Python mode, where strict enums would refuse the string
-    command: NmtCommandName = Field(strict=False)
+    command: NmtCommandName
 
 
 class HeartbeatConfig(RequestBody):
-    producer_ms: int = Field(ge=0, le=65535)
+    producer_ms: JsonInt = Field(ge=0, le=65535)
 
 
 class HeartbeatWrite(HeartbeatConfig):
     # below 10 ms the node floods the bus: only on purpose
-    confirm: bool = False
+    confirm: StrictBool = False
 
 
 class SyncConfig(RequestBody):
-    producing: bool = False
-    period_us: int | None = Field(default=None, ge=0)
+    producing: StrictBool = False
+    period_us: JsonInt | None = Field(default=None, ge=0)
 
 
 class LintWarningModel(BaseModel):
@@ -189,7 +198,7 @@ class SdoValue(BaseModel):
 
 
 class SdoWrite(RequestBody):
-    value: int | float | str
+    value: JsonInt | float | str
     size: Literal[1, 2, 4] | None = None
 
 
@@ -234,7 +243,7 @@ class Param(BaseModel):
 
 
 class ParamWriteRequest(RequestBody):
-    value: int | str
+    value: JsonInt | str
 
 
 class ParamWriteResult(BaseModel):
@@ -245,7 +254,7 @@ class ParamWriteResult(BaseModel):
 
 
 class Confirm(RequestBody):
-    confirm: bool = False
+    confirm: StrictBool = False
 
 
 class MessageResult(BaseModel):
@@ -253,8 +262,8 @@ class MessageResult(BaseModel):
 
 
 class NodeIdChange(RequestBody):
-    new_node: int = Field(ge=1, le=127)
-    confirm: bool = False
+    new_node: JsonInt = Field(ge=1, le=127)
+    confirm: StrictBool = False
 
 
 class NodeIdChangeResult(BaseModel):
@@ -265,8 +274,8 @@ class NodeIdChangeResult(BaseModel):
 
 
 class BitrateChange(RequestBody):
-    bitrate: int
-    confirm: bool = False
+    bitrate: JsonInt
+    confirm: StrictBool = False
 
 
 class BitrateOptions(BaseModel):

@@ -6,7 +6,7 @@ from fastapi import APIRouter, UploadFile
 
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import NODE_ERRORS
-from servodesk.api.uploads import read_limited
+from servodesk.api.uploads import Upload, read_limited, upload_name
 from servodesk.models import OdCheckResult, OdTree
 from servodesk.od import ObjectDictionaryModel
 from servodesk.od.parser import OdParser
@@ -18,11 +18,12 @@ MAX_OD_FILE = 8 * 1024 * 1024  # the largest real EDS files are a few hundred kB
 
 
 async def _load_upload(
-    parser: OdParser, file: UploadFile, node_id: int | None
+    parser: OdParser, file: UploadFile | str | None, node_id: int | None
 ) -> ObjectDictionaryModel:
-    data = await read_limited(file, MAX_OD_FILE)
+    name = upload_name(file, "upload.eds")
+    data = await read_limited(file, MAX_OD_FILE, name)
     # parsed in a worker process: seconds for a large file, the loop keeps serving meanwhile
-    return await parser.parse(data, file.filename or "upload.eds", node_id=node_id)
+    return await parser.parse(data, name, node_id=node_id)
 
 
 @router.get("/nodes/{node}/od")
@@ -32,7 +33,7 @@ async def node_od(node: NodeId, services: ServicesDep) -> OdTree:
 
 
 @router.post("/nodes/{node}/od")
-async def upload_od(node: NodeId, file: UploadFile, services: ServicesDep) -> OdTree:
+async def upload_od(node: NodeId, services: ServicesDep, file: Upload = None) -> OdTree:
     services.registry.info(node)  # an unknown node fails before the file is read
     model = await _load_upload(services.od_parser, file, node)
     await services.registry.set_od(node, model, "upload")
@@ -46,6 +47,6 @@ async def reset_od(node: NodeId, services: ServicesDep) -> OdTree:
 
 
 @router.post("/od/check")
-async def check_od(file: UploadFile, services: ServicesDep) -> OdCheckResult:
+async def check_od(services: ServicesDep, file: Upload = None) -> OdCheckResult:
     model = await _load_upload(services.od_parser, file, None)
-    return od_check(model, file.filename or "upload")
+    return od_check(model, upload_name(file, "upload"))

@@ -9,7 +9,7 @@ from fastapi.responses import PlainTextResponse
 
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
-from servodesk.api.uploads import read_limited
+from servodesk.api.uploads import Upload, read_limited, upload_name
 from servodesk.models import CompareResult, DcfLoadResult
 
 router = APIRouter(prefix="/nodes/{node}", tags=["parameter sets"], responses=NODE_ERRORS)
@@ -30,12 +30,12 @@ async def save_dcf(node: NodeId, services: ServicesDep) -> PlainTextResponse:
 @router.post("/dcf", responses=CONFIRM_ERRORS)
 async def load_dcf(
     node: NodeId,
-    file: UploadFile,
     services: ServicesDep,
+    file: Upload = None,
     confirm: Annotated[bool, Form(description="write a set made for another device")] = False,
 ) -> DcfLoadResult:
-    data = await read_limited(file, MAX_DCF_FILE)
-    name = file.filename or "upload.dcf"
+    name = upload_name(file, "upload.dcf")
+    data = await read_limited(file, MAX_DCF_FILE, name)
     return await services.paramsets.load_dcf(node, data, name, confirm=confirm)
 
 
@@ -43,8 +43,8 @@ async def load_dcf(
 async def compare(
     node: NodeId,
     services: ServicesDep,
-    file: Annotated[UploadFile | None, File()] = None,
+    file: Annotated[UploadFile | str | None, File()] = None,
 ) -> CompareResult:
-    data = await read_limited(file, MAX_DCF_FILE) if file is not None else None
-    name = file.filename if file is not None and file.filename else "upload.dcf"
+    name = upload_name(file, "upload.dcf") if file is not None else "upload.dcf"
+    data = await read_limited(file, MAX_DCF_FILE, name) if file is not None else None
     return await services.paramsets.compare(node, data, name)

@@ -513,8 +513,11 @@ export interface components {
         };
         /** Body_check_od_api_od_check_post */
         Body_check_od_api_od_check_post: {
-            /** File */
-            file: string;
+            /**
+             * File
+             * @description the file (a file part or a form field)
+             */
+            file?: string | null;
         };
         /** Body_compare_api_nodes__node__compare_post */
         Body_compare_api_nodes__node__compare_post: {
@@ -529,13 +532,19 @@ export interface components {
              * @default false
              */
             confirm: boolean;
-            /** File */
-            file: string;
+            /**
+             * File
+             * @description the file (a file part or a form field)
+             */
+            file?: string | null;
         };
         /** Body_upload_od_api_nodes__node__od_post */
         Body_upload_od_api_nodes__node__od_post: {
-            /** File */
-            file: string;
+            /**
+             * File
+             * @description the file (a file part or a form field)
+             */
+            file?: string | null;
         };
         /** BusConfig */
         BusConfig: {
@@ -2121,7 +2130,7 @@ export interface operations {
             };
             cookie?: never;
         };
-        requestBody: {
+        requestBody?: {
             content: {
                 "multipart/form-data": components["schemas"]["Body_load_dcf_api_nodes__node__dcf_post"];
             };
@@ -2545,7 +2554,7 @@ export interface operations {
             };
             cookie?: never;
         };
-        requestBody: {
+        requestBody?: {
             content: {
                 "multipart/form-data": components["schemas"]["Body_upload_od_api_nodes__node__od_post"];
             };
@@ -3378,7 +3387,7 @@ export interface operations {
             path?: never;
             cookie?: never;
         };
-        requestBody: {
+        requestBody?: {
             content: {
                 "multipart/form-data": components["schemas"]["Body_check_od_api_od_check_post"];
             };

@@ -1,0 +1,104 @@
+"""The API against its own schema: schemathesis generates valid and invalid requests for every
+operation and checks every answer (no server error, status and body as the schema declares,
+invalid input refused, valid input accepted), against the real server with the simulated
+drives. Examples are bounded and derandomized so the run is the same on every machine."""
+
+from __future__ import annotations
+
+import socket
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+import schemathesis
+import uvicorn
+from hypothesis import HealthCheck, settings
+from schemathesis.specs.openapi.checks import positive_data_acceptance
+
+from servodesk.app import create_app
+from servodesk.settings import Settings
+
+# Operations left out, and why: each would take the bus or a drive away from the rest of the
+# run (a generated bus configuration disconnects the simulated drives; a node-id or bitrate
+# change moves a drive off the bus; "reset" broadcasts restart every drive mid-request).
+EXCLUDED = (
+    "POST /api/bus/connect",
+    "POST /api/bus/disconnect",
+    "POST /api/nodes/{node}/change-node-id",
+    "POST /api/nodes/{node}/change-bitrate",
+    "POST /api/nmt",
+)
+EXAMPLES = 12
+# Refusals a schema cannot express: a request of the right shape naming a parameter the drive
+# does not have, or a value out of the drive's range (422 invalid_value), or a change that
+# needs confirm=true (428). Schema validation itself (422 invalid_request) must never refuse
+# schema-valid data: that is checked by `passes_validation` instead.
+SEMANTIC_REFUSALS = {422: "invalid_value", 428: "confirmation_required"}
+
+schema = schemathesis.openapi.from_dict(create_app(static_dir=None).openapi())
+
+
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port: int = sock.getsockname()[1]
+        return port
+
+
+@pytest.fixture(scope="module")
+def base_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    port = free_port()
+    data_dir: Path = tmp_path_factory.mktemp("data")
+    app = create_app(Settings(simulated=True, port=port, data_dir=data_dir), static_dir=None)
+    config = uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning")
+    server = uvicorn.Server(config)
+    thread = threading.Thread(target=server.run, name="schemathesis-server", daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 20
+    while not server.started:
+        if time.monotonic() > deadline or not thread.is_alive():
+            pytest.fail("the app did not start")
+        time.sleep(0.05)
+    try:
+        yield f"http://127.0.0.1:{port}"
+    finally:
+        server.should_exit = True
+        thread.join(timeout=20)
+
+
+def passes_validation(
+    ctx: schemathesis.CheckContext, response: schemathesis.Response, case: schemathesis.Case
+) -> bool | None:
+    """Schema-valid data is never refused by request validation; other refusals name the
+    reason the drive or the tool has (see SEMANTIC_REFUSALS)."""
+    meta = case.meta
+    if meta is None or not meta.generation.mode.is_positive or response.status_code < 400:
+        return None
+    body = response.json()
+    if response.status_code in SEMANTIC_REFUSALS:
+        assert body["error"] in (SEMANTIC_REFUSALS[response.status_code], "identity_mismatch"), (
+            f"schema-valid request refused: {response.status_code} {body}"
+        )
+    else:
+        assert response.status_code in (404, 409, 503, 504), (
+            f"schema-valid request refused: {response.status_code} {body}"
+        )
+    return None
+
+
+@schema.exclude(name=list(EXCLUDED)).parametrize()
+@settings(
+    max_examples=EXAMPLES,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=list(HealthCheck),
+)
+def test_api_conforms_to_its_schema(case: schemathesis.Case, base_url: str) -> None:
+    case.call_and_validate(
+        base_url=base_url,
+        timeout=30,
+        excluded_checks=[positive_data_acceptance],
+        additional_checks=[passes_validation],
+    )
