@@ -10,6 +10,7 @@ import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 import schemathesis
@@ -69,7 +70,7 @@ def base_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
 
 
 def passes_validation(
-    ctx: schemathesis.CheckContext, response: schemathesis.Response, case: schemathesis.Case
+    ctx: schemathesis.CheckContext, response: schemathesis.Response, case: schemathesis.Case[Any]
 ) -> bool | None:
     """Schema-valid data is never refused by request validation; other refusals name the
     reason the drive or the tool has (see SEMANTIC_REFUSALS)."""
@@ -95,7 +96,7 @@ def passes_validation(
     derandomize=True,
     suppress_health_check=list(HealthCheck),
 )
-def test_api_conforms_to_its_schema(case: schemathesis.Case, base_url: str) -> None:
+def test_api_conforms_to_its_schema(case: schemathesis.Case[Any], base_url: str) -> None:
     case.call_and_validate(
         base_url=base_url,
         timeout=30,
