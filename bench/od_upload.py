@@ -13,7 +13,6 @@ Run: `make bench` or `.venv/bin/python bench/od_upload.py`.
 
 from __future__ import annotations
 
-import socket
 import statistics
 import subprocess
 import sys
@@ -28,17 +27,11 @@ import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository, for tests/
 from tests.large_eds import make_eds  # the same generator the tests use
+from tests.live_server import free_port
 
 SIZE = int(7.9 * 1024 * 1024)
 HEALTH_P99_TARGET_MS = 100.0
 RSS_TARGET = 1.5
-
-
-def free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        port: int = sock.getsockname()[1]
-        return port
 
 
 @contextmanager

@@ -3,27 +3,17 @@ one completes, or gets a typed error in the documented shape — never a bare 50
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
-from pathlib import Path
 from typing import Any
 
 import httpx
 import pytest
 from fastapi.testclient import TestClient
 
-from servodesk.app import create_app
-from servodesk.settings import Settings
 from servodesk_data import eds_path
 
 TYPED = {"interrupted", "bus_not_connected", "node_not_found", "timeout"}
-
-
-@pytest.fixture
-def client(tmp_path: Path) -> Iterator[TestClient]:
-    settings = Settings(simulated=True, data_dir=tmp_path)
-    with TestClient(create_app(settings, static_dir=None)) as test_client:
-        yield test_client
 
 
 def parallel_reads_during(

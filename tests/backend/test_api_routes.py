@@ -4,25 +4,15 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
 
-from servodesk.app import create_app
 from servodesk.services import Services
-from servodesk.settings import Settings
 
 SHARED_EDS = Path(__file__).resolve().parents[2] / ".." / "shared" / "eds"
-
-
-@pytest.fixture
-def client(tmp_path: Path) -> Iterator[TestClient]:
-    settings = Settings(simulated=True, data_dir=tmp_path)
-    with TestClient(create_app(settings, static_dir=None)) as test_client:
-        yield test_client
 
 
 def services_of(client: TestClient) -> Services:

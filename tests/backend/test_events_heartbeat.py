@@ -3,22 +3,9 @@ heartbeat fast enough to flood the bus is written only when the user confirms it
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
-import pytest
 from fastapi.testclient import TestClient
-
-from servodesk.app import create_app
-from servodesk.settings import Settings
-
-
-@pytest.fixture
-def client(tmp_path: Path) -> Iterator[TestClient]:
-    settings = Settings(simulated=True, data_dir=tmp_path)
-    with TestClient(create_app(settings, static_dir=None)) as test_client:
-        yield test_client
 
 
 def first_message(client: TestClient) -> dict[str, Any]:

@@ -6,27 +6,16 @@ from __future__ import annotations
 import gc
 import threading
 import weakref
-from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
 from fastapi.testclient import TestClient
 
-from servodesk.app import create_app
 from servodesk.errors import InvalidValueError
 from servodesk.od.parser import OdParser
-from servodesk.settings import Settings
 from servodesk_data import eds_path
 from tests.large_eds import make_eds
 
 LARGE = make_eds(3 * 1024 * 1024)
-
-
-@pytest.fixture
-def client(tmp_path: Path) -> Iterator[TestClient]:
-    settings = Settings(simulated=True, data_dir=tmp_path)
-    with TestClient(create_app(settings, static_dir=None)) as test_client:
-        yield test_client
 
 
 def test_the_server_answers_while_a_large_file_is_parsed(client: TestClient) -> None:

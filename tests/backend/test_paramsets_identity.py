@@ -4,22 +4,10 @@ The bitrate dialog gets only what each drive supports."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
-
-from servodesk.app import create_app
-from servodesk.settings import Settings
-
-
-@pytest.fixture
-def client(tmp_path: Path) -> Iterator[TestClient]:
-    settings = Settings(simulated=True, data_dir=tmp_path)
-    with TestClient(create_app(settings, static_dir=None)) as test_client:
-        yield test_client
 
 
 def value(client: TestClient, node: int, index: str) -> Any:

@@ -5,21 +5,16 @@ drives. Examples are bounded and derandomized so the run is the same on every ma
 
 from __future__ import annotations
 
-import socket
-import threading
-import time
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import pytest
 import schemathesis
-import uvicorn
 from hypothesis import HealthCheck, settings
 from schemathesis.specs.openapi.checks import positive_data_acceptance
 
 from servodesk.app import create_app
-from servodesk.settings import Settings
+from tests.live_server import serve_simulated
 
 # Operations left out, and why: each would take the bus or a drive away from the rest of the
 # run (a generated bus configuration disconnects the simulated drives; a node-id or bitrate
@@ -41,32 +36,10 @@ SEMANTIC_REFUSALS = {422: "invalid_value", 428: "confirmation_required"}
 schema = schemathesis.openapi.from_dict(create_app(static_dir=None).openapi())
 
 
-def free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        port: int = sock.getsockname()[1]
-        return port
-
-
 @pytest.fixture(scope="module")
 def base_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    port = free_port()
-    data_dir: Path = tmp_path_factory.mktemp("data")
-    app = create_app(Settings(simulated=True, port=port, data_dir=data_dir), static_dir=None)
-    config = uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning")
-    server = uvicorn.Server(config)
-    thread = threading.Thread(target=server.run, name="schemathesis-server", daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 20
-    while not server.started:
-        if time.monotonic() > deadline or not thread.is_alive():
-            pytest.fail("the app did not start")
-        time.sleep(0.05)
-    try:
-        yield f"http://127.0.0.1:{port}"
-    finally:
-        server.should_exit = True
-        thread.join(timeout=20)
+    with serve_simulated(tmp_path_factory.mktemp("data"), static_dir=None) as url:
+        yield url
 
 
 def passes_validation(

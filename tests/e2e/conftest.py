@@ -3,18 +3,14 @@ Debian's Chromium through Playwright (never a downloaded browser)."""
 
 from __future__ import annotations
 
-import socket
-import threading
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-import uvicorn
 from playwright.sync_api import Browser, Page, sync_playwright
 
-from servodesk.app import STATIC_DIR, create_app
-from servodesk.settings import Settings
+from servodesk.app import STATIC_DIR
+from tests.live_server import serve_simulated
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = [
@@ -31,33 +27,12 @@ SHARED = Path(__file__).resolve().parents[2] / ".." / "shared"
 SCREENSHOTS = Path(__file__).resolve().parents[2] / "build" / "screenshots"
 
 
-def free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        port: int = sock.getsockname()[1]
-        return port
-
-
 @pytest.fixture(scope="module")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     if not (STATIC_DIR / "index.html").is_file():
         pytest.fail("the frontend is not built: run `make frontend` (make test does it)")
-    port = free_port()
-    settings = Settings(simulated=True, port=port, data_dir=tmp_path_factory.mktemp("data"))
-    config = uvicorn.Config(create_app(settings), host="127.0.0.1", port=port, log_level="warning")
-    app_server = uvicorn.Server(config)
-    thread = threading.Thread(target=app_server.run, name="e2e-server", daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 20
-    while not app_server.started:
-        if time.monotonic() > deadline or not thread.is_alive():
-            pytest.fail("the app did not start")
-        time.sleep(0.05)
-    try:
-        yield f"http://127.0.0.1:{port}"
-    finally:
-        app_server.should_exit = True
-        thread.join(timeout=20)
+    with serve_simulated(tmp_path_factory.mktemp("data")) as url:
+        yield url
 
 
 @pytest.fixture(scope="module")

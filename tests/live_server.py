@@ -1,0 +1,45 @@
+"""The real app served by uvicorn on a free loopback port in a thread (browser tests, schema
+fuzzing, anything that needs real HTTP)."""
+
+from __future__ import annotations
+
+import socket
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import pytest
+import uvicorn
+
+from servodesk.app import STATIC_DIR, create_app
+from servodesk.settings import Settings
+
+
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port: int = sock.getsockname()[1]
+        return port
+
+
+@contextmanager
+def serve_simulated(data_dir: Path, *, static_dir: Path | None = STATIC_DIR) -> Iterator[str]:
+    """The app with its simulated drives; yields its base URL, stops it afterwards."""
+    port = free_port()
+    settings = Settings(simulated=True, port=port, data_dir=data_dir)
+    app = create_app(settings, static_dir=static_dir)
+    server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
+    thread = threading.Thread(target=server.run, name="live-server", daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 20
+    while not server.started:
+        if time.monotonic() > deadline or not thread.is_alive():
+            pytest.fail("the app did not start")
+        time.sleep(0.05)
+    try:
+        yield f"http://127.0.0.1:{port}"
+    finally:
+        server.should_exit = True
+        thread.join(timeout=20)
