@@ -11,7 +11,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import time
-from collections.abc import Callable, Coroutine
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 from typing import Any, ParamSpec
@@ -28,7 +28,6 @@ from servodesk.errors import (
     InvalidValueError,
     NodeNotFoundError,
     NodeStoppedError,
-    ServodeskError,
 )
 from servodesk.models import (
     BusState,
@@ -43,6 +42,7 @@ from servodesk.network.nmt import STATE_AFTER, send_broadcast, send_to_node
 from servodesk.network.scan import NODE_IDS, SweepListener, send_sweep
 from servodesk.nodes.entry import NodeEntry, OdSource, live_row
 from servodesk.nodes.identity import DEVICE_TYPE, PRODUCER_HEARTBEAT, Identity, read_identity
+from servodesk.nodes.rediscovery import Rediscovery
 from servodesk.nodes.session import NodeSession
 from servodesk.nodes.tracked import TrackedSession
 from servodesk.od import ObjectDictionaryModel, to_canopen
@@ -75,11 +75,10 @@ class NodeRegistry:
         self._dictionaries = ProfileDictionaries()
         self._event_listeners: list[EventListener] = []
         self._od_listeners: list[OdListener] = []
-        self._monitor = NodeMonitor(settings, self._emit, on_boot=self._on_boot)
+        self._rediscovery = Rediscovery(self, settings)
+        self._monitor = NodeMonitor(settings, self._emit, on_boot=self._rediscovery.booted)
         self._scan_lock = asyncio.Lock()
         self._node_locks: dict[int, asyncio.Lock] = {}
-        self._background: set[asyncio.Task[None]] = set()
-        self._auto_scan: asyncio.Task[None] | None = None
         self._bus_state: BusState | None = None
         self._unsubscribe = [
             bus.add_frame_listener(self._monitor.watch),
@@ -377,8 +376,7 @@ class NodeRegistry:
         self._clear()
 
     def _clear(self) -> None:
-        for task in self._background:
-            task.cancel()
+        self._rediscovery.cancel()
         for entry in self._nodes.values():
             entry.unbind()
         self._nodes.clear()
@@ -395,9 +393,8 @@ class NodeRegistry:
             for entry in self._nodes.values():
                 if entry.network is not network:
                     self._bound(entry, network)  # a new connection: new sessions
-            if previous is not BusState.CONNECTED and self._settings.auto_scan:
-                # the nodes come back by themselves after any (re)connect, no manual scan
-                self._auto_scan = self._spawn(self._scan_quietly())
+            if previous is not BusState.CONNECTED:
+                self._rediscovery.connected()  # no manual scan after any (re)connect
         if status.state is previous or status.state is BusState.CONNECTING:
             return
         if status.state is BusState.CONNECTED:
@@ -410,44 +407,20 @@ class NodeRegistry:
 
     async def settled(self) -> None:
         """Wait for the scan that follows a connect (if one is running)."""
-        task = self._auto_scan
-        if task is not None and not task.done():
-            await asyncio.wait({task})
+        await self._rediscovery.settled()
 
-    def _on_boot(self, node: int) -> None:
-        """A known node booted: its 1017h may be back at the stored value, read it again. An
-        unknown one is identified and listed (it joined the bus after the last scan)."""
-        if node in self._nodes:
-            self._spawn(self._refresh_heartbeat(node))
-        elif self._settings.auto_scan:
-            self._spawn(self._add_quietly(node))
+    # ------------------------------------------------------------------ rediscovery's needs
 
-    def _spawn(self, work: Coroutine[Any, Any, None]) -> asyncio.Task[None]:
-        task = asyncio.get_running_loop().create_task(work)
-        self._background.add(task)
-        task.add_done_callback(self._background.discard)
-        return task
+    def known(self, node: int) -> bool:
+        return node in self._nodes
 
-    async def _scan_quietly(self) -> None:
-        try:
-            await self.scan(sdo_sweep=True, timeout_ms=round(self._settings.scan_timeout * 1000))
-        except ServodeskError as error:
-            log.info("scan after connecting failed: %s", error)
+    async def rescan(self) -> None:
+        await self.scan(sdo_sweep=True, timeout_ms=round(self._settings.scan_timeout * 1000))
 
-    async def _add_quietly(self, node: int) -> None:
-        try:
-            async with self._scan_lock:
-                if node in self._nodes:
-                    return  # a scan found it meanwhile
+    async def add_if_unknown(self, node: int) -> None:
+        async with self._scan_lock:  # never beside a scan's sweep (see `add`)
+            if node not in self._nodes:
                 await self._add(node)
-        except ServodeskError as error:
-            log.info("node %d booted but could not be identified: %s", node, error)
-
-    async def _refresh_heartbeat(self, node: int) -> None:
-        try:
-            await self.heartbeat(node)
-        except ServodeskError as error:
-            log.info("node %d booted, but 1017h could not be read: %s", node, error)
 
     # ------------------------------------------------------------------ helpers
 
