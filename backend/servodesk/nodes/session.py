@@ -145,8 +145,7 @@ class NodeSession:
             raise CommTimeoutError(self.node_id, what) from error
         except RuntimeError as error:
             # canopen's "Not connected to CAN bus": the connection closed during the call
-            network = self.remote.network
-            if self._closed or network is None or network.bus is None:
+            if self._closed or not _on_a_bus(self.remote):
                 raise RequestInterruptedError(self.node_id, CLOSED) from error
             raise
         except can.CanError as error:
@@ -159,3 +158,10 @@ class NodeSession:
         RequestInterruptedError, and no new calls are accepted."""
         self._closed = True
         self._executor.shutdown(wait=False, cancel_futures=False)
+
+
+def _on_a_bus(remote: canopen.RemoteNode) -> bool:
+    try:
+        return remote.network.bus is not None
+    except RuntimeError:  # canopen's placeholder network of a node taken off its network
+        return False
