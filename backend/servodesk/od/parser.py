@@ -18,6 +18,7 @@ import mimetypes
 import multiprocessing
 import pickle
 import resource
+import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
@@ -156,7 +157,14 @@ class OdParser:
     def close(self) -> None:
         pool, self._pool = self._pool, None
         if pool is not None:
-            pool.shutdown(wait=False, cancel_futures=True)
+            # shutdown(wait=False) races the pool's own thread replacing a finished worker
+            # (CPython drops the process table under it); waiting is safe, so wait elsewhere
+            threading.Thread(
+                target=pool.shutdown,
+                kwargs={"wait": True, "cancel_futures": True},
+                name="od-parser-shutdown",
+                daemon=True,
+            ).start()
 
 
 def _libc() -> ctypes.CDLL | None:
