@@ -141,8 +141,9 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
           </p>
           <p>
             From then on node {node} talks only at {formatBitrate(Number(bitrate))}: it disappears
-            from this bus (now {formatBitrate(bus?.bitrate)}) until the bus is reconnected at the
-            new bitrate. Every other node on the bus must be changed too.
+            from this bus
+            {bus?.bitrate ? ` (now ${formatBitrate(bus.bitrate)})` : ""} until the bus is
+            reconnected at the new bitrate. Every other node on the bus must be changed too.
           </p>
           <ErrorText error={change.error} />
         </Dialog>

@@ -12,8 +12,8 @@ interface Props {
   explanation: ReactNode;
   confirmLabel: string;
   disabled?: boolean;
-  /** Runs on confirm; returns the server's message. */
-  onConfirm: () => Promise<string>;
+  /** Runs on confirm; returns the server's message, or null when the page shows the outcome. */
+  onConfirm: () => Promise<string | null>;
 }
 
 /** A button that asks before it acts, then shows the server's answer. */

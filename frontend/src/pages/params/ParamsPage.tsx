@@ -97,7 +97,7 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
                 </p>
               }
               onConfirm={async () => {
-                const answer = await call(
+                await call(
                   api.POST("/api/nodes/{node}/restore-defaults", {
                     params: { path: { node } },
                     body: { confirm: true },
@@ -105,7 +105,8 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
                 );
                 params.reload();
                 setRestored(true);
-                return answer.message;
+                // the notice above the table says it, with the reset button: not twice
+                return null;
               }}
             />
             <NodeIdWizard node={node} />
