@@ -10,7 +10,7 @@ from pathlib import Path
 from fastapi import APIRouter, FastAPI
 
 from servodesk import __version__
-from servodesk.api import bus, health, nodes, od, params, paramsets, sdo, ws
+from servodesk.api import bus, health, nodes, od, params, paramsets, pdos, sdo, ws
 from servodesk.api.errors import install_error_handlers
 from servodesk.api.schema import install_schema
 from servodesk.api.security import HostGuard, SameOriginGuard
@@ -28,9 +28,10 @@ STATIC_DIR = Path(__file__).parent / "static"
 
 def api_router() -> APIRouter:
     router = APIRouter(prefix="/api")
-    for module in (health, bus, nodes, od, sdo, params, paramsets):
+    for module in (health, bus, nodes, od, sdo, params, paramsets, pdos):
         router.include_router(module.router)
     router.include_router(bus.sync_router)
+    router.include_router(pdos.bus_router)
     router.include_router(ws.router)
     return router
 

@@ -3,6 +3,9 @@ and the CLI prints them. Every SDO abort keeps its raw code beside the words."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
+from servodesk.pdo.model import Problem
 from servodesk.sdo_aborts import abort_meaning
 
 
@@ -76,3 +79,43 @@ class ConfirmationRequiredError(ServodeskError):
 
 class IdentityMismatchError(ConfirmationRequiredError):
     """A file made for another device (vendor, product or device type differ) needs confirm."""
+
+
+class PdoInvalidError(InvalidValueError):
+    """A PDO configuration that validation refused; nothing was written."""
+
+    def __init__(self, node_id: int, problems: Sequence[Problem]) -> None:
+        self.node_id = node_id
+        self.problems = tuple(problems)
+        first = self.problems[0].message if self.problems else "invalid configuration"
+        more = f" (and {len(self.problems) - 1} more)" if len(self.problems) > 1 else ""
+        super().__init__(f"node {node_id}: {first}{more}; nothing was written")
+
+
+class PdoApplyError(ServodeskError):
+    """A PDO change the device refused part-way (or read back differently). `step` names the
+    write or read that failed; `restored` says whether the previous configuration is back."""
+
+    def __init__(
+        self,
+        node_id: int,
+        step: str,
+        *,
+        abort_code: int | None,
+        detail: str,
+        restored: bool,
+    ) -> None:
+        self.node_id = node_id
+        self.step = step
+        self.abort_code = abort_code
+        self.restored = restored
+        outcome = (
+            "the previous PDO configuration was restored"
+            if restored
+            else "restoring the previous PDO configuration failed too: read the PDOs again"
+        )
+        super().__init__(f"node {node_id}: {step} failed: {detail}; {outcome}")
+
+    @property
+    def code_hex(self) -> str | None:
+        return None if self.abort_code is None else f"0x{self.abort_code:08X}"

@@ -1,49 +1,18 @@
-"""SDO abort codes and their meanings (CiA 301 §7.2.4.3.17), for messages a user understands.
+"""SDO abort codes and their meanings for messages a user understands.
 
-Vendors also use codes of their own: an unknown code still shows its raw hex and a generic text.
-Source of the texts: CiA 301 as listed in the project's reference tables.
+The codes and texts live in the protocol core (servodesk_protocol.sdo_abort), shared with the
+simulated drives; this module keeps the app's historical names.
 """
 
 from __future__ import annotations
 
-ABORT_MEANINGS: dict[int, str] = {
-    0x05030000: "Toggle bit not alternated",
-    0x05040000: "SDO protocol timed out",
-    0x05040001: "Client/server command specifier not valid or unknown",
-    0x05040002: "Invalid block size (block mode only)",
-    0x05040003: "Invalid sequence number (block mode only)",
-    0x05040004: "CRC error (block mode only)",
-    0x05040005: "Out of memory",
-    0x06010000: "Unsupported access to an object",
-    0x06010001: "Attempt to read a write-only object",
-    0x06010002: "Attempt to write a read-only object",
-    0x06020000: "Object does not exist in the object dictionary",
-    0x06040041: "Object cannot be mapped to the PDO",
-    0x06040042: "The number and length of the objects to be mapped would exceed the PDO length",
-    0x06040043: "General parameter incompatibility reason",
-    0x06040047: "General internal incompatibility in the device",
-    0x06060000: "Access failed due to a hardware error",
-    0x06070010: "Data type does not match, length of service parameter does not match",
-    0x06070012: "Data type does not match, length of service parameter too high",
-    0x06070013: "Data type does not match, length of service parameter too low",
-    0x06090011: "Sub-index does not exist",
-    0x06090030: "Invalid value for parameter (download only)",
-    0x06090031: "Value of parameter written too high (download only)",
-    0x06090032: "Value of parameter written too low (download only)",
-    0x06090036: "Maximum value is less than minimum value",
-    0x060A0023: "Resource not available: SDO connection",
-    0x08000000: "General error",
-    0x08000020: "Data cannot be transferred or stored to the application",
-    0x08000021: "Data cannot be transferred or stored to the application because of local control",
-    0x08000022: (
-        "Data cannot be transferred or stored to the application because of the present "
-        "device state"
-    ),
-    0x08000023: "Object dictionary dynamic generation fails or no object dictionary is present",
-    0x08000024: "No data available",
-}
+from collections.abc import Mapping
+
+from servodesk_protocol import sdo_abort
+
+ABORT_MEANINGS: Mapping[int, str] = sdo_abort.MEANINGS
 
 
 def abort_meaning(code: int) -> str:
     """The CiA 301 meaning of an abort code; unknown codes say so (the raw hex is kept apart)."""
-    return ABORT_MEANINGS.get(code, "Unknown abort code (vendor-specific or not in CiA 301)")
+    return sdo_abort.describe(code)

@@ -13,6 +13,7 @@ from servodesk.od.parser import OdParser
 from servodesk.params.node_id import NodeIdService
 from servodesk.params.paramsets import ParamSetService
 from servodesk.params.service import ParamService
+from servodesk.pdo.service import PdoService
 from servodesk.sdo.jobs import JobManager
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
@@ -29,12 +30,14 @@ class Services:
     params: ParamService
     node_ids: NodeIdService
     paramsets: ParamSetService
+    pdos: PdoService
     live: LiveHub
     od_parser: OdParser
 
     async def close(self) -> None:
         self.od_parser.close()
         await self.live.close()
+        self.pdos.close()
         await self.jobs.close()
         self.sync.close()
         await self.registry.close()
@@ -47,16 +50,29 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
     jobs = JobManager(registry)
     registry.add_od_listener(jobs.dictionary_changed)
     od_parser = OdParser()
+    sync = SyncService(bus)
+    pdos = PdoService(
+        registry,
+        known_nodes=lambda: [info.node for info in registry.all()],
+        network=lambda: bus.network,
+        bitrate=lambda: bus.status().bitrate,
+        sync=sync.get,
+    )
+    # the cached PDOs go stale on a dictionary change, NMT command, boot-up or bus change
+    registry.add_od_listener(pdos.forget)
+    registry.add_event_listener(pdos.on_event)
+    bus.add_listener(pdos.on_bus)
     return Services(
         settings=settings,
         bus=bus,
         registry=registry,
-        sync=SyncService(bus),
+        sync=sync,
         sdo=SdoService(registry),
         jobs=jobs,
         params=ParamService(registry),
         node_ids=NodeIdService(registry, settings),
-        paramsets=ParamSetService(registry, od_parser),
+        paramsets=ParamSetService(registry, od_parser, pdos),
+        pdos=pdos,
         live=LiveHub(bus, registry),
         od_parser=od_parser,
     )

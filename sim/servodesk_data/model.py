@@ -13,13 +13,10 @@ from pathlib import Path
 
 from servodesk_data.fault_kind import FaultKind
 
+# the EMCY data format is protocol (MDi alarm number, Kinco, CiA 301); profiles name it
+from servodesk_protocol.emcy import EmcyFormat as EmcyFormat
+
 ObjectRef = tuple[int, int]  # (index, sub-index), written "2006:08" in the TOML files
-
-
-class EmcyFormat(StrEnum):
-    ALARM_NUMBER = "alarm_number"  # MDi: 2 data bytes = alarm number (MDi-S1-C manual §2.7)
-    KINCO = "kinco"  # 8 bytes, low 16 bits of the 603Fh code (Kinco manual §5.6, §8)
-    CIA301 = "cia301"  # 8 bytes: code, 1001h, manufacturer bytes (Nanotec article EMCY)
 
 
 class SdoLengthCheck(StrEnum):
@@ -28,10 +25,18 @@ class SdoLengthCheck(StrEnum):
 
 
 class PdoRemapRule(StrEnum):
-    # only while the PDO's COB-ID bit 31 is set (MDi-S1-C manual §5.2)
+    """When a drive lets a master change a PDO's parameters. Under every rule the mapping
+    entries (sub 1..8) change only while the mapping's sub 0 is 0 (CiA 301 §7.5.2.38)."""
+
+    # mapping and comm subs 2, 3, 5 only while the PDO's COB-ID bit 31 is set, 06010000h
+    # (MDi-S1-C manual §5.2, tables 2.40/2.41)
     WHILE_INVALID = "while_invalid"
-    # not in NMT Operational, 08000022h (Nanotec article)
+    # no PDO parameter in NMT Operational, 08000022h (Nanotec article)
     OUTSIDE_OPERATIONAL = "outside_operational"
+    # only the CiA 301 sub-0 procedure: a valid PDO keeps its COB-ID while its type, inhibit
+    # time and mapping change (Kinco manual §5.4.4/§5.4.5 write 1800h:02 and 1A00h:01.. with
+    # 1800h:01 = 181h, the mapping count last)
+    WHILE_UNMAPPED = "while_unmapped"
 
 
 class NodeIdSource(StrEnum):

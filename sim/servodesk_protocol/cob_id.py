@@ -15,7 +15,15 @@ LSS_MASTER = 0x7E5
 LSS_SLAVE = 0x7E4
 
 PDO_STEP = 0x100  # TPDO2 = TPDO1 + 100h, ...
+TPDOS = tuple(TPDO1 + PDO_STEP * n for n in range(4))  # default TPDO1..4 bases
+RPDOS = tuple(RPDO1 + PDO_STEP * n for n in range(4))  # default RPDO1..4 bases
 
+CAN_ID_MASK = 0x7FF  # 11-bit identifier (bits 0–10 of a COB-ID object)
+# Bits above the identifier in COB-ID objects (1005h, 1014h, 1400h+n, 1800h+n sub 1)
+INVALID_BIT = 1 << 31  # service / PDO switched off
+EXTENDED_BIT = 1 << 29  # 29-bit identifier
+FUNCTION_MASK = 0x780  # 11-bit COB-ID = function code (bits 7–10) + node id (bits 0–6)
+NODE_ID_MASK = 0x07F
 MAX_NODE_ID = 127
 
 
@@ -24,6 +32,11 @@ def for_node(base: int, node_id: int) -> int:
     if not 1 <= node_id <= MAX_NODE_ID:
         raise ValueError(f"node id {node_id} is outside 1..127")
     return base + node_id
+
+
+def split(can_id: int) -> tuple[int, int]:
+    """(function code base, node id) of an 11-bit CAN id: 0x1A5 -> (0x180, 0x25)."""
+    return can_id & FUNCTION_MASK, can_id & NODE_ID_MASK
 
 
 def node_services(node_id: int) -> dict[int, str]:

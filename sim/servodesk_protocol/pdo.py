@@ -27,11 +27,11 @@ SUB_INHIBIT = 3  # 100 µs units
 SUB_EVENT_TIMER = 5  # ms
 SUB_SYNC_START = 6
 
-COB_INVALID = 1 << 31  # PDO does not exist / is not valid
+COB_INVALID = cob_id.INVALID_BIT  # PDO does not exist / is not valid
 COB_NO_RTR = 1 << 30  # TPDO: no RTR allowed
-COB_EXTENDED = 1 << 29  # 29-bit identifier
+COB_EXTENDED = cob_id.EXTENDED_BIT  # 29-bit identifier
 COB_ID_BITS = 0x1FFFFFFF & ~COB_NO_RTR  # the identifier part of a COB-ID value
-CAN_ID_MASK = 0x7FF
+CAN_ID_MASK = cob_id.CAN_ID_MASK
 
 SYNC_ACYCLIC = 0  # synchronous, sent at the SYNC after an event
 SYNC_CYCLIC_MAX = 240  # 1–240: every n-th SYNC

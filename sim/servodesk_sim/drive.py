@@ -13,14 +13,17 @@ import canopen
 
 import servodesk_data
 from servodesk_data import DriveData, FaultEntry
-from servodesk_sim.abort_codes import INVALID_VALUE, SdoAbort
-from servodesk_sim.emcy import EmcyFormat, Fault, FaultManager
+from servodesk_protocol import cob_id
+from servodesk_protocol.emcy import EmcyFormat
+from servodesk_protocol.nmt import NmtCommand, NmtState
+from servodesk_protocol.sdo_abort import INVALID_VALUE
+from servodesk_sim.abort_codes import SdoAbort
+from servodesk_sim.emcy import Fault, FaultManager
 from servodesk_sim.error_control import HeartbeatConsumer, HeartbeatProducer, NodeGuarding
 from servodesk_sim.fault_kind import FaultKind
 from servodesk_sim.frames import Frame
 from servodesk_sim.motion import MotionCore
 from servodesk_sim.nmt import NmtSlave
-from servodesk_sim.nmt_state import NmtCommand, NmtState
 from servodesk_sim.od_store import ObjectStore, Value
 from servodesk_sim.pdo import PdoEngine
 from servodesk_sim.profile_config import DriveConfig, drive_config
@@ -35,11 +38,6 @@ CONTROL_PERIOD = 0.001  # s: the axis runs at a fixed 1 kHz so it is determinist
 # alternating 0 ms / 2 ms SYNC periods.
 SYNC_LEAD = CONTROL_PERIOD / 2
 MAX_STEPS_PER_POLL = 20  # after a long stall, catch up at most this much (a real drive would too)
-
-NMT_COB_ID = 0x000
-HEARTBEAT_BASE = 0x700
-SDO_RX_BASE = 0x600
-SDO_TX_BASE = 0x580
 
 
 class SimDrive:
@@ -261,19 +259,19 @@ class SimDrive:
     def _dispatch(self, frame: Frame, now: float) -> list[Frame]:
         can_id = frame.can_id
         state = self.nmt.state
-        if can_id == NMT_COB_ID and not frame.rtr:
+        if can_id == cob_id.NMT and not frame.rtr:
             return self._nmt_command(frame, now)
-        if can_id == HEARTBEAT_BASE + self._node_id:
+        if can_id == cob_id.HEARTBEAT + self._node_id:
             return [self.guarding.on_rtr(state, self._node_id, now)] if frame.rtr else []
-        if HEARTBEAT_BASE < can_id <= HEARTBEAT_BASE + 127 and not frame.rtr:
-            self.consumer.on_heartbeat(can_id - HEARTBEAT_BASE, now)
+        if cob_id.HEARTBEAT < can_id <= cob_id.HEARTBEAT + cob_id.MAX_NODE_ID and not frame.rtr:
+            self.consumer.on_heartbeat(can_id - cob_id.HEARTBEAT, now)
             return []
         if not state.allows_sdo:  # Stopped: only NMT and error control (MDi-S1-C manual table 2.8)
             return []
-        if can_id == SDO_RX_BASE + self._node_id and not frame.rtr:
+        if can_id == cob_id.SDO_RX + self._node_id and not frame.rtr:
             replies = self.sdo.on_request(frame.data, now)
             self._settle_faults()
-            return [Frame(SDO_TX_BASE + self._node_id, reply) for reply in replies]
+            return [Frame(cob_id.SDO_TX + self._node_id, reply) for reply in replies]
         if can_id == self.sync.cob_id() and not frame.rtr:
             return self._on_sync(frame.data, now)
         return self.pdo.on_frame(frame, now) or []
@@ -334,7 +332,7 @@ class SimDrive:
         if self._life_guarding_lost(now):
             self._raise(self._fault_for_kind(FaultKind.LIFE_GUARD))
         if state.allows_sdo:
-            out += [Frame(SDO_TX_BASE + self._node_id, r) for r in self.sdo.poll(now)]
+            out += [Frame(cob_id.SDO_TX + self._node_id, r) for r in self.sdo.poll(now)]
             sync = self.sync.poll(now)
             if sync is not None:
                 # A drive consumes its own SYNC too; the runner never echoes a node's frames back.

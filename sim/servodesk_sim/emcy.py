@@ -1,39 +1,32 @@
 """EMCY producer and fault bookkeeping: 603Fh, 1001h, 1003h, Kinco 2600h:02 and the EMCY frame.
 
-Each drive family words its EMCY differently:
-- MDi (MDi-S1-C manual §2.7): 2 data bytes, the alarm number little-endian.
-- Kinco (Kinco manual §5.6, §8): 8 bytes, the low 16 bits of the 603Fh code, the rest zero.
-- CiA 301 (Nanotec article EMCY): EMCY code, 1001h error register, 5 manufacturer bytes.
+The three EMCY data formats (MDi alarm number, Kinco, CiA 301) are servodesk_protocol.emcy; this
+module decides when a drive sends which and keeps the fault objects in step.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import Enum
 
-from servodesk_sim.abort_codes import READ_ONLY, VALUE_TOO_HIGH, SdoAbort
+from servodesk_protocol import cob_id
+from servodesk_protocol.emcy import (
+    COB_ID_EMCY,
+    ERROR_HISTORY,
+    ERROR_REGISTER,
+    EmcyFormat,
+    ErrorRegister,
+    history_entry,
+    make_payload,
+)
+from servodesk_protocol.sdo_abort import READ_ONLY, VALUE_TOO_HIGH
+from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.frames import Frame
 from servodesk_sim.od_store import ObjectStore, Value
 
-ERROR_REGISTER = 0x1001  # Error register
-ERROR_HISTORY = 0x1003  # Pre-defined error field
-EMCY_COB_ID = 0x1014  # COB-ID EMCY
 ERROR_CODE = 0x603F  # Error code (CiA 402)
 KINCO_FAULTS = 0x2600  # Kinco fault object; sub 2 = Detected_Faults bits (Kinco manual §8)
 KINCO_DETECTED_SUB = 2
-
-EMCY_BASE = 0x80
-COB_INVALID = 1 << 31  # 1014h bit 31: EMCY switched off (MDi-S1-C manual §2.7)
-CAN_ID_MASK = 0x7FF
-GENERIC_ERROR_BIT = 0x01  # 1001h bit 0 is set whenever any error is active (CiA 301)
 MAX_HISTORY = 254
-
-
-class EmcyFormat(Enum):
-    ALARM_NUMBER = "alarm_number"  # MDi: 2 data bytes = alarm number LE (MDi-S1-C manual §2.7)
-    KINCO = "kinco"  # 8 bytes: low 16 bits of the 603Fh code, then zeros (Kinco manual §5.6, §8)
-    # 8 bytes: code LE, 1001h error register, 5 manufacturer bytes (Nanotec article)
-    CIA301 = "cia301"
 
 
 @dataclass(frozen=True)
@@ -45,23 +38,15 @@ class Fault:
 
 
 def emcy_payload(fmt: EmcyFormat, fault: Fault | None, error_register: int) -> bytes:
-    """Data bytes of an EMCY frame; `fault` None is the "error reset / no error" EMCY."""
-    if fmt is EmcyFormat.ALARM_NUMBER:
-        # MDi-S1-C manual §2.7: 2 bytes, low byte first; alarm 0 means "normal" (§4.1 "--").
-        return (0 if fault is None else fault.code & 0xFFFF).to_bytes(2, "little")
-    if fmt is EmcyFormat.KINCO:
-        # Kinco manual §8: only the low 2 bytes of 603Fh travel in the EMCY; §5.6: rest unused.
-        code = 0 if fault is None else fault.code & 0xFFFF
-        return code.to_bytes(2, "little") + bytes(6)
-    code = 0 if fault is None else fault.emcy_code & 0xFFFF
-    # Manufacturer bytes stay zero: the profiles define no extra information.
-    return code.to_bytes(2, "little") + bytes([error_register & 0xFF]) + bytes(5)
+    """Data bytes of an EMCY frame; `fault` None is the "error reset / no error" EMCY.
 
-
-def history_entry(fault: Fault, error_register: int) -> int:
-    """1003h entry: EMCY code in bits 0–15, error register in 16–23 (Nanotec article: the EMCY code,
-    the error register and a manufacturer code are written together; the last is 0 here)."""
-    return (fault.emcy_code & 0xFFFF) | ((error_register & 0xFF) << 16)
+    MDi and Kinco send the drive's own code, CiA 301 the EMCY class code; manufacturer bytes
+    stay zero because the profiles define no extra information.
+    """
+    if fault is None:
+        return make_payload(fmt, 0, 0)
+    code = fault.emcy_code if fmt is EmcyFormat.CIA301 else fault.code
+    return make_payload(fmt, code, error_register)
 
 
 class FaultManager:
@@ -99,7 +84,8 @@ class FaultManager:
         register = self._error_register()
         self._publish(fault.code, register)
         if self._history_size:
-            self._record(history_entry(fault, register))
+            # Nanotec article: the EMCY code and the error register are recorded together.
+            self._record(history_entry(fault.emcy_code, register & 0xFF))
         return self._emit(emcy_payload(self._fmt, fault, register), may_send=may_send)
 
     def clear(self, now: float, *, may_send: bool) -> list[Frame]:
@@ -115,7 +101,7 @@ class FaultManager:
     def _error_register(self) -> int:
         register = 0
         for fault in self._active:
-            register |= fault.error_register | GENERIC_ERROR_BIT
+            register |= fault.error_register | ErrorRegister.GENERIC
         return register
 
     def _publish(self, code: int, register: int) -> None:
@@ -154,10 +140,11 @@ class FaultManager:
     # ------------------------------------------------------------------ bus
 
     def _cob_id(self) -> int | None:
-        if not self._store.has(EMCY_COB_ID):
-            return EMCY_BASE + self._store.node_id
-        cob = self._store.get(EMCY_COB_ID)
-        return None if cob & COB_INVALID else cob & CAN_ID_MASK
+        if not self._store.has(COB_ID_EMCY):
+            return cob_id.EMCY + self._store.node_id
+        cob = self._store.get(COB_ID_EMCY)
+        # MDi-S1-C manual §2.7: 1014h bit 31 switches the EMCY off
+        return None if cob & cob_id.INVALID_BIT else cob & cob_id.CAN_ID_MASK
 
     def _emit(self, payload: bytes, *, may_send: bool) -> list[Frame]:
         cob_id = self._cob_id()

@@ -10,13 +10,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from servodesk_sim.abort_codes import PARAMETER_INCOMPATIBLE as PARAM_INCOMPATIBLE
+from servodesk_protocol import cob_id
+from servodesk_protocol.nmt import NmtState, make_heartbeat
+from servodesk_protocol.sdo_abort import PARAMETER_INCOMPATIBLE as PARAM_INCOMPATIBLE
 from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.frames import Frame
-from servodesk_sim.nmt_state import NmtState
 
-ERROR_CONTROL_BASE = 0x700  # heartbeat and guarding answers: 700h+id
-GUARD_TOGGLE = 0x80  # bit 7 of a node-guarding answer (MDi-S1-C manual table 2.11)
 US_PER_MS = 1000
 
 
@@ -58,7 +57,7 @@ class HeartbeatProducer:
         # Keep the beat on its grid; after a long stall start a new grid rather than bursting.
         on_grid = elapsed < 2 * period_ms * US_PER_MS
         self._last = self._last + period_ms / 1000 if on_grid else now
-        return Frame(ERROR_CONTROL_BASE + node_id, bytes([state]))
+        return Frame(cob_id.HEARTBEAT + node_id, make_heartbeat(state))
 
 
 @dataclass
@@ -122,14 +121,14 @@ class NodeGuarding:
     """Answers guarding RTRs and watches the master's life time (MDi-S1-C manual §2.3.2 1))."""
 
     def __init__(self) -> None:
-        self._toggle = 0
+        self._toggle = False
         self._last_rtr: float | None = None
         self._lost = False
 
     def on_rtr(self, state: NmtState, node_id: int, now: float) -> Frame:
         """Answer 700h+id: bit 7 toggles on every answer, starting at 0; bits 6–0 the state."""
-        answer = Frame(ERROR_CONTROL_BASE + node_id, bytes([self._toggle | state]))
-        self._toggle ^= GUARD_TOGGLE
+        answer = Frame(cob_id.HEARTBEAT + node_id, make_heartbeat(state, toggle=self._toggle))
+        self._toggle = not self._toggle
         self._last_rtr = now
         self._lost = False
         return answer
@@ -153,6 +152,6 @@ class NodeGuarding:
 
     def reset(self) -> None:
         """Reset communication: toggle back to 0, life guarding inactive until the next RTR."""
-        self._toggle = 0
+        self._toggle = False
         self._last_rtr = None
         self._lost = False

@@ -23,23 +23,22 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from servodesk_sim.cia402 import (
+from servodesk_protocol.cia402 import (
     CW_FAULT_RESET,
     SW_MODE_BIT13,
     SW_REFERENCE_FOUND,
     Cia402State,
+    OperationMode,
     QuickStopOption,
-    next_state,
     quick_stop_stays,
-    statusword_bits,
 )
+from servodesk_sim.cia402 import next_state, statusword_bits
 from servodesk_sim.fault_kind import FaultKind
 from servodesk_sim.modes import (
     Axis,
     Homing,
     Interpolated,
     Mode,
-    OperationMode,
     ProfilePosition,
     ProfileTorque,
     ProfileVelocity,

@@ -14,7 +14,8 @@ from enum import Enum
 
 from canopen.objectdictionary import ObjectDictionary, ODArray, ODRecord, ODVariable, datatypes
 
-from servodesk_sim.abort_codes import (
+from servodesk_protocol.cob_id import CAN_ID_MASK
+from servodesk_protocol.sdo_abort import (
     CANNOT_STORE,
     GENERAL_ERROR,
     LENGTH_TOO_HIGH,
@@ -26,8 +27,8 @@ from servodesk_sim.abort_codes import (
     VALUE_TOO_HIGH,
     VALUE_TOO_LOW,
     WRITE_ONLY,
-    SdoAbort,
 )
+from servodesk_sim.abort_codes import SdoAbort
 
 
 class LengthCheck(Enum):
@@ -48,7 +49,6 @@ LOAD_SIGNATURE = 0x64616F6C  # ASCII "load", little-endian (CiA 301 §7.5.2.14)
 # Simulator-only objects (fault injection etc.) never end up in the stored parameter set.
 SIM_ONLY_FIRST = 0x5FF0
 SIM_ONLY_LAST = 0x5FFF
-CAN_ID_MASK = 0x7FF  # 11-bit identifier inside a COB-ID value
 
 _Key = tuple[int, int]
 

@@ -11,19 +11,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from enum import Enum
 
-from servodesk_sim.abort_codes import (
-    DEVICE_STATE,
-    INVALID_VALUE,
-    TYPE_MISMATCH,
-    UNSUPPORTED_ACCESS,
-    SdoAbort,
-)
-from servodesk_sim.frames import Frame
-from servodesk_sim.nmt_state import NmtState
-from servodesk_sim.od_store import ObjectStore, Value
-from servodesk_sim.pdo_mapping import (
+from servodesk_data.model import PdoRemapRule
+from servodesk_protocol.nmt import NmtState
+from servodesk_protocol.pdo import (
     CAN_ID_MASK,
     COB_INVALID,
     COB_NO_RTR,
@@ -42,16 +33,28 @@ from servodesk_sim.pdo_mapping import (
     TPDO_MAP,
     Direction,
     MapEntry,
+    default_can_id,
+    frame_length,
+    pack,
+    restricted_can_id,
+    unpack,
+)
+from servodesk_protocol.sdo_abort import (
+    DEVICE_STATE,
+    INVALID_VALUE,
+    TYPE_MISMATCH,
+    UNSUPPORTED_ACCESS,
+)
+from servodesk_sim.abort_codes import SdoAbort
+from servodesk_sim.frames import Frame
+from servodesk_sim.od_store import ObjectStore, Value
+from servodesk_sim.pdo_mapping import (
     check_cob_id,
     check_count,
     check_entry,
     check_transmission_type,
-    default_can_id,
-    frame_length,
-    pack,
+    read_fields,
     read_mapping,
-    restricted_can_id,
-    unpack,
 )
 
 # MDi-S1-C manual §5.2 1600h/1800h notes: these sub-indices change only while the PDO is invalid.
@@ -59,22 +62,12 @@ _WHILE_INVALID_SUBS = frozenset({SUB_TRANSMISSION, SUB_INHIBIT, SUB_EVENT_TIMER}
 _EPSILON = 1e-9  # s: float clocks must not make a deadline miss by rounding
 
 
-class RemapRule(Enum):
-    # MDi, Kinco: mapping and comm params of a PDO change only while its COB-ID bit 31 is set
-    WHILE_INVALID = "while_invalid"
-    # cia402: 1400h–1407h/1600h–1607h/1800h–1807h/1A00h–1A07h writes in Operational → 08000022
-    OUTSIDE_OPERATIONAL = "outside_operational"
-    # Only the CiA 301 sub-0 procedure: Kinco manual §5.4.4/§5.4.5 (Kinco) write the type and the
-    # mapping of PDOs whose COB-ID is valid (181h, 201h), which WHILE_INVALID would refuse.
-    UNRESTRICTED = "unrestricted"
-
-
 @dataclass(frozen=True)
 class PdoRules:
     rpdo_count: int  # 4 (MDi, Kinco) or 8 (cia402)
     tpdo_count: int
     byte_granular: bool  # MDi: whole-byte mapping lengths only (MDi-S1-C manual §5.2 1600h note)
-    remap_rule: RemapRule
+    remap_rule: PdoRemapRule
     rtr_transmission: bool  # cia402: TPDO types 252/253; MDi: COB-ID bit 30 is meaningless
     fixed_cob_ids: int  # PDOs 1..n whose CAN id is fixed to the node-id default
     # MDi-S1-C manual §2.5.3 4): a send for any reason restarts the event timer; Nanotec article
@@ -189,14 +182,16 @@ class PdoEngine:
 
     def _check_change_allowed(self, channel: _Channel, *, restricted: bool) -> None:
         rule = self._rules.remap_rule
-        if rule is RemapRule.OUTSIDE_OPERATIONAL:
+        if rule is PdoRemapRule.OUTSIDE_OPERATIONAL:
             # Nanotec article SDO abort table, 08000022: no writes to these objects in Operational.
             if self._nmt_state() is NmtState.OPERATIONAL:
                 raise SdoAbort(DEVICE_STATE, "PDO parameters change outside Operational only")
-        elif rule is RemapRule.WHILE_INVALID and restricted and not self._invalid(channel):
+        elif rule is PdoRemapRule.WHILE_INVALID and restricted and not self._invalid(channel):
             # MDi-S1-C manual §5.2 says "only while the PDO is invalid" without a code; 06010000 is
             # what CiA 301 devices commonly answer (Copley, CCT PDO 23 accepts it).
             raise SdoAbort(UNSUPPORTED_ACCESS, "PDO must be invalid (COB-ID bit 31) to change")
+        # WHILE_UNMAPPED asks nothing more: the sub-0 rule of _check_map and the COB-ID checks
+        # are all the Kinco manual's §5.4.4/§5.4.5 sequences meet (the PDO stays valid).
 
     def _check_cob_id(self, channel: _Channel, value: int) -> None:
         fixed = channel.number <= self._rules.fixed_cob_ids
@@ -258,7 +253,7 @@ class PdoEngine:
     def _tpdo_data(self, channel: _Channel) -> bytes | None:
         """Current TPDO payload, or None when nothing is mapped (nothing to publish)."""
         entries = read_mapping(self._store, channel.mapping)
-        return pack(self._store, entries) if entries else None
+        return pack(read_fields(self._store, entries)) if entries else None
 
     # ------------------------------------------------------------------ bus side
 

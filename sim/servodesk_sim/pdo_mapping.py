@@ -1,100 +1,48 @@
-"""PDO parameters: mapping entries (16xxh / 1Axxh), bit packing and COB-ID / type checks.
+"""PDO parameters of a simulated drive: which mapping entries, counts, COB-IDs and transmission
+types it accepts (raising SdoAbort), and the values its mapped objects hold.
 
-A mapping entry is `index << 16 | subindex << 8 | length in bits` (MDi-S1-C manual §2.5.4 table
-2.41,
-CiA 301 §7.4.7.3). Mapped objects are packed little-endian, one bit field after the other.
+The layout itself (entry format, packing, COB-ID bits, transmission types) is
+servodesk_protocol.pdo, shared with the app's PDO service.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from enum import Enum
+from collections.abc import Sequence
 
 from canopen.objectdictionary import ODVariable
 from canopen.objectdictionary.datatypes import BOOLEAN
 
-from servodesk_sim.abort_codes import (
+from servodesk_protocol.pdo import (
+    CAN_ID_MASK,
+    COB_EXTENDED,
+    COB_ID_BITS,
+    COB_INVALID,
+    DUMMY_BITS,
+    EVENT_DRIVEN,
+    EVENT_RTR,
+    MAX_ENTRIES,
+    MAX_PDO_BITS,
+    SYNC_CYCLIC_MAX,
+    SYNC_RTR,
+    Direction,
+    MapEntry,
+    restricted_can_id,
+    total_bits,
+)
+from servodesk_protocol.sdo_abort import (
     INVALID_VALUE,
     NO_OBJECT,
     NOT_MAPPABLE,
     PARAMETER_INCOMPATIBLE,
     PDO_LENGTH_EXCEEDED,
     VALUE_TOO_HIGH,
-    SdoAbort,
 )
+from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.od_store import ObjectStore
 
-RPDO_COMM = 0x1400  # RPDO communication parameter
-RPDO_MAP = 0x1600  # RPDO mapping parameter
-TPDO_COMM = 0x1800  # TPDO communication parameter
-TPDO_MAP = 0x1A00  # TPDO mapping parameter
-
-SUB_COB_ID = 1
-SUB_TRANSMISSION = 2
-SUB_INHIBIT = 3  # 100 µs units
-SUB_EVENT_TIMER = 5  # ms
-SUB_SYNC_START = 6
-
-COB_INVALID = 1 << 31  # PDO does not exist / is not valid
-COB_NO_RTR = 1 << 30  # TPDO: no RTR allowed
-COB_EXTENDED = 1 << 29  # 29-bit identifier (not supported)
-COB_ID_BITS = 0x1FFFFFFF & ~COB_NO_RTR  # the identifier part of a COB-ID value
-CAN_ID_MASK = 0x7FF
-
-SYNC_CYCLIC_MAX = 240  # 0 acyclic, 1–240 every n-th SYNC
-SYNC_RTR = 252  # sample at SYNC, send on RTR (Nanotec article FCh)
-EVENT_RTR = 253  # sample and send on RTR (Nanotec article FDh)
-EVENT_DRIVEN = (254, 255)
-
-MAX_ENTRIES = 8  # MDi-S1-C manual §5.2 1600h:00 range 0–8
-MAX_PDO_BITS = 64  # one classic CAN frame
-
-# CiA 301 "general parameter incompatibility". Chosen over 06070010 for an entry whose length
-# field differs from the object's size: 06070010 says the *SDO* data length was wrong, which
-# it was not (a 4-byte UNSIGNED32 was written); the parameter contradicts the object.
-
-# CiA 301 §7.4.7.2: the data-type indices 0001h–0007h stand for dummy entries that fill gaps
-# (Nanotec article TX mapping "可为间隔使用虚拟对象"). Usable only where the OD declares them
-# ([DummyUsage] in the EDS); value = their size in bits.
-DUMMY_BITS = {
-    0x0001: 1,  # BOOLEAN
-    0x0002: 8,  # INTEGER8
-    0x0003: 16,  # INTEGER16
-    0x0004: 32,  # INTEGER32
-    0x0005: 8,  # UNSIGNED8
-    0x0006: 16,  # UNSIGNED16
-    0x0007: 32,  # UNSIGNED32
-}
-
-
-class Direction(Enum):
-    RECEIVE = "receive"  # RPDO: bus → object dictionary
-    TRANSMIT = "transmit"  # TPDO: object dictionary → bus
-
-
-@dataclass(frozen=True, slots=True)
-class MapEntry:
-    """One mapping entry (sub 1..8 of a mapping parameter)."""
-
-    index: int
-    subindex: int
-    bits: int
-
-    @classmethod
-    def from_raw(cls, raw: int) -> MapEntry:
-        return cls((raw >> 16) & 0xFFFF, (raw >> 8) & 0xFF, raw & 0xFF)
-
-    @property
-    def raw(self) -> int:
-        return (self.index << 16) | (self.subindex << 8) | self.bits
-
-    @property
-    def is_dummy(self) -> bool:
-        return self.index in DUMMY_BITS
-
-    @property
-    def byte_length(self) -> int:
-        return (self.bits + 7) // 8
+# An entry whose length field differs from the object's size aborts 06040043 (CiA 301 "general
+# parameter incompatibility"), not 06070010: that one says the *SDO* data length was wrong,
+# which it was not (a 4-byte UNSIGNED32 was written); the parameter contradicts the object.
 
 
 def accepted_bits(var: ODVariable) -> frozenset[int]:
@@ -157,65 +105,19 @@ def check_count(
         raise SdoAbort(PDO_LENGTH_EXCEEDED, f"{total_bits(entries)} bits")
 
 
+def read_fields(store: ObjectStore, entries: Sequence[MapEntry]) -> list[tuple[MapEntry, bytes]]:
+    """Each entry with its object's value as the SDO server would read it (dummies: no bytes),
+    ready for servodesk_protocol.pdo.pack."""
+    return [
+        (entry, b"" if entry.is_dummy else store.read_bytes(entry.index, entry.subindex))
+        for entry in entries
+    ]
+
+
 def read_mapping(store: ObjectStore, mapping_index: int) -> tuple[MapEntry, ...]:
     """The active entries of a mapping parameter (sub 1..sub 0)."""
     count = min(store.get(mapping_index, 0), MAX_ENTRIES)
     return tuple(MapEntry.from_raw(store.get(mapping_index, sub)) for sub in range(1, count + 1))
-
-
-def total_bits(entries: tuple[MapEntry, ...] | list[MapEntry]) -> int:
-    return sum(entry.bits for entry in entries)
-
-
-def frame_length(entries: tuple[MapEntry, ...]) -> int:
-    """Bytes a PDO with these entries carries."""
-    return (total_bits(entries) + 7) // 8
-
-
-def pack(store: ObjectStore, entries: tuple[MapEntry, ...]) -> bytes:
-    """TPDO payload: each entry's current value (as the SDO server would read it), packed."""
-    value = 0
-    offset = 0
-    for entry in entries:
-        if not entry.is_dummy:  # dummies transmit zeros
-            raw = store.read_bytes(entry.index, entry.subindex)
-            field = int.from_bytes(raw, "little") & ((1 << entry.bits) - 1)
-            value |= field << offset
-        offset += entry.bits
-    return value.to_bytes((offset + 7) // 8, "little")
-
-
-def unpack(data: bytes, entries: tuple[MapEntry, ...]) -> list[tuple[MapEntry, bytes]]:
-    """RPDO payload split into (entry, little-endian bytes of that object); dummies dropped."""
-    value = int.from_bytes(data, "little")
-    out: list[tuple[MapEntry, bytes]] = []
-    offset = 0
-    for entry in entries:
-        field = (value >> offset) & ((1 << entry.bits) - 1)
-        offset += entry.bits
-        if not entry.is_dummy:
-            out.append((entry, field.to_bytes(entry.byte_length, "little")))
-    return out
-
-
-def restricted_can_id(can_id: int) -> bool:
-    """CiA 301 §7.3.5 restricted CAN ids (NMT, SYNC/EMCY/TIME, SDO, LSS, error control)."""
-    return (
-        can_id <= 0x07F
-        or 0x101 <= can_id <= 0x180
-        or 0x581 <= can_id <= 0x5FF
-        or 0x601 <= can_id <= 0x67F
-        or 0x6E0 <= can_id <= 0x6FF
-        or can_id >= 0x701
-    )
-
-
-def default_can_id(direction: Direction, number: int) -> int | None:
-    """Pre-defined connection set id without the node id (CiA 301 §7.3.3), PDOs 1–4 only."""
-    if not 1 <= number <= 4:
-        return None
-    first = 0x200 if direction is Direction.RECEIVE else 0x180
-    return first + 0x100 * (number - 1)
 
 
 def check_cob_id(value: int, current: int, *, fixed_id: int | None) -> None:

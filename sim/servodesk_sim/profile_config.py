@@ -6,23 +6,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from servodesk_data import DriveData, NodeIdSource, ObjectRef
-from servodesk_data.model import EmcyFormat as DataEmcyFormat
 from servodesk_data.model import PdoRemapRule, SdoLengthCheck
-from servodesk_sim.emcy import EmcyFormat
+from servodesk_protocol.emcy import EmcyFormat
 from servodesk_sim.motion import MotionConfig
 from servodesk_sim.od_store import LengthCheck
-from servodesk_sim.pdo import PdoRules, RemapRule
+from servodesk_sim.pdo import PdoRules
 from servodesk_sim.sync import SyncRules
 
-_EMCY = {
-    DataEmcyFormat.ALARM_NUMBER: EmcyFormat.ALARM_NUMBER,
-    DataEmcyFormat.KINCO: EmcyFormat.KINCO,
-    DataEmcyFormat.CIA301: EmcyFormat.CIA301,
-}
-_REMAP = {
-    PdoRemapRule.WHILE_INVALID: RemapRule.WHILE_INVALID,
-    PdoRemapRule.OUTSIDE_OPERATIONAL: RemapRule.OUTSIDE_OPERATIONAL,
-}
 _LENGTH = {
     SdoLengthCheck.GENERIC: LengthCheck.GENERIC,
     SdoLengthCheck.SPECIFIC: LengthCheck.SPECIFIC,
@@ -55,7 +45,7 @@ def drive_config(data: DriveData) -> DriveConfig:
         rpdo_count=quirks.rpdo_count,
         tpdo_count=quirks.tpdo_count,
         byte_granular=quirks.pdo_byte_granular,
-        remap_rule=_REMAP[quirks.pdo_remap_rule],
+        remap_rule=quirks.pdo_remap_rule,
         rtr_transmission=quirks.pdo_rtr_transmission,
         fixed_cob_ids=quirks.pdo_fixed_cob_ids,
         event_timer_restarts_on_send=not nanotec_timing,
@@ -77,7 +67,7 @@ def drive_config(data: DriveData) -> DriveConfig:
             min_period_us=quirks.sync_min_period_us,
             require_period_before_enable=quirks.sync_require_period_before_enable,
         ),
-        emcy_format=_EMCY[quirks.emcy_format],
+        emcy_format=quirks.emcy_format,
         fault_history=quirks.fault_history_1003,
         kinco_fault_bits=quirks.kinco_fault_bits,
         motion=motion,

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from enum import Enum, IntEnum
 from typing import Protocol
 
-from servodesk_sim.abort_codes import (
+from servodesk_protocol.sdo_abort import (
     COMMAND_NOT_VALID,
     CRC_ERROR,
     INVALID_BLOCK_SIZE,
@@ -22,8 +22,8 @@ from servodesk_sim.abort_codes import (
     PROTOCOL_TIMED_OUT,
     TOGGLE_NOT_ALTERNATED,
     TYPE_MISMATCH,
-    SdoAbort,
 )
+from servodesk_sim.abort_codes import SdoAbort
 
 FRAME_LENGTH = 8
 SEGMENT_DATA = 7  # data bytes in one segment of a segmented or block transfer

@@ -11,7 +11,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from servodesk_sim.abort_codes import DEVICE_STATE, INVALID_VALUE, VALUE_TOO_LOW, SdoAbort
+from servodesk_protocol.cob_id import CAN_ID_MASK, EXTENDED_BIT
+from servodesk_protocol.cob_id import SYNC as DEFAULT_COB_ID
+from servodesk_protocol.sdo_abort import DEVICE_STATE, INVALID_VALUE, VALUE_TOO_LOW
+from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.frames import Frame
 from servodesk_sim.od_store import ObjectStore, Value
 
@@ -20,10 +23,7 @@ CYCLE_PERIOD = 0x1006  # Communication cycle period (µs)
 COUNTER_OVERFLOW = 0x1019  # Synchronous counter overflow value
 
 PRODUCER_BIT = 1 << 30
-EXTENDED_BIT = 1 << 29
 ID_BITS = 0x1FFFFFFF
-CAN_ID_MASK = 0x7FF
-DEFAULT_COB_ID = 0x80
 COUNTER_MAX = 240  # CiA 301 §7.5.2.22: 2–240 valid, 1 and 241–255 reserved
 # A consumer declares SYNC lost after 1.5 periods without one (same margin as CANopenNode).
 _EPSILON = 1e-9  # s: float clocks must not make a deadline miss by rounding

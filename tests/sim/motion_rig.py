@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from servodesk_data.fault_kind import FaultKind
-from servodesk_sim.cia402 import Cia402State
+from servodesk_protocol.cia402 import Cia402State
 from servodesk_sim.motion import MotionConfig, MotionCore
 from servodesk_sim.values import DictValues
 
@@ -33,7 +33,7 @@ CIA402_CONFIG = replace(
 )
 KINCO_CONFIG = replace(CIA402_CONFIG, reference_found_bit15=True)
 
-# MDi factory values (seed 000 §5.3) plus the simulator's switch layout.
+# MDi factory values (MDi-S1-C manual §5.3) plus the simulator's switch layout.
 MDI_VALUES: dict[tuple[int, int], int] = {
     (0x6040, 0): 0,  # Controlword
     (0x605A, 0): 1,  # Quick stop option code

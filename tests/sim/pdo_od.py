@@ -1,5 +1,5 @@
 """A small object dictionary for the PDO tests: PDO communication and mapping objects with the
-seed 000 §5.2 factory COB-IDs, plus a few mappable 60xxh objects and some that are not."""
+MDi-S1-C manual §5.2 factory COB-IDs, plus a few mappable 60xxh objects and some that are not."""
 
 from __future__ import annotations
 
@@ -49,7 +49,7 @@ def record(index: int, members: list[ODVariable]) -> ODRecord:
 
 
 def factory_rpdo_cob_id(number: int) -> int:
-    """seed 000 §5.2: 1400h 200h+id valid, 1401h–1403h invalid; PDOs 5–8 unused (id 0)."""
+    """MDi-S1-C manual §5.2: 1400h 200h+id valid, 1401h–1403h invalid; PDOs 5–8 unused (id 0)."""
     if number == 1:
         return 0x200 + NODE_ID
     if number <= 4:
@@ -58,7 +58,7 @@ def factory_rpdo_cob_id(number: int) -> int:
 
 
 def factory_tpdo_cob_id(number: int) -> int:
-    """seed 000 §5.2: 1800h 40000180h+id, 1801h–1803h C00002x0h+id; PDOs 5–8 unused."""
+    """MDi-S1-C manual §5.2: 1800h 40000180h+id, 1801h–1803h C00002x0h+id; PDOs 5–8 unused."""
     if number == 1:
         return 0x40000180 + NODE_ID
     if number <= 4:
@@ -96,7 +96,7 @@ def pdo_od(pdo_count: int = 4, *, dummies: bool = False) -> ObjectDictionary:
     od.add_object(variable(0x6060, 0, INTEGER8, mappable=True))  # Modes of operation
     od.add_object(variable(0x6063, 0, INTEGER32, access="ro", mappable=True))  # Position (inc)
     od.add_object(variable(0x6064, 0, INTEGER32, access="ro", mappable=True))  # Position actual
-    od.add_object(  # Target torque, 0.1 %: seed 000 §5.3 range −1000…1000
+    od.add_object(  # Target torque, 0.1 %: MDi-S1-C manual §5.3 range −1000…1000
         variable(0x6071, 0, INTEGER16, mappable=True, low=-1000, high=1000)
     )
     od.add_object(variable(0x607A, 0, INTEGER32, mappable=True))  # Target position

@@ -1,23 +1,22 @@
-"""The CiA 402 state machine against seed 000 figure 3.2 and the CiA 402 statusword patterns."""
+"""The CiA 402 state machine against MDi-S1-C manual figure 3.2 and CiA 402 statusword patterns."""
 
 from __future__ import annotations
 
 import pytest
 from canopen.profiles.p402 import State402
 
-from servodesk_sim.cia402 import (
+from servodesk_protocol.cia402 import (
     Cia402State,
     Command,
     decode_command,
     decode_state,
-    next_state,
     quick_stop_stays,
-    statusword_bits,
 )
+from servodesk_sim.cia402 import next_state, statusword_bits
 
 S = Cia402State
 
-# Every row of seed 000 figure 3.2, in every state it names a transition for.
+# Every row of MDi-S1-C manual figure 3.2, in every state it names a transition for.
 FIGURE_3_2 = [
     # Shutdown 0 X 1 1 0 -> 2, 6, 8
     ("shutdown", S.SWITCH_ON_DISABLED, 0x06, S.READY_TO_SWITCH_ON, 2),

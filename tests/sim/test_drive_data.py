@@ -105,7 +105,7 @@ def test_sub0_is_highest_sub_and_default_mappings_are_valid(profile: str) -> Non
             assert obj[0].default == max(obj.subindices), f"{index:04X}"
 
 
-MDI_FACTORY = [  # seed 000 §5.2/§5.3 tables (node 5), and the §3.4.3 default PDO mapping
+MDI_FACTORY = [  # MDi-S1-C manual §5.2/§5.3 tables (node 5), and the §3.4.3 default PDO mapping
     (0x1000, 0, 0),
     (0x1001, 0, 0),
     (0x1005, 0, 0x80),
@@ -174,7 +174,7 @@ def test_mdi_factory_values(index: int, sub: int, value: object) -> None:
     assert _default(_od("mdi-s1c"), index, sub) == value
 
 
-MDI_TYPES = [  # (index, sub, data type, access, mappable) from seed 000 §5.2/§5.3
+MDI_TYPES = [  # (index, sub, data type, access, mappable) from MDi-S1-C manual §5.2/§5.3
     (0x1005, 0, datatypes.UNSIGNED32, "rw", False),
     (0x100D, 0, datatypes.UNSIGNED8, "rw", False),
     (0x1017, 0, datatypes.UNSIGNED16, "rw", False),
@@ -416,7 +416,7 @@ def test_mdi_pa_parameters_follow_the_rule_and_need_a_reset_for_node_and_bitrate
 # ----------------------------------------------------------------------------- faults
 
 MDI_ALARMS = [1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 14, 18, 19, 20, 21, 23, 29, 39, 40, 41, 42, 47]
-MDI_ALARMS += [50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 61, 62]  # seed 000 §4.1
+MDI_ALARMS += [50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 61, 62]  # MDi-S1-C manual §4.1
 
 KIND_CODES = {  # the fault each simulated cause raises (None: statusword only)
     "mdi-s1c": [1, 4, 7, 7, 62, 61, 61, None],
@@ -474,7 +474,7 @@ def test_mdi_alarm_table_is_complete() -> None:
     assert data.fault(9) is None
 
 
-KINCO_BITS = [  # seed 001 §8: (2600h:02 bit, 603Fh code)
+KINCO_BITS = [  # Kinco manual §8: (2600h:02 bit, 603Fh code)
     (0x1, 0x6010), (0x2, 0x6011), (0x4, 0x7305), (0x8, 0x17305), (0x10, 0x17306),
     (0x20, 0x4210), (0x40, 0x5112), (0x80, 0x3210), (0x100, 0x3220), (0x200, 0x12320),
     (0x400, 0x22320), (0x800, 0x32320), (0x1000, 0x5441), (0x2000, 0x8611), (0x4000, 0x8400),

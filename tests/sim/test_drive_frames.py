@@ -17,7 +17,7 @@ def hexes(frames: list[Frame]) -> list[str]:
 # ---------------------------------------------------------------- the manuals' example frames
 
 
-def test_mdi_seed_000_sdo_examples() -> None:
+def test_mdi_manual_sdo_examples() -> None:
     rig = DriveRig(4, "mdi-s1c")
     # table 2.16 / 2.17: write 60FFh = 1000
     assert rig.send(0x604, "23 FF 60 00 E8 03 00 00") == [frame(0x584, "60 FF 60 00 00 00 00 00")]
@@ -34,13 +34,13 @@ def test_mdi_segmented_upload_of_the_device_name() -> None:
     assert rig.send(0x604, "40 08 10 00 00 00 00 00") == [frame(0x584, "41 08 10 00 0B 00 00 00")]
     assert rig.send(0x604, "60 00 00 00 00 00 00 00") == [frame(0x584, "00 44 56 53 5F 43 41 4E")]
     assert rig.send(0x604, "70 00 00 00 00 00 00 00") == [frame(0x584, "17 4F 50 45 4E 00 00 00")]
-    # the same toggle twice is refused (seed 000 table 2.34: the toggle must alternate)
+    # the same toggle twice is refused (MDi-S1-C manual table 2.34: the toggle must alternate)
     rig.send(0x604, "40 08 10 00 00 00 00 00")
     rig.send(0x604, "60 00 00 00 00 00 00 00")
     assert rig.send(0x604, "60 00 00 00 00 00 00 00") == [frame(0x584, "80 08 10 00 00 00 03 05")]
 
 
-def test_kinco_seed_001_statusword_read() -> None:
+def test_kinco_manual_statusword_read() -> None:
     rig = DriveRig(1, "kinco")
     (answer,) = rig.send(0x601, "40 41 60 00 00 00 00 00")
     assert answer.can_id == 0x581
@@ -48,17 +48,17 @@ def test_kinco_seed_001_statusword_read() -> None:
     assert answer.data[6:] == b"\x00\x00"
 
 
-def test_kinco_seed_001_controlword_write() -> None:
+def test_kinco_manual_controlword_write() -> None:
     rig = DriveRig(1, "kinco")
     assert rig.send(0x601, "2B 40 60 00 06 00 00 00") == [frame(0x581, "60 40 60 00 00 00 00 00")]
 
 
-def test_cia402_seed_003_examples() -> None:
+def test_nanotec_article_examples() -> None:
     rig = DriveRig(3, "cia402")
     assert rig.send(0x603, "23 7A 60 00 E8 03 00 00") == [frame(0x583, "60 7A 60 00 00 00 00 00")]
     (answer,) = rig.send(0x603, "40 41 60 00 00 00 00 00")
     assert answer.data[:4] == bytes.fromhex("4B 41 60 00")
-    # too long / too short are told apart (seed 003 SDO error table)
+    # too long / too short are told apart (Nanotec article SDO error table)
     assert rig.sdo("23 40 60 00 06 00 00 00") == "80 40 60 00 12 00 07 06"
     assert rig.sdo("2F 7A 60 00 01 00 00 00") == "80 7A 60 00 13 00 07 06"
 
@@ -66,9 +66,9 @@ def test_cia402_seed_003_examples() -> None:
 @pytest.mark.parametrize(
     ("profile", "answer"),
     [
-        ("mdi-s1c", "80 08 10 00 01 00 04 05"),  # seed 000: expedited and segmented only
+        ("mdi-s1c", "80 08 10 00 01 00 04 05"),  # MDi-S1-C manual: expedited and segmented only
         ("kinco", "80 08 10 00 01 00 04 05"),
-        ("cia402", "C6 08 10 00 08 00 00 00"),  # seed 003: block transfer; "C5-E-SIM", CRC
+        ("cia402", "C6 08 10 00 08 00 00 00"),  # Nanotec article: block transfer; "C5-E-SIM", CRC
     ],
 )
 def test_block_upload_per_profile(profile: str, answer: str) -> None:
@@ -163,8 +163,13 @@ def test_mdi_bitrate_pa106_change_makes_the_drive_fall_silent_after_reset() -> N
 @pytest.mark.parametrize(
     ("profile", "code", "size", "emcy"),
     [
-        ("mdi-s1c", 62, 4, "3E 00"),  # alarm 62 SYNC lost: 2 bytes = alarm number (seed 000 §2.7)
-        ("kinco", 0x8611, 4, "11 86 00 00 00 00 00 00"),  # following error (seed 001 §8)
+        (
+            "mdi-s1c",
+            62,
+            4,
+            "3E 00",
+        ),  # alarm 62 SYNC lost: 2 bytes = alarm number (MDi-S1-C manual §2.7)
+        ("kinco", 0x8611, 4, "11 86 00 00 00 00 00 00"),  # following error (Kinco manual §8)
         ("cia402", 0x4210, 4, "10 42 09 00 00 00 00 00"),  # code, 1001h, manufacturer bytes
     ],
 )
@@ -192,7 +197,7 @@ def test_emcy_disabled_by_1014h_bit_31() -> None:
     rig.write_ok(0x1014, 0, 0x80000087, 4)
     answers = rig.send(0x607, "23 F0 5F 00 10 42 00 00")
     assert answers == [frame(0x587, "60 F0 5F 00 00 00 00 00")]
-    assert rig.read(0x1003, 0) == 1  # history still kept (seed 003)
+    assert rig.read(0x1003, 0) == 1  # history still kept (Nanotec article)
     assert rig.read(0x1003, 1) & 0xFFFF == 0x4210
     assert rig.write(0x1003, 0, 1, 1) == "80 03 10 00 31 00 09 06"
     rig.write_ok(0x1003, 0, 0, 1)
@@ -224,7 +229,7 @@ def test_heartbeat_consumer_faults_the_drive_when_the_master_goes_silent() -> No
     rig.send(0x77F, "05")
     emcy = [f for f in rig.advance(0.3) if f.can_id == 0x83]
     assert emcy == [frame(0x83, "3D 00")]  # alarm 61: CAN state abnormal
-    # two consumer times for one node are refused (seed 000 1016h)
+    # two consumer times for one node are refused (MDi-S1-C manual 1016h)
     assert rig.write(0x1016, 2, (0x7F << 16) | 300, 4) == "80 16 10 02 43 00 04 06"
 
 
@@ -254,7 +259,9 @@ def test_heartbeat_disables_life_guarding() -> None:
 
 def test_mdi_sync_producer_limits_and_period() -> None:
     rig = DriveRig(1, "mdi-s1c")
-    assert rig.write(0x1005, 0, 0x40000080, 4).startswith("80")  # 1006h still 0 (seed 000 §2.6)
+    assert rig.write(0x1005, 0, 0x40000080, 4).startswith(
+        "80"
+    )  # 1006h still 0 (MDi-S1-C manual §2.6)
     assert rig.write(0x1006, 0, 400, 4) == "80 06 10 00 32 00 09 06"  # < 500 µs refused
     rig.write_ok(0x1006, 0, 2000, 4)
     rig.write_ok(0x1005, 0, 0x40000080, 4)
@@ -303,7 +310,7 @@ def test_mdi_sync_loss_in_interpolated_mode_raises_alarm_62() -> None:
 
 def test_mdi_quick_stop_option_takes_only_the_listed_codes() -> None:
     rig = DriveRig(1, "mdi-s1c")
-    assert rig.write(0x605A, 0, 3, 2) == "80 5A 60 00 30 00 09 06"  # seed 000 §5.3: 1-2, 5-6
+    assert rig.write(0x605A, 0, 3, 2) == "80 5A 60 00 30 00 09 06"  # MDi-S1-C manual §5.3: 1-2, 5-6
     rig.write_ok(0x605A, 0, 5, 2)
 
 

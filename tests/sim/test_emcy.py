@@ -6,13 +6,15 @@ import pytest
 from canopen.objectdictionary import ObjectDictionary, ODArray, ODRecord, ODVariable
 from canopen.objectdictionary.datatypes import UNSIGNED8, UNSIGNED16, UNSIGNED32
 
-from servodesk_sim.abort_codes import READ_ONLY, VALUE_TOO_HIGH, SdoAbort
-from servodesk_sim.emcy import EmcyFormat, Fault, FaultManager, emcy_payload
+from servodesk_protocol.emcy import EmcyFormat
+from servodesk_protocol.sdo_abort import READ_ONLY, VALUE_TOO_HIGH
+from servodesk_sim.abort_codes import SdoAbort
+from servodesk_sim.emcy import Fault, FaultManager, emcy_payload
 from servodesk_sim.frames import frame
 from servodesk_sim.od_store import LengthCheck, ObjectStore
 
 NODE_ID = 1
-# MDi alarm 1 "超速" (seed 000 §4.1), classed as velocity controller 8400h
+# MDi alarm 1 "超速" (MDi-S1-C manual §4.1), classed as velocity controller 8400h
 MDI_OVERSPEED = Fault(code=1, emcy_code=0x8400, error_register=0x20)
 # Kinco: following error 8611h is 2600h:02 bit 2000h; motor encoder counting 0x00017305 is 8h
 KINCO_FOLLOWING = Fault(code=0x8611, emcy_code=0x8611, error_register=0x20, kinco_bits=0x2000)
@@ -55,11 +57,11 @@ def history(store: ObjectStore) -> list[int]:
 @pytest.mark.parametrize(
     ("fmt", "fault", "raised", "reset"),
     [
-        # seed 000 §2.7: 2 bytes, alarm number low byte first; reset = alarm 0
+        # MDi-S1-C manual §2.7: 2 bytes, alarm number low byte first; reset = alarm 0
         (EmcyFormat.ALARM_NUMBER, MDI_OVERSPEED, "01 00", "00 00"),
-        # seed 001 §5.6/§8: low 2 bytes of the 603Fh code, 6 unused bytes
+        # Kinco manual §5.6/§8: low 2 bytes of the 603Fh code, 6 unused bytes
         (EmcyFormat.KINCO, KINCO_ENCODER, "05 73 00 00 00 00 00 00", "00 00 00 00 00 00 00 00"),
-        # seed 003: code, 1001h (20h + generic bit), 5 manufacturer bytes; reset all zero
+        # Nanotec article: code, 1001h (20h + generic bit), 5 manufacturer bytes; reset all zero
         (EmcyFormat.CIA301, FOLLOWING, "11 86 21 00 00 00 00 00", "00 00 00 00 00 00 00 00"),
     ],
 )
@@ -83,7 +85,7 @@ def test_payload_builder_without_fault_objects() -> None:
 
 
 def test_persisting_fault_sends_one_emcy() -> None:
-    """seed 001 §5.6: a persisting fault generates one EMCY, again only after a reset."""
+    """Kinco manual §5.6: a persisting fault generates one EMCY, again only after a reset."""
     store = make_store()
     manager = FaultManager(store, EmcyFormat.CIA301, history=True, kinco_fault_bits=False)
     assert len(manager.raise_fault(FOLLOWING, 0.0, may_send=True)) == 1
@@ -122,7 +124,7 @@ def test_clear_without_fault_sends_nothing() -> None:
 
 
 def test_kinco_fault_bits() -> None:
-    """seed 001 §8: 2600h:02 shows one bit per active fault; 603Fh the latest code."""
+    """Kinco manual §8: 2600h:02 shows one bit per active fault; 603Fh the latest code."""
     store = make_store()
     manager = FaultManager(store, EmcyFormat.KINCO, history=False, kinco_fault_bits=True)
     manager.raise_fault(KINCO_FOLLOWING, 0.0, may_send=True)
@@ -169,7 +171,7 @@ def test_history_drops_the_oldest_when_full() -> None:
     ("sub", "value", "code"),
     [
         (0, 0, None),  # clears the history
-        (0, 1, VALUE_TOO_HIGH),  # seed 003 abort table: only 0 may be written
+        (0, 1, VALUE_TOO_HIGH),  # Nanotec article abort table: only 0 may be written
         (0, 2, VALUE_TOO_HIGH),
         (1, 0, READ_ONLY),
     ],

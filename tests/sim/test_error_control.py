@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from servodesk_sim.abort_codes import PARAMETER_INCOMPATIBLE as PARAM_INCOMPATIBLE
+from servodesk_protocol.nmt import NmtState
+from servodesk_protocol.sdo_abort import PARAMETER_INCOMPATIBLE as PARAM_INCOMPATIBLE
 from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.error_control import (
     HeartbeatConsumer,
@@ -13,7 +14,6 @@ from servodesk_sim.error_control import (
     consumer_entry,
 )
 from servodesk_sim.frames import Frame, frame
-from servodesk_sim.nmt_state import NmtState
 
 NODE = 4
 
@@ -37,7 +37,7 @@ def beats(
     [
         (NmtState.PRE_OPERATIONAL, "7F"),
         (NmtState.OPERATIONAL, "05"),
-        (NmtState.STOPPED, "04"),  # error control still runs in Stopped (seed 000 table 2.8)
+        (NmtState.STOPPED, "04"),  # error control still runs in Stopped (MDi-S1-C manual table 2.8)
     ],
 )
 def test_heartbeat_carries_the_state(state: NmtState, data: str) -> None:
@@ -105,13 +105,13 @@ def entry(node: int, time_ms: int) -> int:
     [(0x000100C8, (1, 200)), (0x007F0064, (127, 100)), (0xFF0200FA, (2, 250)), (0, (0, 0))],
 )
 def test_consumer_entry_layout(raw: int, decoded: tuple[int, int]) -> None:
-    assert consumer_entry(raw) == decoded  # seed 000 1016h: bits 16-23 node, 0-15 time
+    assert consumer_entry(raw) == decoded  # MDi-S1-C manual 1016h: bits 16-23 node, 0-15 time
 
 
 @pytest.mark.parametrize(
     ("entries", "refused"),
     [
-        ([entry(1, 200), entry(1, 300)], True),  # seed 000 1016h: two times for one node
+        ([entry(1, 200), entry(1, 300)], True),  # MDi-S1-C manual 1016h: two times for one node
         ([entry(1, 200), entry(2, 200)], False),
         ([entry(1, 200), entry(1, 0)], False),  # time 0: entry unused
         ([entry(0, 200), entry(0, 300)], False),  # node 0: entry unused
@@ -131,7 +131,7 @@ def test_validate_refuses_two_entries_for_one_node(entries: list[int], refused: 
 def test_monitoring_starts_at_the_first_heartbeat() -> None:
     consumer = HeartbeatConsumer()
     consumer.configure([entry(1, 200)])
-    assert consumer.poll(10.0) == []  # never heard: not monitored yet (seed 000 §2.3.2)
+    assert consumer.poll(10.0) == []  # never heard: not monitored yet (MDi-S1-C manual §2.3.2)
     consumer.on_heartbeat(1, 10.0)
     assert consumer.poll(10.2) == []  # exactly the consumer time: still fine
     assert consumer.poll(10.21) == [1]
@@ -193,7 +193,7 @@ def test_guarding_answer_toggles_starting_at_zero() -> None:
         guarding.on_rtr(NmtState.OPERATIONAL, NODE, 0.2),
         guarding.on_rtr(NmtState.STOPPED, NODE, 0.3),
     ]
-    # seed 000 table 2.11: bit 7 alternates, bits 6-0 the state
+    # MDi-S1-C manual table 2.11: bit 7 alternates, bits 6-0 the state
     assert answers == [
         frame(0x704, "7F"),
         frame(0x704, "FF"),

@@ -1,5 +1,5 @@
-"""Homing methods 17, 18, 23, 27, 35 as seed 000 §3.7.3 draws them: from outside and inside the
-switch, 23/27 reversing at a limit switch, errors, halt, and the statusword bits."""
+"""Homing methods 17, 18, 23, 27, 35 as MDi-S1-C manual §3.7.3 draws them: from outside and
+inside the switch, 23/27 reversing at a limit switch, errors, halt, and the statusword bits."""
 
 from __future__ import annotations
 
@@ -256,7 +256,7 @@ def test_reference_found_bit_15_on_kinco_only() -> None:
     kinco.enable(6)
     for rig in (mdi, kinco):
         assert not rig.statusword & 0x8000
-        rig.controlword(0x1F)  # Kinco: 6040h = 1Fh starts homing (seed 001 §5.4.6)
+        rig.controlword(0x1F)  # Kinco: 6040h = 1Fh starts homing (Kinco manual §5.4.6)
         rig.step()
     assert not mdi.statusword & 0x8000
     assert kinco.statusword & 0x8000

@@ -45,7 +45,7 @@ def node(request: pytest.FixtureRequest) -> Iterator[BaseNode402]:
 
 def configure_status_tpdo(master: BaseNode402) -> None:
     """Map statusword + mode display into TPDO1, event-driven with a 20 ms event timer, in the
-    order every profile accepts (seed 000 §2.5: invalidate, clear, map, count, validate).
+    order every profile accepts (MDi-S1-C manual §2.5: invalidate, clear, map, count, validate).
     python-canopen's BaseNode402 treats a TPDO it has seen twice in a row as periodic and then
     waits for the next one, so a master needs the event timer with event-driven TPDOs."""
     cob_id = 0x180 + NODE

@@ -1,5 +1,5 @@
 """Interpolated position: points on SYNC, linear spreading over 60C2h, one period of planning
-ahead (seed 000 figure 3.6), the 1–20 ms clamp, bit 4 / bit 12, and SYNC loss."""
+ahead (MDi-S1-C manual figure 3.6), the 1–20 ms clamp, bit 4 / bit 12, and SYNC loss."""
 
 from __future__ import annotations
 

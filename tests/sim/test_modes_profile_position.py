@@ -1,4 +1,4 @@
-"""Profile position: the set-point handshake of seed 000 §3.4.2 (both timings), relative
+"""Profile position: the set-point handshake of MDi-S1-C manual §3.4.2 (both timings), relative
 targets, halt, target reached, and the trapezoidal profile."""
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from servodesk_data.fault_kind import FaultKind
-from servodesk_sim.cia402 import Cia402State
+from servodesk_protocol.cia402 import Cia402State
 from servodesk_sim.motion import MotionConfig
 from tests.sim.motion_rig import CIA402_CONFIG, INC, MDI_CONFIG, REV, Rig
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
+from servodesk_protocol.nmt import NmtCommand, NmtState
 from servodesk_sim.frames import frame
 from servodesk_sim.nmt import NmtSlave
-from servodesk_sim.nmt_state import NmtCommand, NmtState
 
 NODE = 4
 
@@ -20,14 +20,14 @@ def booted() -> NmtSlave:
 def test_starts_initialising_and_boots_into_pre_operational() -> None:
     slave = NmtSlave()
     before = slave.state
-    assert slave.boot(NODE) == frame(0x704, "00")  # seed 003 boot-up: 700h+id, one byte 00
+    assert slave.boot(NODE) == frame(0x704, "00")  # Nanotec article boot-up: 700h+id, one byte 00
     assert (before, slave.state) == (NmtState.INITIALISING, NmtState.PRE_OPERATIONAL)
 
 
 @pytest.mark.parametrize(
     ("data", "command", "state"),
     [
-        # seed 000 table 2.7: 01 start, 02 stop, 80 pre-operational, 81/82 resets
+        # MDi-S1-C manual table 2.7: 01 start, 02 stop, 80 pre-operational, 81/82 resets
         ("01 04", NmtCommand.START, NmtState.OPERATIONAL),
         ("02 04", NmtCommand.STOP, NmtState.STOPPED),
         ("80 04", NmtCommand.ENTER_PRE_OPERATIONAL, NmtState.PRE_OPERATIONAL),

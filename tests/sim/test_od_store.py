@@ -10,7 +10,7 @@ import pytest
 from canopen.objectdictionary import ObjectDictionary, ODArray, ODRecord, ODVariable
 from canopen.objectdictionary import datatypes as dt
 
-from servodesk_sim.abort_codes import (
+from servodesk_protocol.sdo_abort import (
     CANNOT_STORE,
     DEVICE_STATE,
     GENERAL_ERROR,
@@ -23,8 +23,8 @@ from servodesk_sim.abort_codes import (
     VALUE_TOO_HIGH,
     VALUE_TOO_LOW,
     WRITE_ONLY,
-    SdoAbort,
 )
+from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.od_store import LengthCheck, ObjectStore, Value
 from servodesk_sim.values import ValueStore
 
@@ -80,7 +80,7 @@ def make_od() -> ObjectDictionary:
     _container(ODRecord("RPDO1 communication parameter", 0x1400), rpdo, od)
     mapping = [_var(0x1600, sub, dt.UNSIGNED32, "rw") for sub in range(3)]  # no sub 0 default
     _container(ODRecord("RPDO1 mapping parameter", 0x1600), mapping, od)
-    max_speed = _var(0x2006, 8, dt.UNSIGNED16, "rw", 6000, low=0, high=6000)  # seed 000 P-08
+    max_speed = _var(0x2006, 8, dt.UNSIGNED16, "rw", 6000, low=0, high=6000)  # MDi-S1-C manual P-08
     _container(
         ODRecord("obj_2006", 0x2006), [_var(0x2006, 0, dt.UNSIGNED8, "ro", 8), max_speed], od
     )
@@ -193,7 +193,7 @@ def test_signed_default_written_as_bit_pattern_reads_back_negative(tmp_path: Pat
         (0x1008, 0, b"DVS_CANOPEN"),
         (0x1010, 2, bytes.fromhex("01 00 00 00")),
         (0x1400, 1, bytes.fromhex("03 02 00 00")),
-        (0x2006, 8, bytes.fromhex("70 17")),  # seed 000 table 2.31
+        (0x2006, 8, bytes.fromhex("70 17")),  # MDi-S1-C manual table 2.31
         (0x2100, 0, bytes.fromhex("00 00 c0 3f")),  # REAL32 1.5
         (0x6041, 0, bytes.fromhex("50 02")),
     ],
@@ -241,9 +241,14 @@ def test_write_bytes_decodes_and_stores(index: int, data: bytes, value: Value) -
 @pytest.mark.parametrize(
     ("length_check", "index", "data", "code"),
     [
-        (LengthCheck.GENERIC, 0x60FF, bytes.fromhex("e8 03"), TYPE_MISMATCH),  # seed 000 t2.18
+        (
+            LengthCheck.GENERIC,
+            0x60FF,
+            bytes.fromhex("e8 03"),
+            TYPE_MISMATCH,
+        ),  # MDi-S1-C manual t2.18
         (LengthCheck.GENERIC, 0x6040, bytes.fromhex("0f 00 00 00"), TYPE_MISMATCH),
-        (LengthCheck.SPECIFIC, 0x60FF, bytes.fromhex("e8 03"), LENGTH_TOO_LOW),  # seed 003
+        (LengthCheck.SPECIFIC, 0x60FF, bytes.fromhex("e8 03"), LENGTH_TOO_LOW),  # Nanotec article
         (LengthCheck.SPECIFIC, 0x6040, bytes.fromhex("0f 00 00 00"), LENGTH_TOO_HIGH),
         (LengthCheck.SPECIFIC, 0x6060, b"", LENGTH_TOO_LOW),
         (LengthCheck.GENERIC, 0x1000, bytes(4), READ_ONLY),

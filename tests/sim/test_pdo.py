@@ -1,4 +1,4 @@
-"""PDO engine: exact PDO frames for the seed examples, remap rules, timing and RTR (pdo.py)."""
+"""PDO engine: exact PDO frames for the manual examples, remap rules, timing and RTR (pdo.py)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,9 @@ from dataclasses import dataclass, field, replace
 
 import pytest
 
-from servodesk_sim.abort_codes import (
+from servodesk_data.model import PdoRemapRule
+from servodesk_protocol.nmt import NmtState
+from servodesk_protocol.sdo_abort import (
     DEVICE_STATE,
     INVALID_VALUE,
     PDO_LENGTH_EXCEEDED,
@@ -14,9 +16,8 @@ from servodesk_sim.abort_codes import (
     VALUE_TOO_HIGH,
 )
 from servodesk_sim.frames import Frame, frame
-from servodesk_sim.nmt_state import NmtState
 from servodesk_sim.od_store import ObjectStore, Value
-from servodesk_sim.pdo import PdoEngine, PdoRules, RemapRule
+from servodesk_sim.pdo import PdoEngine, PdoRules
 from tests.sim.pdo_od import abort_of, make_store, write
 
 INVALID = 0x80000000
@@ -25,16 +26,17 @@ MDI = PdoRules(
     rpdo_count=4,
     tpdo_count=4,
     byte_granular=True,
-    remap_rule=RemapRule.WHILE_INVALID,
+    remap_rule=PdoRemapRule.WHILE_INVALID,
     rtr_transmission=False,
     fixed_cob_ids=4,
 )
-KINCO = replace(MDI, byte_granular=False)
+# Kinco profile.toml: byte-granular mapping (§5.4.3), free CAN ids (§5.1 note 1)
+KINCO = replace(MDI, remap_rule=PdoRemapRule.WHILE_UNMAPPED, fixed_cob_ids=0)
 CIA402 = PdoRules(
     rpdo_count=8,
     tpdo_count=8,
     byte_granular=False,
-    remap_rule=RemapRule.OUTSIDE_OPERATIONAL,
+    remap_rule=PdoRemapRule.OUTSIDE_OPERATIONAL,
     rtr_transmission=True,
     fixed_cob_ids=4,
     event_timer_restarts_on_send=False,
@@ -74,7 +76,7 @@ def configure(
     inhibit: int = 0,
     timer: int = 0,
 ) -> None:
-    """seed 000 §2.5: invalidate, clear the count, write entries, count, parameters, validate."""
+    """MDi-S1-C manual §2.5: invalidate, count 0, entries, count, parameters, validate."""
     mapping = comm + 0x200
     valid = (store.get(comm, 1) & ~INVALID) if cob_id is None else cob_id
     write(store, comm, 1, valid | INVALID)
@@ -89,10 +91,10 @@ def configure(
     write(store, comm, 1, valid)
 
 
-# ----------------------------------------------------------------------------- seed examples
+# ----------------------------------------------------------------------------- manual examples
 
 
-def test_seed000_mapping_procedure_then_operational() -> None:
+def test_mdi_manual_mapping_procedure_then_operational() -> None:
     rig = make_rig(MDI)
     rig.store.set(0x6041, 0, 0x0237)
     rig.store.set(0x6064, 0, -2)
@@ -104,9 +106,11 @@ def test_seed000_mapping_procedure_then_operational() -> None:
     assert rig.engine.poll(0.002) == [frame(0x181, "37 02 E8 03 00 00")]
 
 
-def test_seed001_tpdo1_example_count_3_exceeds_64_bits() -> None:
-    """seed 001 §5.4.4, as written: 6041h + 6063h + 60FDh = 10 bytes cannot be one PDO."""
-    rig = make_rig(replace(KINCO, remap_rule=RemapRule.UNRESTRICTED))
+def test_kinco_tpdo1_example_count_3_exceeds_64_bits() -> None:
+    """Kinco manual §5.4.4, as printed: the PDO stays valid (181h), type, inhibit time and
+    entries go in, then the count. 6041h + 6063h + 60FDh = 10 bytes cannot be one PDO (the
+    manual's own §5.4.3 limit of 8 bytes), so only the count 3 is refused."""
+    rig = make_rig(KINCO)
     store = rig.store
     assert abort_of(store, 0x1800, 1, 0x181) is None
     assert abort_of(store, 0x1800, 2, 0xFE) is None
@@ -117,7 +121,7 @@ def test_seed001_tpdo1_example_count_3_exceeds_64_bits() -> None:
     assert store.get(0x1A00, 0) == 0  # the refused count was not stored
     assert abort_of(store, 0x1A00, 0, 2) is None
     assert abort_of(store, 0x1A00, 1, 0x60410010) == UNSUPPORTED_ACCESS  # count is not 0
-    store.set(0x6041, 0, 0x4037)  # seed 001 §5.2 statusword example
+    store.set(0x6041, 0, 0x4037)  # Kinco manual §5.2 statusword example
     store.set(0x6063, 0, 0x12345678)
     assert rig.start() == [frame(0x181, "37 40 78 56 34 12")]
     store.set(0x6041, 0, 0x4031)
@@ -125,17 +129,20 @@ def test_seed001_tpdo1_example_count_3_exceeds_64_bits() -> None:
     assert rig.engine.poll(0.010) == [frame(0x181, "31 40 78 56 34 12")]
 
 
-def test_seed001_example_under_while_invalid() -> None:
-    """The same sequence on a WHILE_INVALID drive stops at the type: the PDO is still valid."""
-    rig = make_rig(KINCO)
-    assert abort_of(rig.store, 0x1800, 1, 0x181) is None
-    assert abort_of(rig.store, 0x1800, 2, 0xFE) == UNSUPPORTED_ACCESS
+@pytest.mark.parametrize(
+    ("rules", "code"),
+    [(KINCO, None), (MDI, UNSUPPORTED_ACCESS)],  # MDi: only while the PDO is invalid
+)
+def test_type_of_a_valid_pdo_per_rule(rules: PdoRules, code: int | None) -> None:
+    """The Kinco example's second write: type FEh while TPDO1 is valid."""
+    rig = make_rig(rules)
+    assert abort_of(rig.store, 0x1800, 2, 0xFE) == code
     assert abort_of(rig.store, 0x1800, 1, 0x80000181) is None
     assert abort_of(rig.store, 0x1800, 2, 0xFE) is None
 
 
-def test_seed000_sync_example() -> None:
-    """seed 000 §2.6.2: RPDO1 type 0, RPDO2 type 5, TPDO1 type 0, TPDO2 type 20."""
+def test_mdi_manual_sync_example() -> None:
+    """MDi-S1-C manual §2.6.2: RPDO1 type 0, RPDO2 type 5, TPDO1 type 0, TPDO2 type 20."""
     rig = make_rig(MDI)
     store, engine = rig.store, rig.engine
     configure(store, 0x1400, [0x60400010], ttype=0)
@@ -339,8 +346,8 @@ def test_inhibit_time_delays_a_change_until_it_expires() -> None:
 @pytest.mark.parametrize(
     ("restarts_on_send", "sends_at"),
     [
-        (True, [0.0, 0.010, 0.013, 0.023]),  # seed 000 §2.5.3 4): every send restarts it
-        (False, [0.0, 0.010, 0.013, 0.020]),  # seed 003 180Nh:05: only expiry restarts it
+        (True, [0.0, 0.010, 0.013, 0.023]),  # MDi-S1-C manual §2.5.3 4): every send restarts it
+        (False, [0.0, 0.010, 0.013, 0.020]),  # Nanotec article 180Nh:05: only expiry restarts it
     ],
 )
 def test_event_timer(restarts_on_send: bool, sends_at: list[float]) -> None:
@@ -426,7 +433,7 @@ def test_free_cob_id_takes_effect_per_rule(needs_reset: bool) -> None:
     rig.store.set(0x6041, 0, 0x0250)
     configure(rig.store, 0x1804, [0x60410010], ttype=255, cob_id=0x1A5)
     expected = [frame(0x1A5, "50 02")]
-    assert rig.start() == ([] if needs_reset else expected)  # seed 003: after a restart
+    assert rig.start() == ([] if needs_reset else expected)  # Nanotec article: after a restart
     rig.nmt(NmtState.PRE_OPERATIONAL)
     rig.engine.reset()  # reset communication (the store keeps the written value here)
     assert rig.start() == expected

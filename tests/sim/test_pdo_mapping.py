@@ -1,10 +1,11 @@
-"""Mapping entries, bit packing and COB-ID / transmission-type checks (pdo_mapping.py)."""
+"""Mapping entries, store values packed, COB-ID / transmission-type checks (pdo_mapping.py)."""
 
 from __future__ import annotations
 
 import pytest
 
-from servodesk_sim.abort_codes import (
+from servodesk_protocol.pdo import Direction, MapEntry, pack
+from servodesk_protocol.sdo_abort import (
     INVALID_VALUE,
     NO_OBJECT,
     NO_SUBINDEX,
@@ -12,17 +13,14 @@ from servodesk_sim.abort_codes import (
     PARAMETER_INCOMPATIBLE,
     PDO_LENGTH_EXCEEDED,
     VALUE_TOO_HIGH,
-    SdoAbort,
 )
+from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.pdo_mapping import (
-    Direction,
-    MapEntry,
     check_cob_id,
     check_count,
     check_entry,
     check_transmission_type,
-    pack,
-    unpack,
+    read_fields,
 )
 from tests.sim.pdo_od import make_store
 
@@ -46,7 +44,7 @@ TX = Direction.TRANSMIT
         (0x60400020, RX, False, PARAMETER_INCOMPATIBLE),  # 32 bits of a 16-bit object
         (0x21000001, RX, False, None),  # BOOLEAN as one bit
         (0x21000008, RX, False, None),  # BOOLEAN as one byte (python-canopen maps it so)
-        (0x21000001, RX, True, NOT_MAPPABLE),  # MDi: whole bytes only (seed 000 §5.2)
+        (0x21000001, RX, True, NOT_MAPPABLE),  # MDi: whole bytes only (MDi-S1-C manual §5.2)
         (0x21000008, RX, True, None),
         (0x21000002, RX, False, PARAMETER_INCOMPATIBLE),
     ],
@@ -86,7 +84,7 @@ def test_dummy_entries(dummies: bool, raw: int, code: int | None) -> None:
 @pytest.mark.parametrize(
     ("raws", "count", "code"),
     [
-        # seed 001 §5.4.4: 6041h (16) + 6063h (32) + 60FDh (32) = 80 bits > 64
+        # Kinco manual §5.4.4: 6041h (16) + 6063h (32) + 60FDh (32) = 80 bits > 64
         ([0x60410010, 0x60630020, 0x60FD0020], 3, PDO_LENGTH_EXCEEDED),
         ([0x60410010, 0x60630020, 0x60FD0020], 2, None),  # the first two: 48 bits
         ([0x60630020, 0x60FD0020], 2, None),  # exactly 64 bits
@@ -121,31 +119,12 @@ def test_count_checks(raws: list[int], count: int, code: int | None) -> None:
         ),
     ],
 )
-def test_pack(values: dict[int, int], raws: list[int], expected: str) -> None:
+def test_pack_store_values(values: dict[int, int], raws: list[int], expected: str) -> None:
     store = make_store()
     for index, value in values.items():
         store.set(index, 0, value)
     entries = tuple(MapEntry.from_raw(raw) for raw in raws)
-    assert pack(store, entries) == bytes.fromhex(expected)
-
-
-@pytest.mark.parametrize(
-    ("data", "raws", "expected"),
-    [
-        ("0F 00 E8 03 00 00", [0x60400010, 0x607A0020], [
-            (0x6040, "0F 00"), (0x607A, "E8 03 00 00")
-        ]),
-        ("FD 03", [0x21000001, 0x21010001, 0x21020001, 0x60600008], [
-            (0x2100, "01"), (0x2101, "00"), (0x2102, "01"), (0x6060, "7F")
-        ]),
-        # a dummy byte is skipped
-        ("AA 0F 00", [0x00050008, 0x60400010], [(0x6040, "0F 00")]),
-    ],
-)  # fmt: skip
-def test_unpack(data: str, raws: list[int], expected: list[tuple[int, str]]) -> None:
-    entries = tuple(MapEntry.from_raw(raw) for raw in raws)
-    got = [(entry.index, value) for entry, value in unpack(bytes.fromhex(data), entries)]
-    assert got == [(index, bytes.fromhex(hex_value)) for index, hex_value in expected]
+    assert pack(read_fields(store, entries)) == bytes.fromhex(expected)
 
 
 @pytest.mark.parametrize(

@@ -36,7 +36,7 @@ def make_od() -> ObjectDictionary:
     od.add_object(_var(0x1008, 0, dt.VISIBLE_STRING, "const", "DVS_CANOPEN"))  # Device name
     record = ODRecord("obj_2006", 0x2006)
     record.add_member(_var(0x2006, 0, dt.UNSIGNED8, "ro", 8))
-    record.add_member(_var(0x2006, 8, dt.UNSIGNED16, "rw", 6000))  # max speed, seed 000 P-08
+    record.add_member(_var(0x2006, 8, dt.UNSIGNED16, "rw", 6000))  # max speed, MDi-S1-C manual P-08
     od.add_object(record)
     od.add_object(_var(0x2007, 0, dt.UNSIGNED24, "rw", 0x123456))
     od.add_object(_var(0x2008, 0, dt.VISIBLE_STRING, "rw", ""))
@@ -68,9 +68,9 @@ def ask(server: SdoServer, request: str, now: float = 0.0) -> list[str]:
 # ---------------------------------------------------------------------------- manual examples
 
 
-def test_seed000_expedited_write_of_target_velocity() -> None:
+def test_mdi_manual_expedited_write_of_target_velocity() -> None:
     server, store = make()
-    # seed 000 tables 2.16 / 2.17: write 1000 to 60FFh on node 4
+    # MDi-S1-C manual tables 2.16 / 2.17: write 1000 to 60FFh on node 4
     assert ask(server, "23 FF 60 00 E8 03 00 00") == ["60 FF 60 00 00 00 00 00"]
     assert store.get(0x60FF) == 1000
 
@@ -78,11 +78,11 @@ def test_seed000_expedited_write_of_target_velocity() -> None:
 @pytest.mark.parametrize(
     ("length_check", "request_", "answer"),
     [
-        # seed 000 table 2.18: size mismatch on INTEGER32 60FFh -> 06070010
+        # MDi-S1-C manual table 2.18: size mismatch on INTEGER32 60FFh -> 06070010
         (LengthCheck.GENERIC, "2B FF 60 00 E8 03 00 00", "80 FF 60 00 10 00 07 06"),
         (LengthCheck.GENERIC, "2F FF 60 00 E8 00 00 00", "80 FF 60 00 10 00 07 06"),
         (LengthCheck.GENERIC, "23 40 60 00 0F 00 00 00", "80 40 60 00 10 00 07 06"),
-        # seed 003 error list: too short -> 06070013, too long -> 06070012
+        # Nanotec article error list: too short -> 06070013, too long -> 06070012
         (LengthCheck.SPECIFIC, "2B FF 60 00 E8 03 00 00", "80 FF 60 00 13 00 07 06"),
         (LengthCheck.SPECIFIC, "2F FF 60 00 E8 00 00 00", "80 FF 60 00 13 00 07 06"),
         (LengthCheck.SPECIFIC, "23 40 60 00 0F 00 00 00", "80 40 60 00 12 00 07 06"),
@@ -96,9 +96,9 @@ def test_expedited_write_with_wrong_size(
     assert (store.get(0x60FF), store.get(0x6040)) == (0, 0)
 
 
-def test_seed000_expedited_read_of_max_speed() -> None:
+def test_mdi_manual_expedited_read_of_max_speed() -> None:
     server, _ = make()
-    # seed 000 tables 2.30 / 2.31: 2006h:08 = 6000 rpm = 1770h
+    # MDi-S1-C manual tables 2.30 / 2.31: 2006h:08 = 6000 rpm = 1770h
     assert ask(server, "40 06 20 08 00 00 00 00") == ["4B 06 20 08 70 17 00 00"]
 
 
@@ -113,15 +113,15 @@ def test_seed000_expedited_read_of_max_speed() -> None:
         (True, "FF 06 20 08 00 00 00 00"),
     ],
 )
-def test_seed000_unknown_command_aborts_05040001(block: bool, request_: str) -> None:
+def test_mdi_manual_unknown_command_aborts_05040001(block: bool, request_: str) -> None:
     server, _ = make(block=block)
-    # seed 000 table 2.32
+    # MDi-S1-C manual table 2.32
     assert ask(server, request_) == ["80 06 20 08 01 00 04 05"]
 
 
-def test_seed000_segmented_read_of_device_name() -> None:
+def test_mdi_manual_segmented_read_of_device_name() -> None:
     server, _ = make()
-    # seed 000 table 2.33: 41h + size 11
+    # MDi-S1-C manual table 2.33: 41h + size 11
     assert ask(server, "40 08 10 00 00 00 00 00") == ["41 08 10 00 0B 00 00 00"]
     # table 2.34: toggle 0 -> 00h + 7 bytes "DVS_CAN"
     assert ask(server, "60 00 00 00 00 00 00 00") == ["00 44 56 53 5F 43 41 4E"]
@@ -131,12 +131,12 @@ def test_seed000_segmented_read_of_device_name() -> None:
     assert ask(server, "60 00 00 00 00 00 00 00") == ["80 00 00 00 01 00 04 05"]
 
 
-def test_seed001_read_statusword() -> None:
+def test_kinco_manual_read_statusword() -> None:
     server, _ = make()
     assert ask(server, "40 41 60 00 00 00 00 00") == ["4B 41 60 00 40 02 00 00"]
 
 
-def test_seed003_write_target_position() -> None:
+def test_nanotec_article_write_target_position() -> None:
     server, store = make(LengthCheck.SPECIFIC)
     assert ask(server, "23 7A 60 00 E8 03 00 00") == ["60 7A 60 00 00 00 00 00"]
     assert store.get(0x607A) == 1000

@@ -473,7 +473,7 @@ def test_the_cli_serves_drives_to_another_process() -> None:
             mdi = network.add_node(4, str(servodesk_data.eds_path("mdi-s1c")))
             kinco = network.add_node(5, str(servodesk_data.eds_path("kinco")))
             assert mdi.sdo[0x1008].raw == "DVS_CANOPEN"
-            assert mdi.sdo[0x2006][8].raw == 6000  # max speed (seed 000 table 2.31)
+            assert mdi.sdo[0x2006][8].raw == 6000  # max speed (MDi-S1-C manual table 2.31)
             assert kinco.sdo[0x6041].raw & 0x4F == 0x40  # switch on disabled
         finally:
             network.disconnect()

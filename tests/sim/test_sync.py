@@ -6,7 +6,8 @@ import pytest
 from canopen.objectdictionary import ObjectDictionary, ODVariable
 from canopen.objectdictionary.datatypes import UNSIGNED8, UNSIGNED32
 
-from servodesk_sim.abort_codes import DEVICE_STATE, INVALID_VALUE, VALUE_TOO_LOW, SdoAbort
+from servodesk_protocol.sdo_abort import DEVICE_STATE, INVALID_VALUE, VALUE_TOO_LOW
+from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.frames import Frame, frame
 from servodesk_sim.od_store import LengthCheck, ObjectStore
 from servodesk_sim.sync import SyncProducer, SyncRules, sync_counter
@@ -25,7 +26,7 @@ def _var(index: int, data_type: int, default: int) -> ODVariable:
 
 def make_store(*, counter: bool = True) -> ObjectStore:
     od = ObjectDictionary()  # type: ignore[no-untyped-call]  # canopen leaves it unannotated
-    od.add_object(_var(0x1005, UNSIGNED32, 0x80))  # COB-ID SYNC (seed 000 §5.2 factory 80h)
+    od.add_object(_var(0x1005, UNSIGNED32, 0x80))  # COB-ID SYNC (MDi-S1-C manual §5.2 factory 80h)
     od.add_object(_var(0x1006, UNSIGNED32, 0))  # Communication cycle period
     if counter:
         od.add_object(_var(0x1019, UNSIGNED8, 0))  # Synchronous counter overflow value
@@ -49,8 +50,8 @@ def run(producer: SyncProducer, times: list[float]) -> list[tuple[float, Frame]]
     return out
 
 
-def test_seed000_producer_procedure() -> None:
-    """seed 000 §2.6: 1005h = 80h, 1006h = period, 1005h = 40000080h."""
+def test_mdi_manual_producer_procedure() -> None:
+    """MDi-S1-C manual §2.6: 1005h = 80h, 1006h = period, 1005h = 40000080h."""
     store = make_store()
     producer = SyncProducer(store, MDI)
     assert abort_of(store, 0x1005, 0x80) is None
@@ -66,7 +67,7 @@ def test_seed000_producer_procedure() -> None:
     [
         (MDI, 0x1005, 0x40000080, DEVICE_STATE),  # producer on while 1006h = 0
         (CIA402, 0x1005, 0x40000080, None),
-        (MDI, 0x1006, 499, VALUE_TOO_LOW),  # seed 000 §2.6 note: not below 500 µs
+        (MDI, 0x1006, 499, VALUE_TOO_LOW),  # MDi-S1-C manual §2.6 note: not below 500 µs
         (MDI, 0x1006, 1, VALUE_TOO_LOW),
         (MDI, 0x1006, 500, None),
         (MDI, 0x1006, 0, None),

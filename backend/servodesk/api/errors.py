@@ -26,11 +26,13 @@ from servodesk.errors import (
     InvalidValueError,
     NodeNotFoundError,
     NodeStoppedError,
+    PdoApplyError,
+    PdoInvalidError,
     RequestInterruptedError,
     SdoAbortError,
     ServodeskError,
 )
-from servodesk.models import ErrorBody
+from servodesk.models import ErrorBody, PdoProblem
 from servodesk.sdo.jobs import JobNotFoundError
 
 log = logging.getLogger(__name__)
@@ -46,15 +48,22 @@ HTTP_ERRORS = {
 
 def error_response(error: ServodeskError) -> JSONResponse:
     status, body = _describe(error)
-    return body_response(status, body)
+    # pdo_apply_failed always names its abort code, null when the step failed otherwise
+    keep = ("abort_code",) if isinstance(error, PdoApplyError) else ()
+    return body_response(status, body, keep=keep)
 
 
 def body_response(
-    status: int, body: ErrorBody, headers: dict[str, str] | None = None
+    status: int,
+    body: ErrorBody,
+    headers: dict[str, str] | None = None,
+    *,
+    keep: tuple[str, ...] = (),
 ) -> JSONResponse:
-    return JSONResponse(
-        status_code=status, content=body.model_dump(exclude_none=True), headers=headers
-    )
+    content = body.model_dump(exclude_none=True)
+    for name in keep:
+        content.setdefault(name, None)
+    return JSONResponse(status_code=status, content=content, headers=headers)
 
 
 def _describe(error: ServodeskError) -> tuple[int, ErrorBody]:
@@ -66,6 +75,15 @@ def _describe(error: ServodeskError) -> tuple[int, ErrorBody]:
             node=error.node_id,
             index=error.index,
             subindex=error.subindex,
+        )
+    if isinstance(error, PdoApplyError):
+        return 409, ErrorBody(
+            error="pdo_apply_failed",
+            message=str(error),
+            abort_code=error.code_hex,
+            node=error.node_id,
+            step=error.step,
+            restored=error.restored,
         )
     if isinstance(error, NodeStoppedError):
         return 409, ErrorBody(error="node_stopped", message=str(error), node=error.node_id)
@@ -79,6 +97,9 @@ def _describe(error: ServodeskError) -> tuple[int, ErrorBody]:
         return 404, ErrorBody(error="node_not_found", message=str(error), node=error.node_id)
     if isinstance(error, BusNotConnectedError):
         return 503, ErrorBody(error="bus_not_connected", message=str(error))
+    if isinstance(error, PdoInvalidError):
+        problems = [PdoProblem.model_validate(p, from_attributes=True) for p in error.problems]
+        return 422, ErrorBody(error="invalid_value", message=str(error), problems=problems)
     if isinstance(error, InvalidValueError):
         return 422, ErrorBody(error="invalid_value", message=str(error))
     if isinstance(error, IdentityMismatchError):
@@ -147,6 +168,12 @@ NODE_ERRORS: dict[int | str, dict[str, object]] = {
     409: _error("SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped)"),
     503: _error("Bus not connected, or the connection was renewed during the request"),
     504: _error("Node did not answer"),
+}
+PDO_APPLY_ERRORS: dict[int | str, dict[str, object]] = {
+    409: _error(
+        "pdo_apply_failed: the device refused a step (step, abort_code, restored); the previous "
+        "PDOs were restored. Also an SDO abort while reading, or the node is Stopped"
+    ),
 }
 CONFIRM_ERRORS: dict[int | str, dict[str, object]] = {
     428: _error("Needs confirmation: send again with confirm=true"),

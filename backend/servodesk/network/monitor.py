@@ -25,15 +25,13 @@ from servodesk.models import LiveEvent, NmtStateName
 from servodesk.network.health import Evidence, Health, assess
 from servodesk.network.nmt import BOOT_UP
 from servodesk.settings import Settings
+from servodesk_protocol import cob_id
 
 log = logging.getLogger(__name__)
 
 TICK = 0.2  # s between health evaluations (the WebSocket sends node states at 5 Hz)
-FUNCTION_MASK = 0x780  # 11-bit COB-ID = function code (bits 7–10) + node id (bits 0–6)
-NODE_MASK = 0x7F
-HEARTBEAT = 0x700  # NMT error control: heartbeat, boot-up, node guarding answer
 # frames only the node itself sends: EMCY, TPDO1–4 (default COB-IDs), SDO answers
-SIGNS_OF_LIFE = frozenset({0x080, 0x180, 0x280, 0x380, 0x480, 0x580})
+SIGNS_OF_LIFE = frozenset({cob_id.EMCY, *cob_id.TPDOS, cob_id.SDO_TX})
 
 Clock = Callable[[], float]
 EventKind = Literal["boot-up", "node-lost", "node-back", "nmt", "bus"]  # LiveEvent.kind
@@ -51,11 +49,10 @@ class FrameWatch(can.Listener):
     def on_message_received(self, msg: can.Message) -> None:
         if msg.is_error_frame or msg.is_remote_frame or msg.is_extended_id:
             return
-        node = msg.arbitration_id & NODE_MASK
+        function, node = cob_id.split(msg.arbitration_id)
         if node == 0:
             return
-        function = msg.arbitration_id & FUNCTION_MASK
-        if function == HEARTBEAT:
+        if function == cob_id.HEARTBEAT:
             if not msg.data:
                 return
             now = self._clock()

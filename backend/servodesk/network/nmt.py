@@ -12,15 +12,17 @@ from types import MappingProxyType
 import canopen
 
 from servodesk.models import NmtCommandName, NmtStateName
+from servodesk_protocol import nmt
+from servodesk_protocol.nmt import NmtCommand, NmtState
 
 # command specifier byte of the NMT frame (COB-ID 000h: [cs, node id])
 COMMAND_SPECIFIER: Mapping[NmtCommandName, int] = MappingProxyType(
     {
-        NmtCommandName.START: 0x01,
-        NmtCommandName.STOP: 0x02,
-        NmtCommandName.PRE_OPERATIONAL: 0x80,
-        NmtCommandName.RESET_NODE: 0x81,
-        NmtCommandName.RESET_COMMUNICATION: 0x82,
+        NmtCommandName.START: NmtCommand.START,
+        NmtCommandName.STOP: NmtCommand.STOP,
+        NmtCommandName.PRE_OPERATIONAL: NmtCommand.ENTER_PRE_OPERATIONAL,
+        NmtCommandName.RESET_NODE: NmtCommand.RESET_NODE,
+        NmtCommandName.RESET_COMMUNICATION: NmtCommand.RESET_COMMUNICATION,
     }
 )
 
@@ -35,23 +37,23 @@ STATE_AFTER: Mapping[NmtCommandName, NmtStateName] = MappingProxyType(
     }
 )
 
-BOOT_UP = 0x00  # heartbeat state byte of the boot-up frame
-# heartbeat / node-guarding state byte (bit 7, the guarding toggle, masked off) -> state
-_STATE_BYTES: Mapping[int, NmtStateName] = MappingProxyType(
+BOOT_UP = int(nmt.BOOT_UP)  # heartbeat state byte of the boot-up frame
+# heartbeat / node-guarding state (the guarding toggle masked off) -> the tool's state name;
+# a boot-up is sent on entering Pre-operational, so it means the node is now Pre-operational
+_STATE_NAMES: Mapping[NmtState, NmtStateName] = MappingProxyType(
     {
-        0x04: NmtStateName.STOPPED,
-        0x05: NmtStateName.OPERATIONAL,
-        0x7F: NmtStateName.PRE_OPERATIONAL,
+        NmtState.INITIALISING: NmtStateName.PRE_OPERATIONAL,
+        NmtState.STOPPED: NmtStateName.STOPPED,
+        NmtState.OPERATIONAL: NmtStateName.OPERATIONAL,
+        NmtState.PRE_OPERATIONAL: NmtStateName.PRE_OPERATIONAL,
     }
 )
 
 
 def state_from_byte(value: int) -> NmtStateName:
     """The NMT state a heartbeat reports; a boot-up means the node is now Pre-operational."""
-    value &= 0x7F
-    if value == BOOT_UP:
-        return NmtStateName.PRE_OPERATIONAL  # boot-up is sent on entering Pre-operational
-    return _STATE_BYTES.get(value, NmtStateName.UNKNOWN)
+    state = nmt.parse_state(value)
+    return NmtStateName.UNKNOWN if state is None else _STATE_NAMES[state]
 
 
 def send_to_node(remote: canopen.RemoteNode, command: NmtCommandName) -> None:

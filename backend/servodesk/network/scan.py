@@ -13,8 +13,8 @@ from collections.abc import Iterable
 import can
 import canopen
 
-SDO_RX_BASE = 0x600  # client -> server (request)
-SDO_TX_BASE = 0x580  # server -> client (response)
+from servodesk_protocol import cob_id
+
 # initiate upload, 1000h:00 Device type (CiA 301 §7.2.4.3.6); every CANopen node has 1000h
 UPLOAD_DEVICE_TYPE = bytes([0x40, 0x00, 0x10, 0x00, 0x00, 0x00, 0x00, 0x00])
 NODE_IDS = range(1, 128)
@@ -24,12 +24,12 @@ class SweepListener(can.Listener):
     """Collects the node ids that answered on 580h+id while it is attached."""
 
     def __init__(self, ids: Iterable[int]) -> None:
-        self._wanted = frozenset(SDO_TX_BASE + node for node in ids)
+        self._wanted = frozenset(cob_id.SDO_TX + node for node in ids)
         self.found: set[int] = set()
 
     def on_message_received(self, msg: can.Message) -> None:
         if msg.arbitration_id in self._wanted and not (msg.is_remote_frame or msg.is_error_frame):
-            self.found.add(msg.arbitration_id - SDO_TX_BASE)
+            self.found.add(msg.arbitration_id - cob_id.SDO_TX)
 
     def stop(self) -> None:
         """Nothing to release."""
@@ -38,4 +38,4 @@ class SweepListener(can.Listener):
 def send_sweep(network: canopen.Network, ids: Iterable[int]) -> None:
     """Send the 1000h upload request to every id in `ids`, back to back (blocking)."""
     for node in ids:
-        network.send_message(SDO_RX_BASE + node, UPLOAD_DEVICE_TYPE)
+        network.send_message(cob_id.SDO_RX + node, UPLOAD_DEVICE_TYPE)

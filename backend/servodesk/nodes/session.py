@@ -4,14 +4,20 @@ blocking call to it runs on (DESIGN rule 1).
 canopen's SDO client blocks (it polls and sleeps) and has no lock: two callers on one node steal
 each other's replies. So all calls to a node go through `NodeSession.run`, which runs them one at
 a time on that node's own thread, off the event loop, and turns canopen's exceptions into ours.
+
+A multi-step change (PDO apply, DCF load) takes the node for itself with `exclusive()`: while
+it runs, other callers' requests wait at the session's gate and none slips in between its steps
+(see `Transaction`).
 """
 
 from __future__ import annotations
 
 import asyncio
+import contextvars
 import functools
-from collections.abc import Callable
+from collections.abc import AsyncIterator, Callable
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import asynccontextmanager
 from typing import TypeVar
 
 import can
@@ -31,6 +37,57 @@ T = TypeVar("T")
 WRITE_ONLY = 0x06010001  # SDO abort: attempt to read a write-only object
 CLOSED = "the connection to it was renewed (bus reconnected or node moved) while the request waited"
 
+# The transactions the running task (and the tasks it starts) is inside: their own requests
+# pass the gate that holds everyone else's back. A task that outlives the transaction it was
+# started in finds it closed and waits like everyone else.
+_HELD: contextvars.ContextVar[tuple[Transaction, ...]] = contextvars.ContextVar(
+    "servodesk_transactions", default=()
+)
+
+
+class Transaction:
+    """A node taken for one multi-step change (`NodeSession.exclusive`).
+
+    Its requests run in order with nothing from other callers in between; `actor` names who
+    acts, for the audit log. Calls made through the session itself from inside the transaction
+    (by helpers that take a session) pass too: being inside is a property of the running task.
+    """
+
+    def __init__(self, session: NodeSession, actor: str | None) -> None:
+        self.session = session
+        self.actor = actor
+        self.open = True
+
+    @property
+    def node_id(self) -> int:
+        return self.session.node_id
+
+    def _live(self) -> NodeSession:
+        if not self.open:
+            raise RuntimeError("the transaction has ended")  # a bug of ours, not the user's
+        return self.session
+
+    async def run(
+        self,
+        fn: Callable[[canopen.RemoteNode], T],
+        *,
+        what: str,
+        index: int = 0,
+        subindex: int = 0,
+    ) -> T:
+        return await self._live().run(fn, what=what, index=index, subindex=subindex)
+
+    async def upload(self, index: int, subindex: int) -> bytes:
+        return await self._live().upload(index, subindex)
+
+    async def download(self, index: int, subindex: int, data: bytes) -> None:
+        await self._live().download(index, subindex, data)
+
+    async def write_and_read(
+        self, index: int, subindex: int, data: bytes, *, read_back: bool
+    ) -> bytes | None:
+        return await self._live().write_and_read(index, subindex, data, read_back=read_back)
+
 
 class NodeSession:
     """Serialized, off-loop access to one remote node."""
@@ -43,10 +100,43 @@ class NodeSession:
         remote.sdo.RESPONSE_TIMEOUT = sdo_timeout
         self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix=f"node{remote.id}")
         self._closed = False
+        # Held by a transaction for its whole run; every other request passes it only to be
+        # queued (FIFO, so requests keep their order). A priority stop (a later issue) must
+        # not wait here nor behind the worker's queue: it would bypass this gate, go to the
+        # front of the worker's queue (a two-lane queue instead of ThreadPoolExecutor's FIFO),
+        # run between two steps of a transaction, and mark the transaction interrupted so it
+        # restores what it changed instead of continuing.
+        self._gate = asyncio.Lock()
 
     @property
     def node_id(self) -> int:
         return self._node_id
+
+    def _inside(self) -> bool:
+        return any(tx.session is self and tx.open for tx in _HELD.get())
+
+    @asynccontextmanager
+    async def exclusive(self, actor: str | None = None) -> AsyncIterator[Transaction]:
+        """Take the node for a multi-step change: requests already queued finish first, later
+        ones from other callers wait until the block ends. Nested use inside the same
+        transaction (a DCF load applying PDOs) joins it instead of waiting for itself."""
+        if self._inside():
+            nested = Transaction(self, actor)
+            try:
+                yield nested
+            finally:
+                nested.open = False
+            return
+        async with self._gate:
+            if self._closed:
+                raise RequestInterruptedError(self.node_id, CLOSED)
+            tx = Transaction(self, actor)
+            token = _HELD.set((*_HELD.get(), tx))
+            try:
+                yield tx
+            finally:
+                tx.open = False
+                _HELD.reset(token)
 
     async def run(
         self,
@@ -65,7 +155,15 @@ class NodeSession:
             raise RequestInterruptedError(self.node_id, CLOSED)
         loop = asyncio.get_running_loop()
         call = functools.partial(self._call, fn, what, index, subindex)
-        return await loop.run_in_executor(self._executor, call)
+        if self._inside():
+            return await loop.run_in_executor(self._executor, call)
+        # Outside a transaction: wait while one holds the node, then queue (without holding
+        # the gate while the call runs, so requests still pipeline on the worker).
+        async with self._gate:
+            if self._closed:
+                raise RequestInterruptedError(self.node_id, CLOSED)
+            pending = loop.run_in_executor(self._executor, call)
+        return await pending
 
     async def upload(self, index: int, subindex: int) -> bytes:
         """SDO upload (read) of one entry's raw bytes."""

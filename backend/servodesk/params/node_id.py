@@ -26,8 +26,8 @@ from servodesk.params.service import SAVE_ALL, SAVE_SIGNATURE, STORE_PARAMETERS
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
 from servodesk_data import DriveData, NodeIdSource, ObjectRef, format_object_ref
+from servodesk_protocol import cob_id
 
-BOOT_UP = 0x700  # NMT error control COB-ID base: boot-up and heartbeat
 MIN_NODE_ID = 1
 MAX_NODE_ID = 127
 STORED = 'Stored the parameters (1010h:01 = "save")'
@@ -64,18 +64,20 @@ class NodeIdService:
             )
         index, subindex = ref
         steps: list[str] = []
-        await self._sdo.write(node, index, subindex, value)
-        steps.append(f"Wrote {object_label(data, ref)} = {value}{how}")
-        await self._store(node)
-        steps.append(STORED)
-        # Listen before resetting: the boot-up at the new id may follow the reset at once.
-        waiter = asyncio.create_task(self._access.wait_boot(new, self._settings.boot_wait))
-        await asyncio.sleep(0)  # let the waiter subscribe
-        try:
-            await self._access.nmt(node, NmtCommandName.RESET_NODE)
-        except BaseException:
-            waiter.cancel()
-            raise
+        # write, store and reset as one transaction: no other request lands in between
+        async with self._access.session(node).exclusive():
+            await self._sdo.write(node, index, subindex, value)
+            steps.append(f"Wrote {object_label(data, ref)} = {value}{how}")
+            await self._store(node)
+            steps.append(STORED)
+            # Listen before resetting: the boot-up at the new id may follow the reset at once.
+            waiter = asyncio.create_task(self._access.wait_boot(new, self._settings.boot_wait))
+            await asyncio.sleep(0)  # let the waiter subscribe
+            try:
+                await self._access.nmt(node, NmtCommandName.RESET_NODE)
+            except BaseException:
+                waiter.cancel()
+                raise
         steps.append(f"Reset node {node} (NMT reset node)")
         if not await waiter:
             raise CommTimeoutError(
@@ -83,7 +85,7 @@ class NodeIdService:
                 f"the reset: no boot-up within {self._settings.boot_wait:g} s. The new id is "
                 f"written and stored; power-cycle the drive and scan the bus",
             )
-        steps.append(f"Node {new} booted (boot-up message {BOOT_UP + new:03X}h)")
+        steps.append(f"Node {new} booted (boot-up message {cob_id.HEARTBEAT + new:03X}h)")
         info = await self._access.move(node, new)
         steps.append(f"ServoDesk now talks to the drive as node {new}")
         return NodeIdChangeResult(old_node=node, new_node=new, steps=steps, node=info)

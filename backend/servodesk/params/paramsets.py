@@ -27,6 +27,8 @@ from servodesk.od.model import Value
 from servodesk.od.parser import OdParser
 from servodesk.params.dcf_identity import check_identity
 from servodesk.params.dcf_order import Write, plan_writes, skip_reason
+from servodesk.pdo.file_values import apply_file_values, is_pdo_entry
+from servodesk.pdo.service import PdoService
 from servodesk.sdo import codec
 from servodesk.sdo.bulk import BulkOutcome, EntryRead, as_entry_read, read_entries
 from servodesk.sdo.jobs import readable_entries
@@ -104,9 +106,17 @@ def _fits(sub: OdSub, value: Value) -> bool:
 
 
 class ParamSetService:
-    def __init__(self, access: NodeAccess, parser: OdParser | None = None) -> None:
+    def __init__(
+        self,
+        access: NodeAccess,
+        parser: OdParser | None = None,
+        pdos: PdoService | None = None,
+    ) -> None:
         self._access = access
         self._parser = parser or OdParser()
+        # PDO parameters go through the PDO service's transactional apply; without one (tests
+        # of the plain write order) they are written in dcf_order's order
+        self._pdos = pdos
 
     async def _load_file(self, data: bytes, filename: str, node: int) -> ObjectDictionaryModel:
         return await self._parser.parse(data, filename, node_id=node)
@@ -176,13 +186,27 @@ class ParamSetService:
                 continue
             values[key] = value
         failed: dict[Key, DcfFailure] = {}
-        written, stalled = await self._write_plan(session, target, plan_writes(values), failed)
-        differences: list[DcfDifference] = []
-        if stalled:
-            for key in values.keys() - written - failed.keys():
-                failed[key] = self._failure(target, key, None, NOT_WRITTEN)
-        else:
-            differences = await self._differences(node, session, target, values, written)
+        # the whole set is one transaction on the node: nothing else slips in between
+        async with session.exclusive():
+            pdo_values: dict[Key, Value] = {}
+            if self._pdos is not None:
+                pdo_values = {key: v for key, v in values.items() if is_pdo_entry(key[0])}
+            plain = {key: v for key, v in values.items() if key not in pdo_values}
+            written, stalled = await self._write_plan(session, target, plan_writes(plain), failed)
+            if pdo_values and self._pdos is not None and not stalled:
+                outcome = await apply_file_values(self._pdos, node, pdo_values)
+                written |= outcome.written
+                skipped += len(outcome.skipped)
+                for key, (code, message) in outcome.failed.items():
+                    failed[key] = self._failure(target, key, code, message)
+                for key in outcome.skipped:
+                    del values[key]
+            differences: list[DcfDifference] = []
+            if stalled:
+                for key in values.keys() - written - failed.keys():
+                    failed[key] = self._failure(target, key, None, NOT_WRITTEN)
+            else:
+                differences = await self._differences(node, session, target, values, written)
         return DcfLoadResult(
             identity=identity,
             written=len(written),

@@ -21,6 +21,23 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/bus-load": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Bus Load */
+        get: operations["bus_load_api_bus_load_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/bus/connect": {
         parameters: {
             query?: never;
@@ -350,6 +367,94 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/nodes/{node}/pdos": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Read Pdos */
+        get: operations["read_pdos_api_nodes__node__pdos_get"];
+        /** Apply Pdos */
+        put: operations["apply_pdos_api_nodes__node__pdos_put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/pdos/export": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Export Pdos */
+        get: operations["export_pdos_api_nodes__node__pdos_export_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/pdos/live": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Live */
+        get: operations["live_api_nodes__node__pdos_live_get"];
+        put?: never;
+        /** Start Live */
+        post: operations["start_live_api_nodes__node__pdos_live_post"];
+        /** Stop Live */
+        delete: operations["stop_live_api_nodes__node__pdos_live_delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/pdos/recommended": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Recommended Pdos */
+        get: operations["recommended_pdos_api_nodes__node__pdos_recommended_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/pdos/validate": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Validate Pdos */
+        post: operations["validate_pdos_api_nodes__node__pdos_validate_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/nodes/{node}/restore-defaults": {
         parameters: {
             query?: never;
@@ -564,6 +669,27 @@ export interface components {
              */
             simulated: boolean;
         };
+        /** BusLoadResult */
+        BusLoadResult: {
+            /** Bitrate */
+            bitrate: number;
+            /** Nodes */
+            nodes: components["schemas"]["NodeLoadModel"][];
+            /** Notes */
+            notes: string[];
+            /** Over Threshold */
+            over_threshold: boolean;
+            /** Percent */
+            percent: number;
+            /** Sync Bits Per S */
+            sync_bits_per_s: number;
+            /** Sync Period Us */
+            sync_period_us: number | null;
+            /** Threshold Percent */
+            threshold_percent: number;
+            /** Total Bits Per S */
+            total_bits_per_s: number;
+        };
         /**
          * BusState
          * @enum {string}
@@ -706,6 +832,12 @@ export interface components {
             message: string;
             /** Node */
             node?: number | null;
+            /** Problems */
+            problems?: components["schemas"]["PdoProblem"][] | null;
+            /** Restored */
+            restored?: boolean | null;
+            /** Step */
+            step?: string | null;
             /** Subindex */
             subindex?: number | null;
         };
@@ -829,6 +961,58 @@ export interface components {
              */
             severity: "info" | "warning" | "error";
         };
+        /** LiveCheck */
+        LiveCheck: {
+            /** Active */
+            active: boolean;
+            /** Node */
+            node: number;
+            /** Pdos */
+            pdos: components["schemas"]["LivePdo"][];
+            /** Since */
+            since?: number | null;
+        };
+        /** LivePdo */
+        LivePdo: {
+            /** Age Ms */
+            age_ms?: number | null;
+            /** Cob Id */
+            cob_id: number;
+            /** Frames */
+            frames: number;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "rpdo" | "tpdo";
+            /** Number */
+            number: number;
+            /** Rate Hz */
+            rate_hz: number;
+            /** Values */
+            values: components["schemas"]["LiveValue"][];
+        };
+        /** LiveValue */
+        LiveValue: {
+            /** Index */
+            index: number;
+            /** Name */
+            name?: string | null;
+            /**
+             * Raw
+             * @default
+             */
+            raw: string;
+            /** Subindex */
+            subindex: number;
+            /**
+             * Unit
+             * @default
+             */
+            unit: string;
+            /** Value */
+            value?: number | string | null;
+        };
         /** MessageResult */
         MessageResult: {
             /** Message */
@@ -919,6 +1103,17 @@ export interface components {
             serial?: number | null;
             /** Vendor Id */
             vendor_id?: number | null;
+        };
+        /** NodeLoadModel */
+        NodeLoadModel: {
+            /** Bits Per S */
+            bits_per_s: number;
+            /** Node */
+            node: number;
+            /** Pdos */
+            pdos: components["schemas"]["PdoLoadModel"][];
+            /** Percent */
+            percent: number;
         };
         /** OdCheckResult */
         OdCheckResult: {
@@ -1060,6 +1255,145 @@ export interface components {
             /** Requires Store */
             requires_store: boolean;
         };
+        /**
+         * Pdo
+         * @description One RPDO/TPDO as the device has it (GET) or as it is to be (PUT).
+         */
+        Pdo: {
+            /** Cob Id */
+            cob_id: number;
+            /** Event Timer Ms */
+            event_timer_ms: number;
+            /** Inhibit Time 100Us */
+            inhibit_time_100us: number;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "rpdo" | "tpdo";
+            /** Mapping */
+            mapping: components["schemas"]["PdoMappedObject"][];
+            /** Number */
+            number: number;
+            /** Sync Start */
+            sync_start: number;
+            /**
+             * Transmission
+             * @default
+             */
+            transmission: string;
+            /** Transmission Type */
+            transmission_type: number;
+            /** Valid */
+            valid: boolean;
+        };
+        /** PdoIn */
+        PdoIn: {
+            /** Cob Id */
+            cob_id: number;
+            /**
+             * Event Timer Ms
+             * @default 0
+             */
+            event_timer_ms: number;
+            /**
+             * Inhibit Time 100Us
+             * @default 0
+             */
+            inhibit_time_100us: number;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "rpdo" | "tpdo";
+            /** Mapping */
+            mapping?: components["schemas"]["PdoMappedObjectIn"][];
+            /** Number */
+            number: number;
+            /**
+             * Sync Start
+             * @default 0
+             */
+            sync_start: number;
+            /** Transmission */
+            transmission?: string | null;
+            /** Transmission Type */
+            transmission_type: number;
+            /** Valid */
+            valid: boolean;
+        };
+        /** PdoList */
+        PdoList: {
+            /** Pdos */
+            pdos: components["schemas"]["Pdo"][];
+        };
+        /** PdoLoadModel */
+        PdoLoadModel: {
+            /** Basis */
+            basis: string;
+            /** Bits Per Frame */
+            bits_per_frame: number;
+            /** Bits Per S */
+            bits_per_s: number;
+            /** Cob Id */
+            cob_id: number;
+            /** Frames Per S */
+            frames_per_s: number | null;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "rpdo" | "tpdo";
+            /** Number */
+            number: number;
+        };
+        /** PdoMappedObject */
+        PdoMappedObject: {
+            /** Bits */
+            bits: number;
+            /** Index */
+            index: number;
+            /** Name */
+            name?: string | null;
+            /** Subindex */
+            subindex: number;
+        };
+        /** PdoMappedObjectIn */
+        PdoMappedObjectIn: {
+            /** Bits */
+            bits: number;
+            /** Index */
+            index: number;
+            /** Name */
+            name?: string | null;
+            /** Subindex */
+            subindex: number;
+        };
+        /** PdoProblem */
+        PdoProblem: {
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "rpdo" | "tpdo";
+            /** Message */
+            message: string;
+            /** Number */
+            number: number;
+        };
+        /** PdoValidation */
+        PdoValidation: {
+            bus_load: components["schemas"]["BusLoadResult"];
+            /** Ok */
+            ok: boolean;
+            /** Problems */
+            problems: components["schemas"]["PdoProblem"][];
+        };
+        /** PdoWriteRequest */
+        PdoWriteRequest: {
+            /** Pdos */
+            pdos: components["schemas"]["PdoIn"][];
+        };
         /** ScanRequest */
         ScanRequest: {
             /**
@@ -1141,6 +1475,47 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    bus_load_api_bus_load_get: {
+        parameters: {
+            query?: {
+                /** @description percent of the bitrate above which load is too high */
+                threshold?: number;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BusLoadResult"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Bus not connected */
@@ -2872,6 +3247,618 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ParamWriteResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    read_pdos_api_nodes__node__pdos_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Pdo"][];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    apply_pdos_api_nodes__node__pdos_put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["PdoWriteRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Pdo"][];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description pdo_apply_failed: the device refused a step (step, abort_code, restored); the previous PDOs were restored. Also an SDO abort while reading, or the node is Stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    export_pdos_api_nodes__node__pdos_export_get: {
+        parameters: {
+            query?: {
+                /** @description dcf: a DCF fragment; python: a python-canopen snippet */
+                format?: "dcf" | "python";
+            };
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/plain": string;
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    live_api_nodes__node__pdos_live_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LiveCheck"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    start_live_api_nodes__node__pdos_live_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LiveCheck"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    stop_live_api_nodes__node__pdos_live_delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LiveCheck"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    recommended_pdos_api_nodes__node__pdos_recommended_get: {
+        parameters: {
+            query: {
+                /** @description operating modes, comma-separated: pp, pv, pt, hm, ip */
+                modes: string;
+            };
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PdoList"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    validate_pdos_api_nodes__node__pdos_validate_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["PdoWriteRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PdoValidation"];
                 };
             };
             /** @description The body could not be parsed */

@@ -5,7 +5,6 @@ from __future__ import annotations
 from servodesk_sim.modes.common import (
     Axis,
     Mode,
-    OperationMode,
     Setpoint,
     StopRamp,
     Switches,
@@ -22,7 +21,6 @@ __all__ = [
     "Homing",
     "Interpolated",
     "Mode",
-    "OperationMode",
     "ProfilePosition",
     "ProfileTorque",
     "ProfileVelocity",

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from enum import IntEnum, IntFlag
+from enum import IntFlag
 from typing import Protocol
 
 from servodesk_sim.fault_kind import FaultKind
@@ -18,17 +18,6 @@ from servodesk_sim.values import ValueStore
 
 # A position or velocity this close to its target counts as exactly there (float rounding).
 _EPSILON = 1e-6
-
-
-class OperationMode(IntEnum):
-    """6060h / 6061h values the simulated drives can run (MDi-S1-C manual §3.3)."""
-
-    NO_MODE = 0
-    PROFILE_POSITION = 1
-    PROFILE_VELOCITY = 3
-    PROFILE_TORQUE = 4
-    HOMING = 6
-    INTERPOLATED_POSITION = 7
 
 
 class Switches(IntFlag):

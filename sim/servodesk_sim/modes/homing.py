@@ -23,7 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
-from servodesk_sim.cia402 import (
+from servodesk_protocol.cia402 import (
     CW_HALT,
     CW_NEW_SETPOINT,
     SW_MODE_BIT12,

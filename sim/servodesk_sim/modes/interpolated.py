@@ -11,7 +11,7 @@ Halt (bit 8) brakes with 6084h and drops the planned segment.
 
 from __future__ import annotations
 
-from servodesk_sim.cia402 import CW_HALT, CW_NEW_SETPOINT, SW_MODE_BIT12, SW_TARGET_REACHED
+from servodesk_protocol.cia402 import CW_HALT, CW_NEW_SETPOINT, SW_MODE_BIT12, SW_TARGET_REACHED
 from servodesk_sim.fault_kind import FaultKind
 from servodesk_sim.modes.common import Axis, Setpoint, acceleration, ramp_velocity
 from servodesk_sim.plant import ControlKind, read_or

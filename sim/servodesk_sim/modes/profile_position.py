@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from servodesk_sim.cia402 import (
+from servodesk_protocol.cia402 import (
     CW_CHANGE_IMMEDIATELY,
     CW_HALT,
     CW_NEW_SETPOINT,

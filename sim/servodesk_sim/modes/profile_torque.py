@@ -7,7 +7,7 @@ Halt (bit 8) ramps the torque demand to zero over the same slope.
 
 from __future__ import annotations
 
-from servodesk_sim.cia402 import CW_HALT, SW_TARGET_REACHED
+from servodesk_protocol.cia402 import CW_HALT, SW_TARGET_REACHED
 from servodesk_sim.modes.common import Axis, Setpoint
 from servodesk_sim.plant import ControlKind, read_or
 from servodesk_sim.values import ValueStore

@@ -7,7 +7,7 @@ The target is not clamped to the overspeed limit: asking for more shows statuswo
 
 from __future__ import annotations
 
-from servodesk_sim.cia402 import CW_HALT, SW_MODE_BIT13, SW_TARGET_REACHED
+from servodesk_protocol.cia402 import CW_HALT, SW_MODE_BIT13, SW_TARGET_REACHED
 from servodesk_sim.modes.common import Axis, Setpoint, acceleration, ramp_velocity
 from servodesk_sim.plant import ControlKind, read_or
 from servodesk_sim.values import ValueStore

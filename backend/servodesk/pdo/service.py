@@ -1,0 +1,264 @@
+"""The PDO service: read a node's PDOs, validate, apply as one transaction, recommend, export,
+estimate bus load and run the live check. The I/O shell around the pure cores (validate,
+bus_load, recommended, decode, export) and the transactional apply (apply.py).
+
+Each node's PDOs are cached for the bus-wide views (bus load, CAN-id collisions with other
+nodes): refreshed by every read and apply, dropped on NMT commands, boot-ups, dictionary
+changes and bus changes (`forget`, `on_event`, `on_bus`).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import dataclasses
+from collections.abc import Callable, Mapping, Sequence
+from typing import Literal
+
+import canopen
+
+from servodesk.errors import InvalidValueError, PdoInvalidError, ServodeskError
+from servodesk.models import (
+    BusLoadResult,
+    BusState,
+    BusStatus,
+    LiveCheck,
+    LiveEvent,
+    PdoProblem,
+    PdoValidation,
+    SyncConfig,
+)
+from servodesk.nodes.access import NodeAccess
+from servodesk.pdo.apply import apply_pdos
+from servodesk.pdo.bus_load import bus_load
+from servodesk.pdo.context import NodePdoFacts, node_facts
+from servodesk.pdo.export import canopen_snippet, dcf_fragment
+from servodesk.pdo.live_check import LiveChecks
+from servodesk.pdo.model import PdoConfig, Problem
+from servodesk.pdo.read import Runner, read_raw, to_config, with_names
+from servodesk.pdo.recommended import recommended
+from servodesk.pdo.validate import used_ids, validate
+
+DEFAULT_BITRATE = 500_000  # bit/s, when the bus does not say (virtual bus)
+DEFAULT_THRESHOLD = 70.0  # percent
+ExportFormat = Literal["dcf", "python"]
+
+
+class PdoService:
+    def __init__(
+        self,
+        access: NodeAccess,
+        *,
+        known_nodes: Callable[[], Sequence[int]],
+        network: Callable[[], canopen.Network],
+        bitrate: Callable[[], int | None],
+        sync: Callable[[], SyncConfig],
+    ) -> None:
+        self.access = access
+        self._known_nodes = known_nodes
+        self._network = network
+        self._bitrate = bitrate
+        self._sync = sync
+        self._cache: dict[int, list[PdoConfig]] = {}
+        self._live = LiveChecks()
+
+    # ------------------------------------------------------------------ reading
+
+    def facts(self, node: int) -> NodePdoFacts:
+        info = self.access.info(node)
+        return node_facts(node, info.profile, self.access.od(node), self.access.profile_data(node))
+
+    async def read(self, node: int) -> list[PdoConfig]:
+        """Every PDO of the node as the device has it now (and the cache refreshed)."""
+        facts = self.facts(node)
+        async with self.access.session(node).exclusive() as tx:  # one consistent picture
+            pdos = await _read_all(tx, facts)
+        self._cache[node] = pdos
+        return pdos
+
+    async def cached(self, node: int) -> list[PdoConfig]:
+        if node not in self._cache:
+            return await self.read(node)
+        return self._cache[node]
+
+    # ------------------------------------------------------------------ checking and applying
+
+    async def validate(
+        self, node: int, pdos: Sequence[PdoConfig], *, threshold: float = DEFAULT_THRESHOLD
+    ) -> PdoValidation:
+        facts = self.facts(node)
+        problems = await self.problems(facts, pdos)
+        current = await self.cached(node)
+        load = await self.bus_load(threshold, replace={node: _merged(current, pdos)})
+        rows = [PdoProblem.model_validate(p, from_attributes=True) for p in problems]
+        return PdoValidation(ok=not problems, problems=rows, bus_load=load)
+
+    async def apply(
+        self,
+        node: int,
+        pdos: Sequence[PdoConfig],
+        *,
+        actor: str | None = None,
+        assume_sync: bool = False,
+    ) -> list[PdoConfig]:
+        """Validate, then change the device's PDOs in its own procedure as one transaction;
+        returns every PDO read back. PdoInvalidError (nothing written) or PdoApplyError
+        (the device left as it was). `assume_sync`: another master produces SYNC (a
+        parameter set from a working machine), so synchronous PDOs are no problem."""
+        facts = self.facts(node)
+        problems = await self.problems(facts, pdos, assume_sync=assume_sync)
+        if problems:
+            raise PdoInvalidError(node, problems)
+        access = self.access
+        async with access.session(node).exclusive(actor) as tx:
+            try:
+                await apply_pdos(
+                    tx,
+                    facts.od,
+                    pdos,
+                    facts.procedure,
+                    nmt_state=access.info(node).nmt_state,
+                    nmt=lambda command: access.nmt(node, command),
+                )
+            finally:
+                self.forget(node)
+            result = await _read_all(tx, facts)
+        self._cache[node] = result
+        if self._live.active(node):  # decode with the new mapping
+            self._live.start(node, self._network(), result, facts.od)
+        return result
+
+    async def problems(
+        self, facts: NodePdoFacts, pdos: Sequence[PdoConfig], *, assume_sync: bool = False
+    ) -> list[Problem]:
+        others = await self._other_ids(facts.node)
+        producing = assume_sync or self._sync().producing
+        return validate(pdos, facts.context(sync_producing=producing, other_ids=others))
+
+    async def _other_ids(self, node: int) -> dict[int, str]:
+        ids: dict[int, str] = {}
+        for other, pdos in (await self._all_pdos([node]))[0].items():
+            ids.update(used_ids(other, pdos))
+        return ids
+
+    async def recommended(self, node: int, modes: Sequence[str]) -> list[PdoConfig]:
+        facts = self.facts(node)
+        try:
+            pdos = recommended(
+                facts.profile,
+                modes,
+                node=node,
+                od=facts.od,
+                byte_granular=facts.byte_granular,
+                rpdo_count=facts.rpdo_count,
+                tpdo_count=facts.tpdo_count,
+            )
+        except ValueError as error:
+            raise InvalidValueError(str(error)) from error
+        return [with_names(pdo, facts.od) for pdo in pdos]
+
+    async def export(self, node: int, fmt: ExportFormat) -> str:
+        pdos = await self.read(node)
+        if fmt == "dcf":
+            return dcf_fragment(node, pdos)
+        return canopen_snippet(node, pdos, eds_name=self.access.info(node).od_filename)
+
+    # ------------------------------------------------------------------ bus load
+
+    async def bus_load(
+        self,
+        threshold: float = DEFAULT_THRESHOLD,
+        *,
+        replace: Mapping[int, Sequence[PdoConfig]] | None = None,
+    ) -> BusLoadResult:
+        """Per node and total, at the tool's SYNC period and the bus bitrate."""
+        pdos_by_node, notes = await self._all_pdos(list(replace or ()))
+        pdos_by_node.update(replace or {})
+        bitrate = self._bitrate()
+        if bitrate is None:
+            bitrate = DEFAULT_BITRATE
+            notes.append(
+                f"the bus bitrate is not known (virtual or simulated bus): "
+                f"computed for {DEFAULT_BITRATE // 1000} kbit/s"
+            )
+        sync = self._sync()
+        load = bus_load(
+            pdos_by_node,
+            bitrate=bitrate,
+            sync_period_us=sync.period_us if sync.producing else None,
+            threshold_percent=threshold,
+        )
+        result = BusLoadResult.model_validate(dataclasses.asdict(load))
+        result.notes = notes + result.notes
+        return result
+
+    async def _all_pdos(
+        self, skip: Sequence[int]
+    ) -> tuple[dict[int, Sequence[PdoConfig]], list[str]]:
+        """The PDOs of every known node except `skip` (read in parallel where not cached);
+        a node that cannot be read is left out with a note."""
+        nodes = [node for node in self._known_nodes() if node not in skip]
+        reads = await asyncio.gather(*(self.cached(n) for n in nodes), return_exceptions=True)
+        out: dict[int, Sequence[PdoConfig]] = {}
+        notes: list[str] = []
+        for node, read in zip(nodes, reads, strict=True):
+            if isinstance(read, ServodeskError):
+                notes.append(f"node {node} is not counted: its PDOs could not be read ({read})")
+            elif isinstance(read, BaseException):
+                raise read
+            else:
+                out[node] = read
+        return out, notes
+
+    # ------------------------------------------------------------------ live check
+
+    async def start_live(self, node: int) -> LiveCheck:
+        pdos = await self.read(node)
+        return self._live.start(node, self._network(), pdos, self.access.od(node))
+
+    def stop_live(self, node: int) -> LiveCheck:
+        self.access.info(node)  # NodeNotFoundError for an unknown node
+        return self._live.stop(node)
+
+    def live(self, node: int) -> LiveCheck:
+        self.access.info(node)
+        return self._live.status(node)
+
+    # ------------------------------------------------------------------ keeping the cache true
+
+    def forget(self, node: int | None = None) -> None:
+        """Drop the cached PDOs of `node` (all nodes: None)."""
+        if node is None:
+            self._cache.clear()
+        else:
+            self._cache.pop(node, None)
+
+    def on_event(self, event: LiveEvent) -> None:
+        """A boot-up or NMT command may have reset a node's PDOs to their stored values."""
+        if event.kind in ("boot-up", "nmt", "bus"):
+            self.forget(event.node if event.kind != "bus" else None)
+
+    def on_bus(self, status: BusStatus) -> None:
+        """Captures belong to one connection: stop them when it ends or is renewed."""
+        if status.state is not BusState.CONNECTED:
+            self._live.stop_all()
+            self.forget()
+            return
+        try:
+            current = self._network()
+        except ServodeskError:
+            current = None
+        self._live.stop_all(keep=lambda network: network is current)
+
+    def close(self) -> None:
+        self._live.stop_all()
+
+
+async def _read_all(runner: Runner, facts: NodePdoFacts) -> list[PdoConfig]:
+    return [to_config(await read_raw(runner, facts.od, slot), facts.od) for slot in facts.slots]
+
+
+def _merged(current: Sequence[PdoConfig], given: Sequence[PdoConfig]) -> list[PdoConfig]:
+    """`current` with the PDOs in `given` replacing those of the same kind and number."""
+    replaced = {(pdo.kind, pdo.number): pdo for pdo in given}
+    kept = [pdo for pdo in current if (pdo.kind, pdo.number) not in replaced]
+    return kept + list(replaced.values())

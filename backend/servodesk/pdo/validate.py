@@ -1,0 +1,297 @@
+"""Is a set of PDO configurations safe to apply to one node? Every reason it is not, in words.
+
+Pure: the service hands in the node's dictionary and what else uses the bus (`PdoContext`), and
+gets back one `Problem` per thing a commissioning engineer has to change, each naming the object
+it concerns (mapped object, or the communication / mapping parameter entry).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+from servodesk.od import datatypes as dt
+from servodesk.od.model import ObjectDictionaryModel, OdSub
+from servodesk.pdo.model import MappedObject, PdoConfig, PdoKind, Problem
+from servodesk_protocol import cob_id
+from servodesk_protocol.pdo import (
+    CAN_ID_MASK,
+    DUMMY_BITS,
+    EVENT_RTR,
+    MAX_ENTRIES,
+    MAX_EVENT_TIMER_MS,
+    MAX_INHIBIT,
+    MAX_PDO_BITS,
+    SUB_COB_ID,
+    SUB_EVENT_TIMER,
+    SUB_INHIBIT,
+    SUB_SYNC_START,
+    SUB_TRANSMISSION,
+    SYNC_CYCLIC_MAX,
+    SYNC_RTR,
+    comm_index,
+    default_can_id,
+    is_synchronous,
+    map_index,
+    restricted_can_id,
+    transmission_words,
+)
+
+WRITABLE = frozenset({"rw", "wo", "rww", "rwr"})  # an RPDO writes into the object
+READABLE = frozenset({"ro", "rw", "rwr", "rww", "const"})  # a TPDO reads it
+_MAX_TRANSMISSION = 0xFF
+_MAX_SYNC_START = 240  # CiA 301 §7.5.2.35: SYNC start value 0 (unused) or 1–240
+_SYNC_ID = 0x080  # default COB-ID of 1005h
+
+
+@dataclass(frozen=True)
+class PdoContext:
+    node: int
+    od: ObjectDictionaryModel  # the node's dictionary
+    byte_granular: bool  # MDi/Kinco: whole bytes only
+    rpdo_count: int  # PDOs the device has
+    tpdo_count: int
+    sync_producing: bool  # is a SYNC producer running on the bus
+    other_ids: Mapping[int, str]  # CAN id -> who uses it, for every other user of the bus
+    # TPDO types 252/253 (Nanotec article; the MDi-S1-C manual §5.2 has no RTR-triggered PDOs)
+    rtr_supported: bool = True
+    # PDOs 1..n whose CAN id follows the node id; only the valid bit may change
+    # (MDi-S1-C CANopen manual §5.2 1400h, Nanotec CANopen article: PDOs 1–4)
+    fixed_cob_ids: int = 0
+
+
+def pdo_label(kind: PdoKind, number: int) -> str:
+    """`RPDO2`, `TPDO1`: how manuals and users name a PDO."""
+    return f"{kind.upper()}{number}"
+
+
+def object_label(index: int, subindex: int, name: str | None) -> str:
+    """`6040h:00 Controlword`."""
+    text = f"{index:04X}h:{subindex:02X}"
+    return f"{text} {name}" if name else text
+
+
+def used_ids(node: int, pdos: Sequence[PdoConfig]) -> dict[int, str]:
+    """The CAN ids node `node` uses: EMCY, SDO, heartbeat and the COB-IDs of its valid PDOs."""
+    ids = {
+        can_id: f"node {node} {service}" for can_id, service in cob_id.node_services(node).items()
+    }
+    for pdo in pdos:
+        if pdo.valid:
+            ids[pdo.cob_id] = f"node {node} {pdo_label(pdo.kind, pdo.number)}"
+    return ids
+
+
+def validate(pdos: Sequence[PdoConfig], ctx: PdoContext) -> list[Problem]:
+    """Every problem with applying `pdos` to node `ctx.node`; empty when they can be applied."""
+    problems: list[Problem] = []
+    seen: set[tuple[PdoKind, int]] = set()
+    for pdo in pdos:
+        key = (pdo.kind, pdo.number)
+        if key in seen:
+            problems.append(_problem(pdo, "is given twice", _comm(pdo)))
+            continue
+        seen.add(key)
+        problems += _check_number(pdo, ctx)
+        problems += _check_mapping(pdo, ctx)
+        problems += _check_transmission(pdo, ctx)
+        problems += _check_timers(pdo, ctx)
+        problems += _check_cob_id(pdo, ctx)
+    problems += _check_collisions(pdos, ctx)
+    return problems
+
+
+def _problem(
+    pdo: PdoConfig, text: str, index: int | None = None, subindex: int | None = None
+) -> Problem:
+    return Problem(
+        pdo.kind, pdo.number, f"{pdo_label(pdo.kind, pdo.number)} {text}", index, subindex
+    )
+
+
+def _comm(pdo: PdoConfig) -> int:
+    return comm_index(pdo.direction, pdo.number) if pdo.number >= 1 else 0
+
+
+def _map(pdo: PdoConfig) -> int:
+    return map_index(pdo.direction, pdo.number) if pdo.number >= 1 else 0
+
+
+def _check_number(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
+    count = ctx.rpdo_count if pdo.kind == "rpdo" else ctx.tpdo_count
+    if 1 <= pdo.number <= count:
+        return []
+    kind = pdo.kind.upper()
+    text = f"does not exist: this drive has {count} {kind}s ({kind}1–{kind}{count})"
+    return [_problem(pdo, text, _comm(pdo))]
+
+
+def _check_mapping(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
+    problems = [p for obj in pdo.mapping for p in _check_entry(pdo, obj, ctx)]
+    if len(pdo.mapping) > MAX_ENTRIES:
+        text = f"maps {len(pdo.mapping)} objects; a PDO holds at most {MAX_ENTRIES}"
+        problems.append(_problem(pdo, text, _map(pdo), 0))
+    bits = sum(obj.bits for obj in pdo.mapping)
+    if bits > MAX_PDO_BITS:
+        text = f"maps {bits} bits; one CAN frame carries at most {MAX_PDO_BITS} (8 bytes)"
+        problems.append(_problem(pdo, text, _map(pdo), 0))
+    return problems
+
+
+def _check_entry(pdo: PdoConfig, obj: MappedObject, ctx: PdoContext) -> list[Problem]:
+    if obj.index in DUMMY_BITS:
+        return _check_dummy(pdo, obj, ctx)
+    sub = ctx.od.get(obj.index, obj.subindex)
+    what = object_label(obj.index, obj.subindex, sub.name if sub else obj.name)
+    if sub is None:
+        return [_entry_problem(pdo, obj, f"{what} is not in this drive's dictionary")]
+    texts: list[str] = []
+    if not sub.pdo_mappable:
+        texts.append(f"{what} is not PDO-mappable in this drive's dictionary")
+    if pdo.kind == "rpdo" and sub.access not in WRITABLE:
+        texts.append(f"{what} is read-only ({sub.access}); an RPDO writes into it")
+    if pdo.kind == "tpdo" and sub.access not in READABLE:
+        texts.append(f"{what} is write-only; a TPDO reads it")
+    size_problem = _size_problem(obj, sub, ctx.byte_granular)
+    if size_problem:
+        texts.append(f"{what} {size_problem}")
+    return [_entry_problem(pdo, obj, text) for text in texts]
+
+
+def _entry_problem(pdo: PdoConfig, obj: MappedObject, text: str) -> Problem:
+    label = pdo_label(pdo.kind, pdo.number)
+    return Problem(pdo.kind, pdo.number, f"{label}: {text}", obj.index, obj.subindex)
+
+
+def _size_problem(obj: MappedObject, sub: OdSub, byte_granular: bool) -> str | None:
+    size = dt.bit_size(sub.data_type)
+    type_name = _type_name(sub.data_type)
+    if size is None:
+        return f"is {type_name}, which has no fixed size and cannot be mapped"
+    allowed = (1, 8) if sub.data_type == dt.DataType.BOOLEAN else (size,)
+    if obj.bits not in allowed:
+        want = " or ".join(str(b) for b in allowed)
+        return f"is {type_name} ({want} bits) but is mapped with {obj.bits} bits"
+    if byte_granular and obj.bits % 8:
+        return f"is mapped with {obj.bits} bits; this drive maps whole bytes only (8, 16, 32 bits)"
+    return None
+
+
+def _check_dummy(pdo: PdoConfig, obj: MappedObject, ctx: PdoContext) -> list[Problem]:
+    what = f"dummy entry {obj.index:04X}h ({_type_name(obj.index)})"
+    if obj.index not in ctx.od.device.dummy_usage:
+        return [_entry_problem(pdo, obj, f"{what} is not supported by this drive")]
+    if obj.bits != DUMMY_BITS[obj.index]:
+        want = DUMMY_BITS[obj.index]
+        return [_entry_problem(pdo, obj, f"{what} takes {want} bits, not {obj.bits}")]
+    return []
+
+
+def _check_transmission(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
+    t = pdo.transmission_type
+    sub = (_comm(pdo), SUB_TRANSMISSION)
+    if not 0 <= t <= _MAX_TRANSMISSION:
+        return [_problem(pdo, f"transmission type {t} is outside 0–255", *sub)]
+    if SYNC_CYCLIC_MAX < t < SYNC_RTR:
+        return [_problem(pdo, f"transmission type {t} is reserved (use 0–240 or 252–255)", *sub)]
+    if t in (SYNC_RTR, EVENT_RTR):
+        if pdo.kind == "rpdo":
+            text = f"transmission type {t} (remote request) is for TPDOs only; use 0–240 or 254/255"
+            return [_problem(pdo, text, *sub)]
+        if not ctx.rtr_supported:
+            text = f"transmission type {t} (remote request): this drive has no RTR-triggered PDOs"
+            return [_problem(pdo, text, *sub)]
+    if pdo.valid and is_synchronous(t) and not ctx.sync_producing:
+        words = transmission_words(t, pdo.direction)
+        text = (
+            f"is synchronous ({words}) but nothing produces SYNC: start the SYNC producer on the"
+            " Network page or use 254/255"
+        )
+        return [_problem(pdo, text, *sub)]
+    return []
+
+
+def _check_timers(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
+    problems: list[Problem] = []
+    comm = _comm(pdo)
+    for value, limit, sub, what in (
+        (pdo.inhibit_time_100us, MAX_INHIBIT, SUB_INHIBIT, "inhibit time"),
+        (pdo.event_timer_ms, MAX_EVENT_TIMER_MS, SUB_EVENT_TIMER, "event timer"),
+        (pdo.sync_start, _MAX_SYNC_START, SUB_SYNC_START, "SYNC start value"),
+    ):
+        if not 0 <= value <= limit:
+            problems.append(_problem(pdo, f"{what} {value} is outside 0–{limit}", comm, sub))
+        # an RPDO ignores these (it receives, it does not send); a TPDO needs the entry
+        elif (
+            value
+            and pdo.kind == "tpdo"
+            and comm in ctx.od.objects
+            and ctx.od.get(comm, sub) is None
+        ):
+            text = f"sets the {what} but this drive has no {comm:04X}h:{sub:02X} {what}"
+            problems.append(_problem(pdo, text, comm, sub))
+    return problems
+
+
+def _check_cob_id(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
+    where = (_comm(pdo), SUB_COB_ID)
+    can_id = pdo.cob_id
+    if not 0 <= can_id <= CAN_ID_MASK:
+        return [_problem(pdo, f"CAN id {can_id:X}h is not an 11-bit identifier (0–7FFh)", *where)]
+    fixed = default_can_id(pdo.direction, pdo.number)
+    if fixed is not None and pdo.number <= ctx.fixed_cob_ids and can_id != fixed + ctx.node:
+        text = (
+            f"CAN id {can_id:X}h cannot be set: this drive fixes it at {fixed + ctx.node:X}h"
+            f" ({fixed:X}h + node id); only the valid bit can change"
+        )
+        return [_problem(pdo, text, *where)]
+    if pdo.valid and restricted_can_id(can_id):
+        text = f"CAN id {can_id:X}h is reserved by CiA 301 ({_restricted_use(can_id)})"
+        return [_problem(pdo, text, *where)]
+    return []
+
+
+def _restricted_use(can_id: int) -> str:
+    """Which service CiA 301 §7.3.5 keeps `can_id` for."""
+    for low, high, service in (
+        (0x000, 0x000, "NMT"),
+        (0x001, 0x07F, "reserved"),
+        (0x101, 0x180, "TIME and reserved"),
+        (0x581, 0x5FF, "SDO responses"),
+        (0x601, 0x67F, "SDO requests"),
+        (0x6E0, 0x6FF, "reserved"),
+        (0x701, 0x77F, "heartbeat / boot-up"),
+        (0x780, 0x7FF, "reserved, LSS"),
+    ):
+        if low <= can_id <= high:
+            return service
+    return "reserved"
+
+
+def _check_collisions(pdos: Sequence[PdoConfig], ctx: PdoContext) -> list[Problem]:
+    users: dict[int, str] = dict(ctx.other_ids)
+    if ctx.sync_producing:
+        users.setdefault(_SYNC_ID, "SYNC")
+    if 1 <= ctx.node <= cob_id.MAX_NODE_ID:
+        for can_id, service in cob_id.node_services(ctx.node).items():
+            users.setdefault(can_id, f"this node's {service}")
+    problems: list[Problem] = []
+    seen: set[tuple[PdoKind, int]] = set()
+    for pdo in pdos:
+        if not pdo.valid or (pdo.kind, pdo.number) in seen:  # a repeat is reported as such
+            continue
+        seen.add((pdo.kind, pdo.number))
+        user = users.get(pdo.cob_id)
+        if user is not None:
+            text = f"CAN id {pdo.cob_id:X}h is already used by {user}"
+            problems.append(_problem(pdo, text, _comm(pdo), SUB_COB_ID))
+        else:
+            users[pdo.cob_id] = pdo_label(pdo.kind, pdo.number)
+    return problems
+
+
+def _type_name(data_type: int) -> str:
+    try:
+        return dt.DataType(data_type).name
+    except ValueError:
+        return f"data type {data_type:04X}h"
