@@ -5,6 +5,7 @@ import type { ComponentType } from "react";
 import { NetworkPage } from "../pages/network/NetworkPage";
 import { OdPage } from "../pages/od/OdPage";
 import { ParamsPage } from "../pages/params/ParamsPage";
+import { PdoPage } from "../pages/pdo/PdoPage";
 import { ToolsPage } from "../pages/tools/ToolsPage";
 
 export interface TopPage {
@@ -31,6 +32,7 @@ export const TOP_PAGES: readonly TopPage[] = [
 export const NODE_TABS: readonly NodeTab[] = [
   { path: "parameters", label: "Parameters", Component: ParamsPage },
   { path: "od", label: "Object dictionary", Component: OdPage },
+  { path: "pdos", label: "PDOs", Component: PdoPage },
 ];
 
 export function nodeUrl(node: number, tab: string = NODE_TABS[0]?.path ?? ""): string {

@@ -1,0 +1,107 @@
+import { memo, useMemo, type ReactNode } from "react";
+
+import { odAddress } from "../../lib/format";
+import { ByteLayout } from "./ByteLayout";
+import { CommEditor, CommFacts } from "./CommFields";
+import { MappingEditor } from "./MappingEditor";
+import {
+  frameLayout,
+  pdoChanges,
+  pdoLabel,
+  pdoObjects,
+  type FitRules,
+  type Lookup,
+  type ObjectInfo,
+} from "./model";
+import type { Pdo, Problem } from "./types";
+
+interface Props {
+  /** What is shown: the device's PDO, or the draft's when there is a draft. */
+  pdo: Pdo;
+  /** The device's PDO when `pdo` is a draft (undefined: no draft, or new). */
+  device?: Pdo | undefined;
+  draft: boolean;
+  problems: readonly Problem[];
+  lookup: Lookup;
+  objects: readonly ObjectInfo[];
+  rules: FitRules;
+  onChange: (pdo: Pdo) => void;
+}
+
+/** One RPDO or TPDO: communication parameter, the frame's byte layout, and in a draft the
+ * editor, what changes against the device and the server's problems with it. */
+export const PdoCard = memo(function PdoCard({
+  pdo,
+  device,
+  draft,
+  problems,
+  lookup,
+  objects,
+  rules,
+  onChange,
+}: Props): ReactNode {
+  const label = pdoLabel(pdo);
+  const layout = useMemo(() => frameLayout(pdo.mapping, lookup), [pdo.mapping, lookup]);
+  const changes = draft ? pdoChanges(device, pdo) : [];
+  const mappingChanged = changes.some((c) => c.startsWith("mapping"));
+  const flagged = pdo.mapping
+    .map((e, i) =>
+      problems.some((p) => p.index === e.index && p.subindex === e.subindex) ? i : -1,
+    )
+    .filter((i) => i >= 0);
+  const classes = ["card", "pdo-card", pdo.valid ? "" : "invalid", changes.length ? "changed" : ""];
+
+  return (
+    <section
+      className={classes.filter(Boolean).join(" ")}
+      aria-label={`${label}${draft ? " draft" : ""}`}
+      data-testid={`pdo-${pdo.kind}${pdo.number}`}
+    >
+      <header className="card-header">
+        <h3>{label}</h3>
+        <span className={`badge ${pdo.valid ? "pdo-valid" : "pdo-off"}`}>
+          {pdo.valid ? "valid" : "not valid"}
+        </span>
+        {changes.length > 0 && <span className="badge pdo-draft">draft: changed</span>}
+        <span className="muted small">{pdoObjects(pdo)}</span>
+      </header>
+      {draft ? <CommEditor pdo={pdo} onChange={onChange} /> : <CommFacts pdo={pdo} />}
+      <ByteLayout layout={layout} label={`${label} frame`} flagged={flagged} />
+      {mappingChanged && device && (
+        <div className="pdo-device-now">
+          <span className="muted small">On the device now:</span>
+          <ByteLayout
+            layout={frameLayout(device.mapping, lookup)}
+            label={`${label} frame on the device`}
+          />
+        </div>
+      )}
+      {changes.length > 0 && (
+        <p className="small pdo-changes">
+          <strong>Changes:</strong> {changes.join("; ")}
+        </p>
+      )}
+      {problems.length > 0 && (
+        <ul className="pdo-problems" aria-label={`${label} problems`}>
+          {problems.map((p, i) => (
+            <li key={i} className="error-text">
+              {p.index != null && (
+                <span className="mono">{odAddress(p.index, p.subindex ?? 0)}: </span>
+              )}
+              {p.message}
+            </li>
+          ))}
+        </ul>
+      )}
+      {draft && (
+        <MappingEditor
+          pdo={pdo}
+          lookup={lookup}
+          objects={objects}
+          rules={rules}
+          onChange={onChange}
+        />
+      )}
+    </section>
+  );
+});

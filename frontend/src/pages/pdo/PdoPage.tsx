@@ -1,0 +1,182 @@
+import { useCallback, useMemo, useState, type ReactNode } from "react";
+
+import { api, call } from "../../api/client";
+import type { OdObject } from "../../api/types";
+import { ErrorText } from "../../components/ErrorText";
+import { Spinner } from "../../components/Spinner";
+import { useLive } from "../../live/context";
+import { useApi } from "../../lib/useApi";
+import { ApplyResult } from "./ApplyResult";
+import { BusLoadView } from "./BusLoadView";
+import { DraftBar } from "./DraftBar";
+import { ExportButtons } from "./ExportButtons";
+import { LiveCheck } from "./LiveCheck";
+import { isByteGranular, mergePdos, pdoKey, sortPdos, typeBits, type ObjectInfo } from "./model";
+import { ModeWizard } from "./ModeWizard";
+import { busLoad, listPdos, type ApplyOutcome } from "./pdoApi";
+import { PdoList } from "./PdoList";
+import type { Pdo, Problem, Validation } from "./types";
+
+interface Draft {
+  pdos: Pdo[];
+  source: string;
+  version: number;
+}
+
+/** Every sub-entry of the dictionary as the mapping editor needs it. */
+function objectInfos(objects: readonly OdObject[]): ObjectInfo[] {
+  return objects.flatMap((o) =>
+    o.subs.map((s) => ({
+      index: s.index,
+      subindex: s.subindex,
+      name: s.name,
+      unit: s.unit,
+      access: s.access,
+      dataTypeName: s.data_type_name,
+      bits: typeBits(s.data_type_name),
+      mappable: s.pdo_mappable,
+    })),
+  );
+}
+
+/** The node's PDOs as the device has them; a draft by purpose or by hand; validate, apply,
+ * and check the result live. */
+export function PdoPage({ node }: { node: number }): ReactNode {
+  const pdos = useApi((signal) => listPdos(node, signal), `pdos-${node}`);
+  const od = useApi(
+    (signal) => call(api.GET("/api/nodes/{node}/od", { params: { path: { node } }, signal })),
+    `od-${node}`,
+  );
+  const profile = useLive((s) => s.infos.find((i) => i.node === node)?.profile);
+  const [threshold, setThreshold] = useState(70);
+  const current = useApi((signal) => busLoad(threshold, signal), `bus-load-${threshold}`);
+  const [draft, setDraft] = useState<Draft | null>(null);
+  const [validation, setValidation] = useState<Validation | null>(null);
+  const [problems, setProblems] = useState<Problem[]>([]);
+  const [outcome, setOutcome] = useState<ApplyOutcome | null>(null);
+
+  const infos = useMemo(() => objectInfos(od.data?.objects ?? []), [od.data]);
+  const byAddress = useMemo(
+    () => new Map(infos.map((o) => [`${o.index}:${o.subindex}`, o])),
+    [infos],
+  );
+  const lookup = useCallback(
+    (index: number, subindex: number) => byAddress.get(`${index}:${subindex}`),
+    [byAddress],
+  );
+  const mappable = useMemo(() => infos.filter((o) => o.mappable), [infos]);
+  const rules = useMemo(() => ({ byteGranular: isByteGranular(profile) }), [profile]);
+  const device = useMemo(() => sortPdos(pdos.data ?? []), [pdos.data]);
+
+  const startDraft = useCallback(
+    (next: Pdo[], source: string) => {
+      setDraft((old) => ({
+        pdos: sortPdos(mergePdos(device, next)),
+        source,
+        version: (old?.version ?? 0) + 1,
+      }));
+      setValidation(null);
+      setProblems([]);
+      setOutcome(null);
+    },
+    [device],
+  );
+  const onChange = useCallback((pdo: Pdo) => {
+    setDraft(
+      (old) =>
+        old && {
+          ...old,
+          pdos: old.pdos.map((p) => (pdoKey(p) === pdoKey(pdo) ? pdo : p)),
+          source: old.source.endsWith("(edited)") ? old.source : `${old.source} (edited)`,
+        },
+    );
+    setValidation(null);
+    setProblems([]);
+  }, []);
+  const onOutcome = useCallback(
+    (result: ApplyOutcome) => {
+      setOutcome(result);
+      if (result.result === "applied") {
+        pdos.setData(() => result.pdos);
+        setDraft(null);
+        setProblems([]);
+        setValidation(null);
+        current.reload();
+      } else if (result.result === "rejected") {
+        setProblems(result.problems);
+      } else {
+        pdos.reload();
+      }
+    },
+    [pdos, current],
+  );
+
+  const load = validation?.bus_load ?? current.data;
+  return (
+    <div className="pdo-page">
+      <div className="toolbar">
+        <button type="button" disabled={pdos.loading} onClick={pdos.reload}>
+          Read again
+        </button>
+        {pdos.loading && <Spinner label="Reading PDOs" />}
+        <span className="spacer" />
+        <span className="inline">
+          <ExportButtons node={node} />
+        </span>
+      </div>
+      <ErrorText error={pdos.error} onRetry={pdos.reload} />
+      <ErrorText error={od.error} />
+      {outcome && <ApplyResult outcome={outcome} onClose={() => setOutcome(null)} />}
+      <ModeWizard
+        node={node}
+        disabled={!pdos.data}
+        onDraft={startDraft}
+        onEditCurrent={() => startDraft(device, "from the device")}
+      />
+      {draft && (
+        <DraftBar
+          node={node}
+          device={device}
+          draft={draft.pdos}
+          source={draft.source}
+          validation={validation}
+          onValidated={(result) => {
+            setValidation(result);
+            setProblems(result.problems);
+          }}
+          onOutcome={onOutcome}
+          onDiscard={() => {
+            setDraft(null);
+            setValidation(null);
+            setProblems([]);
+          }}
+        />
+      )}
+      {load && (
+        <BusLoadView
+          load={load}
+          node={node}
+          title={validation ? "Bus load with the draft" : "Bus load now"}
+          open={validation !== null}
+          threshold={threshold}
+          onThreshold={setThreshold}
+        />
+      )}
+      <ErrorText error={validation ? null : current.error} />
+      {pdos.data && (
+        <PdoList
+          shown={draft?.pdos ?? device}
+          device={device}
+          draft={draft !== null}
+          version={draft?.version ?? 0}
+          problems={problems}
+          lookup={lookup}
+          objects={mappable}
+          rules={rules}
+          onChange={onChange}
+        />
+      )}
+      {pdos.data && !draft && <LiveCheck node={node} device={device} />}
+    </div>
+  );
+}

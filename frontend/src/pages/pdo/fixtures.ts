@@ -1,0 +1,154 @@
+// Canned answers for the PDO page tests: node 1, an MDi-S1-C (byte-granular), PP mapping.
+import type { NodeInfo, OdEntry, OdTree } from "../../api/types";
+import type { BusLoad, Pdo } from "./types";
+
+export const INFO: NodeInfo = {
+  node: 1,
+  name: "DVS_CANOPEN",
+  vendor_id: 0x445653,
+  product_code: 1,
+  profile: "mdi-s1c",
+  profile_label: "MDi-S1-C",
+  nmt_state: "pre-operational",
+  online: true,
+  heartbeat_age_ms: 40,
+  od_source: "profile",
+  od_filename: "mdi-s1c/drive.eds",
+  od_warnings: 0,
+};
+
+function sub(
+  index: number,
+  name: string,
+  type: string,
+  access: string,
+  unit = "",
+  subindex = 0,
+): OdEntry {
+  return {
+    index,
+    subindex,
+    name,
+    data_type: 0,
+    data_type_name: type,
+    access,
+    pdo_mappable: true,
+    default: null,
+    low: null,
+    high: null,
+    unit,
+    description: "",
+  };
+}
+
+const ENTRIES = [
+  sub(0x6040, "Controlword", "UNSIGNED16", "rw"),
+  sub(0x6041, "Statusword", "UNSIGNED16", "ro"),
+  sub(0x6060, "Modes of operation", "INTEGER8", "rw"),
+  sub(0x6064, "Position actual value", "INTEGER32", "ro", "inc"),
+  sub(0x607a, "Target position", "INTEGER32", "rw", "inc"),
+  sub(0x606c, "Velocity actual value", "INTEGER32", "ro", "inc/s"),
+  sub(0x2100, "Digital input bit", "BOOLEAN", "rw"),
+];
+
+export const TREE: OdTree = {
+  source: "profile",
+  filename: "mdi-s1c/drive.eds",
+  warnings: [],
+  objects: ENTRIES.map((e) => ({
+    index: e.index,
+    index_hex: e.index.toString(16).toUpperCase(),
+    name: e.name,
+    object_type: "var",
+    subs: [e],
+  })),
+};
+
+function pdo(over: Partial<Pdo> & Pick<Pdo, "kind" | "number">): Pdo {
+  return {
+    cob_id: (over.kind === "rpdo" ? 0x201 : 0x181) + 0x100 * (over.number - 1),
+    valid: false,
+    transmission_type: 255,
+    inhibit_time_100us: 0,
+    event_timer_ms: 0,
+    sync_start: 0,
+    mapping: [],
+    transmission: "",
+    ...over,
+  };
+}
+
+export const DEVICE: Pdo[] = [
+  pdo({
+    kind: "rpdo",
+    number: 1,
+    valid: true,
+    mapping: [{ index: 0x6040, subindex: 0, bits: 16, name: "Controlword" }],
+  }),
+  pdo({ kind: "rpdo", number: 2 }),
+  pdo({
+    kind: "tpdo",
+    number: 1,
+    valid: true,
+    transmission_type: 5,
+    inhibit_time_100us: 25,
+    event_timer_ms: 100,
+    mapping: [
+      { index: 0x6041, subindex: 0, bits: 16, name: "Statusword" },
+      { index: 0x2fff, subindex: 3, bits: 8, name: null },
+    ],
+  }),
+  pdo({ kind: "tpdo", number: 2 }),
+];
+
+export const RECOMMENDED: Pdo[] = [
+  pdo({
+    kind: "rpdo",
+    number: 1,
+    valid: true,
+    transmission_type: 1,
+    mapping: [
+      { index: 0x6040, subindex: 0, bits: 16, name: "Controlword" },
+      { index: 0x607a, subindex: 0, bits: 32, name: "Target position" },
+    ],
+  }),
+  pdo({
+    kind: "tpdo",
+    number: 1,
+    valid: true,
+    transmission_type: 1,
+    mapping: [
+      { index: 0x6041, subindex: 0, bits: 16, name: "Statusword" },
+      { index: 0x6064, subindex: 0, bits: 32, name: "Position actual value" },
+    ],
+  }),
+];
+
+export const LOAD: BusLoad = {
+  bitrate: 500_000,
+  sync_period_us: 1000,
+  sync_bits_per_s: 47_000,
+  nodes: [
+    {
+      node: 1,
+      bits_per_s: 400_000,
+      percent: 80,
+      pdos: [
+        {
+          kind: "tpdo",
+          number: 1,
+          cob_id: 0x181,
+          frames_per_s: 1000,
+          bits_per_frame: 95,
+          bits_per_s: 95_000,
+          basis: "every SYNC at 1000 µs",
+        },
+      ],
+    },
+  ],
+  total_bits_per_s: 400_000,
+  percent: 80,
+  threshold_percent: 70,
+  over_threshold: true,
+  notes: ["Worst-case bit stuffing counted."],
+};

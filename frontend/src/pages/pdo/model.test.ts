@@ -1,0 +1,288 @@
+import { describe, expect, it } from "vitest";
+
+import {
+  draftChanges,
+  fitProblem,
+  formatCobId,
+  frameLayout,
+  inhibitFromMs,
+  inhibitMs,
+  isByteGranular,
+  isSynchronous,
+  mergePdos,
+  moveEntry,
+  parseCobId,
+  sortPdos,
+  transmissionWords,
+  typeBits,
+  type ObjectInfo,
+} from "./model";
+import type { MappedObject, Pdo } from "./types";
+
+function object(over: Partial<ObjectInfo> = {}): ObjectInfo {
+  return {
+    index: 0x6040,
+    subindex: 0,
+    name: "Controlword",
+    unit: "",
+    access: "rw",
+    dataTypeName: "UNSIGNED16",
+    bits: 16,
+    mappable: true,
+    ...over,
+  };
+}
+
+function entry(index: number, bits: number, subindex = 0): MappedObject {
+  return { index, subindex, bits, name: null };
+}
+
+function pdo(over: Partial<Pdo> = {}): Pdo {
+  return {
+    kind: "rpdo",
+    number: 1,
+    cob_id: 0x201,
+    valid: true,
+    transmission_type: 255,
+    inhibit_time_100us: 0,
+    event_timer_ms: 0,
+    sync_start: 0,
+    mapping: [],
+    transmission: "",
+    ...over,
+  };
+}
+
+describe("transmissionWords", () => {
+  it.each([
+    [0, "tpdo", "synchronous, acyclic (at the next SYNC after a change)"],
+    [0, "rpdo", "synchronous (applied at the next SYNC)"],
+    [1, "tpdo", "every SYNC"],
+    [2, "tpdo", "every 2nd SYNC"],
+    [3, "tpdo", "every 3rd SYNC"],
+    [5, "tpdo", "every 5th SYNC"],
+    [11, "tpdo", "every 11th SYNC"],
+    [21, "tpdo", "every 21st SYNC"],
+    [5, "rpdo", "synchronous"],
+    [241, "tpdo", "reserved (241)"],
+    [252, "tpdo", "sampled at SYNC, sent on remote request"],
+    [253, "tpdo", "sent on remote request"],
+    [254, "tpdo", "on change + event timer (manufacturer-specific event)"],
+    [255, "tpdo", "on change + event timer (device-profile event)"],
+    [255, "rpdo", "applied on arrival (device-profile event)"],
+  ] as const)("type %i of a %s reads %j", (type, kind, words) => {
+    expect(transmissionWords(type, kind)).toBe(words);
+  });
+
+  it.each([
+    [0, true],
+    [240, true],
+    [241, false],
+    [252, true],
+    [253, false],
+    [255, false],
+  ])("type %i synchronous: %s", (type, sync) => {
+    expect(isSynchronous(type)).toBe(sync);
+  });
+});
+
+describe("numbers as shown", () => {
+  it.each([
+    [0x181, "0x181"],
+    [0x7f, "0x07F"],
+    [0x7ff, "0x7FF"],
+  ])("COB-ID %i is %s", (value, text) => {
+    expect(formatCobId(value)).toBe(text);
+  });
+
+  it.each([
+    ["0x181", 0x181],
+    ["181h", 0x181],
+    [" 2A1 ", 0x2a1],
+    ["800", null],
+    ["0", null],
+    ["x", null],
+    ["", null],
+  ])("COB-ID %j parses to %s", (text, value) => {
+    expect(parseCobId(text)).toBe(value);
+  });
+
+  it.each([
+    [0, 0],
+    [10, 1],
+    [25, 2.5],
+    [65535, 6553.5],
+  ])("inhibit %i × 100 µs is %f ms", (raw, ms) => {
+    expect(inhibitMs(raw)).toBe(ms);
+    expect(inhibitFromMs(ms)).toBe(raw);
+  });
+
+  it.each([
+    ["BOOLEAN", 1],
+    ["INTEGER8", 8],
+    ["UNSIGNED16", 16],
+    ["INTEGER32", 32],
+    ["REAL32", 32],
+    ["UNSIGNED64", 64],
+    ["VISIBLE_STRING", null],
+    ["DOMAIN", null],
+  ])("%s is %s bits", (name, bits) => {
+    expect(typeBits(name)).toBe(bits);
+  });
+
+  it.each([
+    ["mdi-s1c", true],
+    ["kinco", true],
+    ["cia402", false],
+    [undefined, false],
+  ])("profile %s byte-granular: %s", (profile, granular) => {
+    expect(isByteGranular(profile)).toBe(granular);
+  });
+});
+
+describe("frameLayout", () => {
+  const known = new Map([[0x6041, object({ index: 0x6041, name: "Statusword", access: "ro" })]]);
+  const lookup = (index: number): ObjectInfo | undefined => known.get(index);
+
+  it("packs objects one after the other from bit 0", () => {
+    const layout = frameLayout([entry(0x6041, 16), entry(0x6064, 32), entry(0x6061, 8)], lookup);
+    expect(layout.blocks.map((b) => [b.startBit, b.bits])).toEqual([
+      [0, 16],
+      [16, 32],
+      [48, 8],
+    ]);
+    expect(layout.usedBits).toBe(56);
+    expect(layout.bytes).toBe(7);
+  });
+
+  it("names known objects and keeps unknown ones raw", () => {
+    const [first, second] = frameLayout(
+      [entry(0x6041, 16), { index: 0x2000, subindex: 3, bits: 8, name: "From server" }],
+      lookup,
+    ).blocks;
+    expect(first?.name).toBe("Statusword");
+    expect(first?.known).toBe(true);
+    expect(second?.name).toBe("From server");
+    expect(second?.known).toBe(false);
+  });
+
+  it("marks what lies past 64 bits", () => {
+    const layout = frameLayout([entry(0x6064, 32), entry(0x606c, 32), entry(0x6041, 16)], lookup);
+    expect(layout.blocks.map((b) => b.overflow)).toEqual([false, false, true]);
+    expect(layout.bytes).toBe(10);
+  });
+
+  it("counts bit-sized objects into partial bytes", () => {
+    expect(frameLayout([entry(0x2000, 1), entry(0x2001, 3)], lookup).bytes).toBe(1);
+  });
+});
+
+describe("fitProblem", () => {
+  const byteRules = { byteGranular: true };
+  const bitRules = { byteGranular: false };
+  const full32 = [entry(0x6064, 32), entry(0x606c, 32)];
+  const eight = Array.from({ length: 8 }, (_, i) => entry(0x2000 + i, 1));
+
+  it.each([
+    ["fits", pdo(), object(), bitRules, null],
+    ["not mappable", pdo(), object({ mappable: false }), bitRules, "is not PDO-mappable"],
+    [
+      "no fixed size",
+      pdo(),
+      object({ bits: null, dataTypeName: "VISIBLE_STRING" }),
+      bitRules,
+      "no fixed size",
+    ],
+    ["RPDO needs writable", pdo(), object({ access: "ro" }), bitRules, "is read-only"],
+    ["TPDO may read ro", pdo({ kind: "tpdo" }), object({ access: "ro" }), bitRules, null],
+    [
+      "TPDO needs readable",
+      pdo({ kind: "tpdo" }),
+      object({ access: "wo" }),
+      bitRules,
+      "write-only",
+    ],
+    [
+      "whole bytes",
+      pdo(),
+      object({ bits: 1, dataTypeName: "BOOLEAN" }),
+      byteRules,
+      "whole bytes only",
+    ],
+    ["bits fine on CiA drive", pdo(), object({ bits: 1 }), bitRules, null],
+    ["64 bits full", pdo({ mapping: full32 }), object(), bitRules, "has 0 of 64 left"],
+    [
+      "8 entries full",
+      pdo({ mapping: eight }),
+      object({ bits: 1 }),
+      bitRules,
+      "already maps 8 objects",
+    ],
+    [
+      "exactly 64 fits",
+      pdo({ mapping: [entry(0x6064, 32), entry(0x6041, 16)] }),
+      object(),
+      bitRules,
+      null,
+    ],
+  ])("%s", (_name, target, candidate, rules, expected) => {
+    const problem = fitProblem(target, candidate, rules);
+    if (expected === null) expect(problem).toBeNull();
+    else expect(problem).toContain(expected);
+  });
+});
+
+describe("draft helpers", () => {
+  it.each([
+    [0, 2, ["b", "c", "a"]],
+    [2, 0, ["c", "a", "b"]],
+    [1, 1, ["a", "b", "c"]],
+    [1, 9, ["a", "c", "b"]],
+    [5, 0, ["a", "b", "c"]],
+  ])("moveEntry %i → %i", (from, to, expected) => {
+    expect(moveEntry(["a", "b", "c"], from, to)).toEqual(expected);
+  });
+
+  it("lists what a draft changes, in words", () => {
+    const device = [pdo(), pdo({ kind: "tpdo", number: 1, cob_id: 0x181 })];
+    const draft = [
+      pdo(),
+      pdo({
+        kind: "tpdo",
+        number: 1,
+        cob_id: 0x181,
+        transmission_type: 1,
+        inhibit_time_100us: 50,
+        mapping: [{ index: 0x6041, subindex: 0, bits: 16, name: "Statusword" }],
+      }),
+    ];
+    expect(draftChanges(device, draft)).toEqual([
+      {
+        pdo: draft[1],
+        changes: ["transmission 255 → 1 (every SYNC)", "inhibit 0 → 5 ms", "mapping → Statusword"],
+      },
+    ]);
+  });
+
+  it("says when a PDO becomes valid or gets another COB-ID", () => {
+    const [change] = draftChanges([pdo({ valid: false })], [pdo({ cob_id: 0x301 })]);
+    expect(change?.changes).toEqual(["COB-ID 0x201 → 0x301", "made valid"]);
+  });
+
+  it("merges a recommendation into the device's PDOs and sorts them", () => {
+    const device = [pdo({ kind: "tpdo" }), pdo(), pdo({ number: 2 })];
+    const merged = mergePdos(device, [pdo({ number: 2, cob_id: 0x301 }), pdo({ number: 5 })]);
+    expect(merged.map((p) => [p.kind, p.number, p.cob_id])).toEqual([
+      ["tpdo", 1, 0x201],
+      ["rpdo", 1, 0x201],
+      ["rpdo", 2, 0x301],
+      ["rpdo", 5, 0x201],
+    ]);
+    expect(sortPdos(merged).map((p) => `${p.kind}${p.number}`)).toEqual([
+      "rpdo1",
+      "rpdo2",
+      "rpdo5",
+      "tpdo1",
+    ]);
+  });
+});

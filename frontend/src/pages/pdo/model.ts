@@ -1,0 +1,301 @@
+// Pure PDO helpers: the byte layout of a frame, what fits, transmission types in words and
+// what a draft changes against the device. No I/O; table-tested in model.test.ts.
+import { integerType } from "../../lib/dataTypes";
+import { odAddress } from "../../lib/format";
+import type { MappedObject, Pdo, PdoKind } from "./types";
+
+export const MAX_BITS = 64; // one classic CAN frame
+export const MAX_ENTRIES = 8; // mapping sub 0 range 0–8
+
+/** What the dictionary says about one mappable object (from the OD tree). */
+export interface ObjectInfo {
+  index: number;
+  subindex: number;
+  name: string;
+  unit: string;
+  access: string;
+  dataTypeName: string;
+  /** Size in bits; null for types without a fixed size (strings, domains). */
+  bits: number | null;
+  mappable: boolean;
+}
+
+export type Lookup = (index: number, subindex: number) => ObjectInfo | undefined;
+
+export function pdoKey(pdo: { kind: PdoKind; number: number }): string {
+  return `${pdo.kind}${pdo.number}`;
+}
+
+/** "RPDO1" / "TPDO3" as the manuals name them. */
+export function pdoLabel(pdo: { kind: PdoKind; number: number }): string {
+  return `${pdo.kind.toUpperCase()}${pdo.number}`;
+}
+
+/** The communication / mapping parameter indices of a PDO: "1800h / 1A00h". */
+export function pdoObjects(pdo: { kind: PdoKind; number: number }): string {
+  const comm = (pdo.kind === "rpdo" ? 0x1400 : 0x1800) + pdo.number - 1;
+  return `${odAddress(comm)} / ${odAddress(comm + 0x200)}`;
+}
+
+export function formatCobId(cobId: number): string {
+  return `0x${cobId.toString(16).toUpperCase().padStart(3, "0")}`;
+}
+
+/** A CAN identifier as typed: "0x181", "181h" or "181" (hex, as the manuals print it). */
+export function parseCobId(text: string): number | null {
+  const cleaned = text.trim().replace(/^0x/i, "").replace(/h$/i, "");
+  if (!/^[0-9a-f]{1,3}$/i.test(cleaned)) return null;
+  const value = Number.parseInt(cleaned, 16);
+  return value >= 1 && value <= 0x7ff ? value : null;
+}
+
+/** Inhibit time: the object counts 100 µs, people read milliseconds. */
+export function inhibitMs(value100us: number): number {
+  return value100us / 10;
+}
+
+export function inhibitFromMs(ms: number): number {
+  return Math.round(ms * 10);
+}
+
+function ordinal(n: number): string {
+  const suffix =
+    n % 100 >= 10 && n % 100 <= 20 ? "th" : ({ 1: "st", 2: "nd", 3: "rd" }[n % 10] ?? "th");
+  return `${n}${suffix}`;
+}
+
+/** A transmission type in words (CiA 301 §7.5.2.35), used when the server sends none. */
+export function transmissionWords(type: number, kind: PdoKind): string {
+  const tpdo = kind === "tpdo";
+  if (type === 0) {
+    return tpdo
+      ? "synchronous, acyclic (at the next SYNC after a change)"
+      : "synchronous (applied at the next SYNC)";
+  }
+  if (type === 1) return "every SYNC";
+  if (type <= 240) return tpdo ? `every ${ordinal(type)} SYNC` : "synchronous";
+  if (type === 252) return "sampled at SYNC, sent on remote request";
+  if (type === 253) return "sent on remote request";
+  if (type === 254 || type === 255) {
+    const which = type === 254 ? "manufacturer-specific" : "device-profile";
+    return tpdo
+      ? `on change + event timer (${which} event)`
+      : `applied on arrival (${which} event)`;
+  }
+  return `reserved (${type})`;
+}
+
+/** Types 0–240 and 252 act on SYNC: they need a SYNC producer on the bus. */
+export function isSynchronous(type: number): boolean {
+  return type <= 240 || type === 252;
+}
+
+/** Transmission types offered in the editor, by kind. */
+export function transmissionChoices(kind: PdoKind): number[] {
+  return kind === "tpdo" ? [0, 1, 2, 5, 10, 252, 253, 254, 255] : [0, 1, 254, 255];
+}
+
+/** Bits of an OD data type, or null when it has no fixed size. */
+export function typeBits(dataTypeName: string): number | null {
+  if (dataTypeName === "BOOLEAN") return 1;
+  const int = integerType(dataTypeName);
+  if (int) return int.bits;
+  if (dataTypeName === "REAL32") return 32;
+  if (dataTypeName === "REAL64") return 64;
+  return null;
+}
+
+export function isWritable(access: string): boolean {
+  return access.includes("w");
+}
+
+export function isReadable(access: string): boolean {
+  return access.includes("r") || access === "const";
+}
+
+export interface LayoutBlock {
+  /** Position in the mapping (0-based). */
+  position: number;
+  index: number;
+  subindex: number;
+  bits: number;
+  startBit: number;
+  /** Past the 64-bit frame: the mapping does not fit. */
+  overflow: boolean;
+  /** The dictionary's name, else the server's, else null (shown raw as index:sub). */
+  name: string | null;
+  unit: string;
+  known: boolean;
+}
+
+export interface Layout {
+  blocks: LayoutBlock[];
+  usedBits: number;
+  /** Bytes the frame carries (DLC). */
+  bytes: number;
+}
+
+/** Where each mapped object sits in the frame: packed little-endian, one after the other. */
+export function frameLayout(mapping: readonly MappedObject[], lookup: Lookup): Layout {
+  let start = 0;
+  const blocks = mapping.map((entry, position): LayoutBlock => {
+    const info = lookup(entry.index, entry.subindex);
+    const block: LayoutBlock = {
+      position,
+      index: entry.index,
+      subindex: entry.subindex,
+      bits: entry.bits,
+      startBit: start,
+      overflow: start + entry.bits > MAX_BITS,
+      name: info?.name ?? entry.name ?? null,
+      unit: info?.unit ?? "",
+      known: info !== undefined,
+    };
+    start += entry.bits;
+    return block;
+  });
+  return { blocks, usedBits: start, bytes: Math.ceil(start / 8) };
+}
+
+export function usedBits(mapping: readonly MappedObject[]): number {
+  return mapping.reduce((sum, entry) => sum + entry.bits, 0);
+}
+
+export interface FitRules {
+  /** The drive maps whole bytes only (MDi-S1-C, Kinco). */
+  byteGranular: boolean;
+}
+
+/** Why `object` cannot be added to `pdo`, in words; null when it fits. */
+export function fitProblem(pdo: Pdo, object: ObjectInfo, rules: FitRules): string | null {
+  const what = `${object.name} (${odAddress(object.index, object.subindex)})`;
+  if (!object.mappable) return `${what} is not PDO-mappable.`;
+  if (object.bits === null) {
+    return `${what} is a ${object.dataTypeName}: it has no fixed size to map.`;
+  }
+  if (pdo.kind === "rpdo" && !isWritable(object.access)) {
+    return `An RPDO writes into the drive, but ${what} is read-only.`;
+  }
+  if (pdo.kind === "tpdo" && !isReadable(object.access)) {
+    return `A TPDO sends what the drive reads, but ${what} is write-only.`;
+  }
+  if (rules.byteGranular && object.bits % 8 !== 0) {
+    return `This drive maps whole bytes only; ${what} has ${object.bits} bits.`;
+  }
+  if (pdo.mapping.length >= MAX_ENTRIES) {
+    return `${pdoLabel(pdo)} already maps ${MAX_ENTRIES} objects, the most a PDO holds.`;
+  }
+  const used = usedBits(pdo.mapping);
+  if (used + object.bits > MAX_BITS) {
+    return `${what} needs ${object.bits} bits; ${pdoLabel(pdo)} has ${MAX_BITS - used} of ${MAX_BITS} left.`;
+  }
+  return null;
+}
+
+/** The mapping with the entry at `from` moved to `to` (both clamped). */
+export function moveEntry<T>(list: readonly T[], from: number, to: number): T[] {
+  const out = [...list];
+  if (from < 0 || from >= out.length) return out;
+  const target = Math.max(0, Math.min(out.length - 1, to));
+  const [item] = out.splice(from, 1);
+  if (item !== undefined) out.splice(target, 0, item);
+  return out;
+}
+
+function sameMapping(a: readonly MappedObject[], b: readonly MappedObject[]): boolean {
+  const key = (e: MappedObject): string => `${e.index}:${e.subindex}:${e.bits}`;
+  return a.map(key).join(",") === b.map(key).join(",");
+}
+
+/** What the draft changes on one PDO, in words; empty when nothing. */
+export function pdoChanges(before: Pdo | undefined, after: Pdo): string[] {
+  if (!before) return ["new PDO"];
+  const out: string[] = [];
+  if (before.cob_id !== after.cob_id) {
+    out.push(`COB-ID ${formatCobId(before.cob_id)} → ${formatCobId(after.cob_id)}`);
+  }
+  if (before.valid !== after.valid) out.push(after.valid ? "made valid" : "made invalid");
+  if (before.transmission_type !== after.transmission_type) {
+    out.push(
+      `transmission ${before.transmission_type} → ${after.transmission_type} (${transmissionWords(after.transmission_type, after.kind)})`,
+    );
+  }
+  if (before.inhibit_time_100us !== after.inhibit_time_100us) {
+    out.push(
+      `inhibit ${inhibitMs(before.inhibit_time_100us)} → ${inhibitMs(after.inhibit_time_100us)} ms`,
+    );
+  }
+  if (before.event_timer_ms !== after.event_timer_ms) {
+    out.push(`event timer ${before.event_timer_ms} → ${after.event_timer_ms} ms`);
+  }
+  if (before.sync_start !== after.sync_start) {
+    out.push(`SYNC start ${before.sync_start} → ${after.sync_start}`);
+  }
+  if (!sameMapping(before.mapping, after.mapping)) {
+    const names = after.mapping.map((e) => e.name ?? odAddress(e.index, e.subindex));
+    out.push(`mapping → ${names.length ? names.join(", ") : "nothing"}`);
+  }
+  return out;
+}
+
+export interface DraftChange {
+  pdo: Pdo;
+  changes: string[];
+}
+
+/** Every PDO the draft changes against the device, in the draft's order. */
+export function draftChanges(device: readonly Pdo[], draft: readonly Pdo[]): DraftChange[] {
+  const byKey = new Map(device.map((p) => [pdoKey(p), p]));
+  return draft
+    .map((pdo) => ({ pdo, changes: pdoChanges(byKey.get(pdoKey(pdo)), pdo) }))
+    .filter((c) => c.changes.length > 0);
+}
+
+/** The device's PDOs with those of `update` put in their place (a recommendation may name
+ * only the PDOs it configures). */
+export function mergePdos(base: readonly Pdo[], update: readonly Pdo[]): Pdo[] {
+  const byKey = new Map(update.map((p) => [pdoKey(p), p]));
+  const merged = base.map((p) => byKey.get(pdoKey(p)) ?? p);
+  const known = new Set(base.map(pdoKey));
+  return [...merged, ...update.filter((p) => !known.has(pdoKey(p)))];
+}
+
+/** RPDOs first, then TPDOs, each by number. */
+export function sortPdos(pdos: readonly Pdo[]): Pdo[] {
+  return [...pdos].sort((a, b) =>
+    a.kind === b.kind ? a.number - b.number : a.kind === "rpdo" ? -1 : 1,
+  );
+}
+
+export interface ModeChoice {
+  code: "pp" | "pv" | "pt" | "hm" | "ip";
+  name: string;
+  /** Modes of operation (6060h) value. */
+  value: number;
+}
+
+export const MODES: readonly ModeChoice[] = [
+  { code: "pp", name: "Profile position", value: 1 },
+  { code: "pv", name: "Profile velocity", value: 3 },
+  { code: "pt", name: "Profile torque", value: 4 },
+  { code: "hm", name: "Homing", value: 6 },
+  { code: "ip", name: "Interpolated position", value: 7 },
+];
+
+/** Drive families whose PDO mapping lengths must be whole bytes (MDi-S1-C CANopen manual
+ * §5.2, Kinco servo CANopen manual §5.4.3), by the profile name the server reports. */
+const BYTE_GRANULAR_PROFILES: ReadonlySet<string> = new Set(["mdi-s1c", "kinco"]);
+
+export function isByteGranular(profile: string | undefined): boolean {
+  return profile !== undefined && BYTE_GRANULAR_PROFILES.has(profile);
+}
+
+export function formatPercent(value: number): string {
+  return `${value < 10 ? value.toFixed(1) : value.toFixed(0)} %`;
+}
+
+export function formatRate(value: number | null | undefined): string {
+  if (value == null) return "—";
+  if (value === 0) return "0/s";
+  return `${value < 10 ? value.toFixed(1) : value.toFixed(0)}/s`;
+}

@@ -1,0 +1,83 @@
+// The PDO routes, one function each, through the generated client. Errors come back as
+// ApiError (ErrorText shows them); an apply the device refused comes back as data, because
+// the page shows its step, abort code and whether the device was restored.
+import { api, call } from "../../api/client";
+import { asApiError, toApiError } from "../../api/errors";
+import type { ApplyFailure, BusLoad, LiveCapture, Pdo, Problem, Validation } from "./types";
+
+const path = (node: number): { path: { node: number } } => ({ path: { node } });
+
+export function listPdos(node: number, signal?: AbortSignal): Promise<Pdo[]> {
+  return call(api.GET("/api/nodes/{node}/pdos", { params: path(node), signal }));
+}
+
+export function validatePdos(node: number, pdos: Pdo[]): Promise<Validation> {
+  return call(api.POST("/api/nodes/{node}/pdos/validate", { params: path(node), body: { pdos } }));
+}
+
+export async function recommendedPdos(node: number, modes: string[]): Promise<Pdo[]> {
+  const answer = await call(
+    api.GET("/api/nodes/{node}/pdos/recommended", {
+      params: { ...path(node), query: { modes: modes.join(",") } },
+    }),
+  );
+  return answer.pdos;
+}
+
+export function busLoad(threshold: number, signal?: AbortSignal): Promise<BusLoad> {
+  return call(api.GET("/api/bus-load", { params: { query: { threshold } }, signal }));
+}
+
+export type ApplyOutcome =
+  | { result: "applied"; pdos: Pdo[] }
+  | { result: "failed"; failure: ApplyFailure }
+  | { result: "rejected"; message: string; problems: Problem[] };
+
+export async function applyPdos(node: number, pdos: Pdo[]): Promise<ApplyOutcome> {
+  let answer;
+  try {
+    answer = await api.PUT("/api/nodes/{node}/pdos", { params: path(node), body: { pdos } });
+  } catch (error) {
+    throw asApiError(error);
+  }
+  const { data, error, response } = answer;
+  if (data) return { result: "applied", pdos: data };
+  if (error.error === "pdo_apply_failed") {
+    return {
+      result: "failed",
+      failure: {
+        step: error.step ?? "apply",
+        abort_code: error.abort_code ?? null,
+        message: error.message,
+        restored: error.restored ?? false,
+      },
+    };
+  }
+  if (error.problems) {
+    return { result: "rejected", message: error.message, problems: error.problems };
+  }
+  throw toApiError(response.status, error, response.statusText);
+}
+
+export function startLive(node: number): Promise<LiveCapture> {
+  return call(api.POST("/api/nodes/{node}/pdos/live", { params: path(node) }));
+}
+
+export function stopLive(node: number): Promise<LiveCapture> {
+  return call(api.DELETE("/api/nodes/{node}/pdos/live", { params: path(node) }));
+}
+
+export function readLive(node: number, signal?: AbortSignal): Promise<LiveCapture> {
+  return call(api.GET("/api/nodes/{node}/pdos/live", { params: path(node), signal }));
+}
+
+export type ExportFormat = "dcf" | "python";
+
+export function exportPdos(node: number, format: ExportFormat): Promise<string> {
+  return call(
+    api.GET("/api/nodes/{node}/pdos/export", {
+      params: { ...path(node), query: { format } },
+      parseAs: "text",
+    }),
+  );
+}
