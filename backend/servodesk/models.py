@@ -1,4 +1,5 @@
-"""The data the services return and the API sends, as one set of pydantic models (docs/api.md).
+"""The data the services return and the API sends, as pydantic models (docs/api.md); the PDO,
+bus-load and live-check shapes are in servodesk.pdo_models.
 
 Services build these directly so the HTTP layer stays a thin mapping with no second copy of
 every shape; the TypeScript client is generated from the OpenAPI schema they produce.
@@ -7,11 +8,14 @@ every shape; the TypeScript client is generated from the OpenAPI schema they pro
 from __future__ import annotations
 
 from enum import StrEnum
-from typing import Annotated, Any, Literal
+from typing import Any, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, StrictBool
+from pydantic import BaseModel, Field, StrictBool
 
-Value = int | float | str | None
+from servodesk.model_base import JsonInt as JsonInt
+from servodesk.model_base import RequestBody as RequestBody
+from servodesk.model_base import Value as Value
+from servodesk.pdo_models import PdoProblem
 
 
 class BusState(StrEnum):
@@ -35,23 +39,6 @@ class NmtCommandName(StrEnum):
     PRE_OPERATIONAL = "pre-operational"
     RESET_NODE = "reset-node"
     RESET_COMMUNICATION = "reset-communication"
-
-
-def _not_text(value: object) -> object:
-    if isinstance(value, str | bool):
-        raise ValueError("a number, not text or true/false")
-    return value
-
-
-# A JSON integer: 12 and 12.0 (JSON Schema's integer), never "12" or 12.5.
-JsonInt = Annotated[int, BeforeValidator(_not_text)]
-
-
-class RequestBody(BaseModel):
-    """What clients send: no silent coercion ("12" is not 12, "true" is not true: JsonInt and
-    StrictBool fields) and no unknown fields (a misspelt "comfirm" must not be ignored)."""
-
-    model_config = ConfigDict(extra="forbid")
 
 
 class BusConfig(RequestBody):
@@ -354,128 +341,6 @@ class LiveEvent(BaseModel):
     node: int | None = None
     kind: Literal["boot-up", "node-lost", "node-back", "nmt", "bus"]
     message: str
-
-
-# ---------------------------------------------------------------------------------- PDOs
-
-PdoKindName = Literal["rpdo", "tpdo"]
-
-
-class PdoMappedObject(BaseModel):
-    index: int
-    subindex: int
-    bits: int
-    name: str | None = None  # from the node's dictionary; None when it does not know it
-
-
-class Pdo(BaseModel):
-    """One RPDO/TPDO as the device has it (GET) or as it is to be (PUT)."""
-
-    kind: PdoKindName
-    number: int  # 1-based
-    cob_id: int  # the CAN identifier, without the valid / RTR bits
-    valid: bool  # COB-ID bit 31 clear
-    transmission_type: int
-    inhibit_time_100us: int
-    event_timer_ms: int
-    sync_start: int
-    mapping: list[PdoMappedObject]
-    transmission: str = ""  # read-only: the transmission type in words
-
-
-class PdoMappedObjectIn(RequestBody):
-    index: JsonInt = Field(ge=0, le=0xFFFF)
-    subindex: JsonInt = Field(ge=0, le=0xFF)
-    bits: JsonInt = Field(ge=1, le=0xFF)
-    name: str | None = None  # read-only, ignored (so a GET result can be sent back)
-
-
-class PdoIn(RequestBody):
-    kind: PdoKindName
-    number: JsonInt = Field(ge=1, le=512)
-    cob_id: JsonInt = Field(ge=0, le=0x7FF)
-    valid: StrictBool
-    transmission_type: JsonInt = Field(ge=0, le=0xFF)
-    inhibit_time_100us: JsonInt = Field(default=0, ge=0, le=0xFFFF)
-    event_timer_ms: JsonInt = Field(default=0, ge=0, le=0xFFFF)
-    sync_start: JsonInt = Field(default=0, ge=0, le=0xFF)
-    mapping: list[PdoMappedObjectIn] = Field(default_factory=list, max_length=64)
-    transmission: str | None = None  # read-only, ignored
-
-
-class PdoWriteRequest(RequestBody):
-    pdos: list[PdoIn] = Field(max_length=1024)
-
-
-class PdoList(BaseModel):
-    pdos: list[Pdo]
-
-
-class PdoProblem(BaseModel):
-    kind: PdoKindName
-    number: int
-    message: str
-
-
-class PdoLoadModel(BaseModel):
-    kind: PdoKindName
-    number: int
-    cob_id: int
-    frames_per_s: float | None  # None: sent on events only, no rate to estimate
-    bits_per_frame: int
-    bits_per_s: float
-    basis: str  # how the rate was estimated ("every SYNC at 1000 µs", "event timer 10 ms")
-
-
-class NodeLoadModel(BaseModel):
-    node: int
-    bits_per_s: float
-    percent: float
-    pdos: list[PdoLoadModel]
-
-
-class BusLoadResult(BaseModel):
-    bitrate: int
-    sync_period_us: int | None
-    sync_bits_per_s: float
-    nodes: list[NodeLoadModel]
-    total_bits_per_s: float
-    percent: float
-    threshold_percent: float
-    over_threshold: bool
-    notes: list[str]
-
-
-class PdoValidation(BaseModel):
-    ok: bool
-    problems: list[PdoProblem]
-    bus_load: BusLoadResult  # the bus with this node's PDOs replaced by the given ones
-
-
-class LiveValue(BaseModel):
-    index: int
-    subindex: int
-    name: str | None = None
-    value: Value = None
-    raw: str = ""  # the field's bytes as hex
-    unit: str = ""
-
-
-class LivePdo(BaseModel):
-    cob_id: int
-    kind: PdoKindName
-    number: int
-    frames: int  # since the capture started
-    rate_hz: float  # over the last ~2 s
-    age_ms: int | None = None  # since the last frame; None before the first
-    values: list[LiveValue]  # the last frame, decoded
-
-
-class LiveCheck(BaseModel):
-    node: int
-    active: bool
-    since: float | None = None  # UNIX time the capture started
-    pdos: list[LivePdo]
 
 
 class ErrorBody(BaseModel):

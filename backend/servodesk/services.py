@@ -58,7 +58,8 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
         bitrate=lambda: bus.status().bitrate,
         sync=sync.get,
     )
-    # the cached PDOs go stale on a dictionary change, NMT command, boot-up or bus change
+    # the cached PDOs go stale on a dictionary change, NMT command, boot-up, bus change or a raw
+    # SDO write to a PDO parameter (SdoService on_write; a DCF load tells the service itself)
     registry.add_od_listener(pdos.forget)
     registry.add_event_listener(pdos.on_event)
     bus.add_listener(pdos.on_bus)
@@ -67,7 +68,7 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
         bus=bus,
         registry=registry,
         sync=sync,
-        sdo=SdoService(registry),
+        sdo=SdoService(registry, on_write=pdos.sdo_written),
         jobs=jobs,
         params=ParamService(registry),
         node_ids=NodeIdService(registry, settings),

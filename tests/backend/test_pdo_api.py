@@ -9,8 +9,11 @@ from typing import Any
 from fastapi.testclient import TestClient
 
 import servodesk_data
+from servodesk.pdo.context import node_facts
+from servodesk.pdo.service import rules_of
 from servodesk_sim.frames import Frame
 from tests.backend.test_api_routes import ok, services_of, wait_for
+from tests.backend.test_pdo_validate import dictionary
 
 SDO_RX = 0x600  # SDO request COB-ID base
 DOWNLOAD_COMMANDS = frozenset({0x21, 0x23, 0x27, 0x2B, 0x2F})  # SDO initiate download
@@ -88,6 +91,9 @@ def test_invalid_configuration_is_422_and_writes_nothing(client: TestClient) -> 
     assert body["error"] == "invalid_value"
     assert {"kind": "tpdo", "number": 1}.items() <= body["problems"][0].items()
     assert any("64" in p["message"] for p in body["problems"])
+    # each reason names the object to change: the mapped object, or the mapping's count
+    where = {(p["index"], p["subindex"]) for p in body["problems"]}
+    assert where == {(0x1017, 0), (0x1A00, 0)}
     assert writes.frames == []
     strict = client.put("/api/nodes/1/pdos", json={"pdos": [{**tpdo1, "valid": "yes"}]})
     assert strict.status_code == 422
@@ -174,3 +180,127 @@ def test_dcf_load_handles_pdos_in_operational(client: TestClient) -> None:
     assert result["differences"] == []
     assert ok(client.get("/api/nodes/3/pdos")) == before
     assert nmt_state(client, 3) == "operational"
+
+
+def test_validation_problems_name_their_object(client: TestClient) -> None:
+    tpdo1 = pdo_of(ok(client.get("/api/nodes/2/pdos")), "tpdo", 1)
+    tpdo1["mapping"] = [{"index": 0x6041, "subindex": 0, "bits": 12}]  # Kinco: whole bytes
+    tpdo1["transmission_type"] = 250  # reserved
+    check = ok(client.post("/api/nodes/2/pdos/validate", json={"pdos": [tpdo1]}))
+    assert check["ok"] is False
+    rows = {(p["index"], p["subindex"]): p["message"] for p in check["problems"]}
+    assert set(rows) == {(0x6041, 0), (0x1800, 2)}
+    assert "reserved" in rows[(0x1800, 2)]
+
+
+def test_validate_takes_threshold_and_master_cycle(client: TestClient) -> None:
+    pdos = ok(client.get("/api/nodes/1/pdos"))
+    check = ok(
+        client.post(
+            "/api/nodes/1/pdos/validate",
+            params={"threshold": 1, "master_period_ms": 5},
+            json={"pdos": pdos},
+        )
+    )
+    load = check["bus_load"]
+    assert (load["threshold_percent"], load["master_period_ms"]) == (1, 5)
+    assert load["over_threshold"] is True
+    rpdo1 = next(p for p in load["nodes"][0]["pdos"] if p["kind"] == "rpdo" and p["number"] == 1)
+    assert rpdo1["frames_per_s"] == 200  # the master's event-driven RPDO every 5 ms
+    assert rpdo1["basis"] == "sent by the master every 5 ms (assumed master cycle)"
+    default = ok(client.post("/api/nodes/1/pdos/validate", json={"pdos": pdos}))["bus_load"]
+    assert (default["threshold_percent"], default["master_period_ms"]) == (70, 10)
+    bad = client.post("/api/nodes/1/pdos/validate", params={"threshold": 101}, json={"pdos": []})
+    assert bad.status_code == 422
+
+
+def test_bus_load_names_each_assumption_once(client: TestClient) -> None:
+    load = ok(client.get("/api/bus-load", params={"master_period_ms": 20}))
+    master = [note for note in load["notes"] if "master cycle" in note]
+    # every simulated drive has event-driven RPDOs: one line names them all
+    assert len(master) == 1
+    assert master[0].endswith(": counted at the assumed 20 ms master cycle")
+    assert all(f"node {n} RPDO1" in master[0] for n in (1, 2, 3))
+    counted = [p for n in load["nodes"] for p in n["pdos"] if p["kind"] == "rpdo"]
+    assert counted
+    assert {p["frames_per_s"] for p in counted} == {50}
+
+
+def test_recommended_tpdos_report_a_standing_drive(client: TestClient) -> None:
+    # event-driven TPDOs with ServoDesk's 100 ms event timer: a drive that stands still
+    # (nothing changes) still sends its state, so the live check shows frames and a rate
+    wanted = ok(client.get("/api/nodes/1/pdos/recommended", params={"modes": "pp"}))["pdos"]
+    assert pdo_of(wanted, "tpdo", 1)["event_timer_ms"] == 100
+    ok(client.put("/api/nodes/1/pdos", json={"pdos": wanted}))
+    ok(client.post("/api/nodes/1/nmt", json={"command": "start"}))
+    started = ok(client.post("/api/nodes/1/pdos/live"))
+    assert all(p["rate_hz"] is None for p in started["pdos"] if p["frames"] < 2)
+
+    def tpdo1() -> dict[str, Any]:
+        rows = ok(client.get("/api/nodes/1/pdos/live"))["pdos"]
+        return next(p for p in rows if p["cob_id"] == 0x181)
+
+    assert wait_for(lambda: tpdo1()["frames"] >= 6)
+    row = tpdo1()
+    assert 7 <= row["rate_hz"] <= 13  # every 100 ms
+    values = {v["name"]: v for v in row["values"]}
+    statusword = values["Statusword"]
+    assert statusword["value"] == 0x0250
+    assert statusword["raw"] == "50 02"  # the field's bytes as they travel
+    assert statusword["text"] == "Switch on disabled · voltage enabled"
+    assert values["Modes of operation display"]["text"] == "No mode"
+    assert values["Position actual value"]["text"] is None
+    assert len(values["Position actual value"]["raw"].split()) == 4
+    ok(client.delete("/api/nodes/1/pdos/live"))
+
+
+def test_rules(client: TestClient) -> None:
+    mdi = ok(client.get("/api/nodes/1/pdos/rules"))
+    assert mdi == {
+        "byte_granular": True,
+        "fixed_cob_ids": 4,
+        "rtr_supported": False,
+        "rpdo_count": 4,
+        "tpdo_count": 4,
+        "procedure": mdi["procedure"],
+        "needs_pre_operational": False,
+    }
+    assert "MDi-S1-C CANopen manual §2.5.4" in mdi["procedure"]
+    kinco = ok(client.get("/api/nodes/2/pdos/rules"))
+    assert (kinco["fixed_cob_ids"], kinco["needs_pre_operational"]) == (0, False)
+    assert "Kinco servo CANopen manual §5.4.4" in kinco["procedure"]
+    cia402 = ok(client.get("/api/nodes/3/pdos/rules"))
+    assert (cia402["rpdo_count"], cia402["tpdo_count"], cia402["rtr_supported"]) == (8, 8, True)
+    assert cia402["needs_pre_operational"] is True
+    assert "Nanotec CANopen article" in cia402["procedure"]
+    assert client.get("/api/nodes/42/pdos/rules").json()["error"] == "node_not_found"
+
+
+def test_rules_of_a_generic_node_are_cia_301() -> None:
+    rules = rules_of(node_facts(5, "generic-cia402", dictionary("cia402"), None))
+    assert (rules.rpdo_count, rules.tpdo_count) == (8, 8)  # from its dictionary
+    assert (rules.fixed_cob_ids, rules.rtr_supported, rules.needs_pre_operational) == (
+        0,
+        True,
+        False,
+    )
+    assert rules.procedure.endswith("(CiA 301 §7.5.2.35–38)")
+
+
+def tpdo_numbers(client: TestClient, node: int) -> list[int]:
+    """The valid TPDOs of `node` the bus load counts."""
+    load = ok(client.get("/api/bus-load"))
+    rows = next(n for n in load["nodes"] if n["node"] == node)["pdos"]
+    return [p["number"] for p in rows if p["kind"] == "tpdo"]
+
+
+def test_raw_writes_to_pdo_parameters_refresh_the_bus_load(client: TestClient) -> None:
+    saved = client.get("/api/nodes/1/dcf").text
+    assert 1 in tpdo_numbers(client, 1)  # read and cached
+    # TPDO1 invalid (COB-ID bit 31) through the plain SDO route
+    ok(client.put("/api/nodes/1/sdo/1800/1", json={"value": 0x80000181}))
+    assert 1 not in tpdo_numbers(client, 1)
+    # the saved parameter set makes it valid again
+    files = {"file": ("node1.dcf", saved.encode(), "application/octet-stream")}
+    assert ok(client.post("/api/nodes/1/dcf", files=files))["failed"] == []
+    assert 1 in tpdo_numbers(client, 1)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from servodesk.pdo.bus_load import bus_load, frame_bits, frames_per_second
+from servodesk.pdo.bus_load import PdoRef, bus_load, frame_bits, frames_per_second, pdo_list
 from servodesk.pdo.model import MappedObject, PdoConfig
 
 STATUSWORD = MappedObject(0x6041, 0, 16)
@@ -62,7 +62,8 @@ def test_a_frame_carries_at_most_eight_bytes() -> None:
         ),
         (tpdo(1, EIGHT_BYTES, transmission_type=255), 1000, None),
         (tpdo(1, EIGHT_BYTES, transmission_type=252), 1000, 0.0),  # on request only
-        (rpdo(1, EIGHT_BYTES), 1000, None),  # as often as the master sends
+        (rpdo(1, EIGHT_BYTES), 1000, 1000.0),  # the master: once per SYNC
+        (rpdo(1, EIGHT_BYTES), None, 100.0),  # the master: every 10 ms (assumed cycle)
         (rpdo(1, EIGHT_BYTES, transmission_type=1), 1000, 1000.0),
         (tpdo(1, EIGHT_BYTES, valid=False), 1000, 0.0),
     ],
@@ -110,7 +111,8 @@ def test_two_drives_at_1_ms_sync_on_500_kbit() -> None:
 def test_event_driven_pdos_at_250_kbit() -> None:
     # statusword + position (6 bytes, 115 bits) at most every 10 ms: 11 500 bit/s = 4.6 %
     # statusword alone (2 bytes, 75 bits) by a 100 ms event timer: 750 bit/s = 0.3 %
-    # no SYNC; the RPDO and the TPDO without inhibit time are unbounded and named
+    # the master's RPDO1 (2 bytes, 75 bits) every 10 ms (assumed cycle): 7 500 bit/s = 3.0 %
+    # no SYNC; the TPDO without inhibit time is unbounded and named
     pdos = [
         tpdo(1, (STATUSWORD, POSITION), transmission_type=255, inhibit_time_100us=100),
         tpdo(2, (STATUSWORD,), transmission_type=254, event_timer_ms=100),
@@ -122,21 +124,65 @@ def test_event_driven_pdos_at_250_kbit() -> None:
         (100.0, 11_500, "at most every 10.0 ms (inhibit time)"),
         (10.0, 750, "event timer 100 ms"),
         (None, 0, "unbounded: event-driven without inhibit time"),
-        (None, 0, "unbounded: event-driven, sent as often as the master sends it"),
+        (100.0, 7_500, "sent by the master every 10 ms (assumed master cycle)"),
     ]
     assert load.sync_bits_per_s == 0
-    assert load.percent == pytest.approx(4.9)
+    assert load.percent == pytest.approx(7.9)
     assert load.notes == [
-        "node 4 TPDO3 is not counted: unbounded: event-driven without inhibit time",
-        "node 4 RPDO1 is not counted:"
-        " unbounded: event-driven, sent as often as the master sends it",
+        "node 4 TPDO3: not counted: unbounded: event-driven without inhibit time",
+        "node 4 RPDO1: counted at the assumed 10 ms master cycle",
     ]
+
+
+def test_event_driven_rpdos_of_three_nodes_at_the_master_cycle() -> None:
+    # 500 kbit/s, no SYNC, a 20 ms master cycle; every RPDO event-driven (255), sent by the
+    # master every 20 ms = 50 frames/s:
+    #   node 1 RPDO1–3, 8 bytes:  3 x 135 bits x 50/s = 20 250 bit/s
+    #   node 3 RPDO1–4, 4 bytes:  4 x  95 bits x 50/s = 19 000 bit/s
+    #   node 3 TPDO1, 2 bytes, event timer 100 ms:  75 bits x 10/s = 750 bit/s
+    #   total                                        40 000 bit/s = 8.0 %
+    node1 = [rpdo(n, EIGHT_BYTES) for n in (1, 2, 3)]
+    node3 = [*(rpdo(n, FOUR_BYTES) for n in (1, 2, 3, 4))]
+    node3.append(tpdo(1, (STATUSWORD,), transmission_type=255, event_timer_ms=100))
+    load = bus_load({1: node1, 3: node3}, bitrate=500_000, sync_period_us=None, master_period_ms=20)
+    assert [(n.node, n.bits_per_s) for n in load.nodes] == [(1, 20_250), (3, 19_750)]
+    assert load.nodes[0].pdos[0].basis == "sent by the master every 20 ms (assumed master cycle)"
+    assert load.total_bits_per_s == 40_000
+    assert load.percent == pytest.approx(8.0)
+    assert load.master_period_ms == 20
+    # one line for the assumption, naming every PDO it concerns
+    assert load.notes == [
+        "node 1 RPDO1–3, node 3 RPDO1–4: counted at the assumed 20 ms master cycle"
+    ]
+
+    # with SYNC every 2 ms the master is assumed to send them once per SYNC (500/s):
+    #   SYNC 55 x 500 = 27 500; node 1: 3 x 135 x 500 = 202 500; node 3: 4 x 95 x 500 = 190 000
+    #   + 750 = 420 750 bit/s = 84.15 %
+    load = bus_load({1: node1, 3: node3}, bitrate=500_000, sync_period_us=2000, master_period_ms=20)
+    assert load.nodes[1].pdos[0].basis == "sent by the master every 2 ms (assumed: once per SYNC)"
+    assert load.total_bits_per_s == 420_750
+    assert load.notes[0] == (
+        "node 1 RPDO1–3, node 3 RPDO1–4: counted once per SYNC (2 ms), as the master is assumed"
+        " to send them"
+    )
+    assert load.over_threshold
+
+
+def test_pdo_lists_join_runs_per_node() -> None:
+    refs: list[PdoRef] = [
+        (3, "tpdo", 2),
+        (1, "rpdo", 1),
+        (1, "rpdo", 2),
+        (1, "rpdo", 4),
+        (1, "tpdo", 5),
+    ]
+    assert pdo_list(refs) == "node 1 RPDO1–2, RPDO4 and TPDO5, node 3 TPDO2"
 
 
 def test_synchronous_pdos_without_a_sync_period_are_named() -> None:
     load = bus_load({2: [tpdo(1, EIGHT_BYTES)]}, bitrate=1_000_000, sync_period_us=0)
     assert load.total_bits_per_s == 0
-    assert load.notes == ["node 2 TPDO1 is not counted: synchronous, but no SYNC period is set"]
+    assert load.notes == ["node 2 TPDO1: not counted: synchronous, but no SYNC period is set"]
 
 
 def test_sub_millisecond_sync_and_threshold() -> None:
@@ -145,6 +191,8 @@ def test_sub_millisecond_sync_and_threshold() -> None:
     assert (load.sync_bits_per_s, load.over_threshold) == (110_000, True)
 
 
-def test_bitrate_must_be_positive() -> None:
+def test_bitrate_and_master_period_must_be_positive() -> None:
     with pytest.raises(ValueError, match="bitrate must be positive"):
         bus_load({}, bitrate=0, sync_period_us=1000)
+    with pytest.raises(ValueError, match="master period must be positive"):
+        bus_load({}, bitrate=500_000, sync_period_us=None, master_period_ms=0)

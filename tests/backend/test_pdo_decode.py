@@ -9,7 +9,7 @@ from dataclasses import replace
 import pytest
 
 from servodesk.od import ObjectDictionaryModel
-from servodesk.pdo.decode import Field, PdoDecoder
+from servodesk.pdo.decode import Field, PdoDecoder, statusword_text, value_text
 from servodesk.pdo.model import MappedObject
 from tests.backend.test_pdo_validate import dictionary
 
@@ -133,3 +133,31 @@ def test_a_short_frame_is_refused_with_the_mapping_named() -> None:
     )
     with pytest.raises(ValueError, match=re.escape(message)):
         decoder.decode(b"\x37\x06\x00")
+
+
+@pytest.mark.parametrize(
+    ("index", "value", "text"),
+    [
+        (0x6041, 0x0250, "Switch on disabled · voltage enabled"),  # 592: a standing drive
+        (0x6041, 0x0637, "Operation enabled · voltage enabled · target reached"),
+        (0x6041, 0x0218, "Fault · voltage enabled"),
+        (0x6041, 0x1637, "Operation enabled · voltage enabled · target reached · mode bit 12"),
+        (0x6041, 0x00A0, "Not ready to switch on · warning"),
+        (0x6061, 1, "Profile position (PP)"),
+        (0x6060, -3, "manufacturer-specific (-3)"),
+        (0x6064, 1000, None),  # no words for a position
+    ],
+)
+def test_values_in_words(index: int, value: int, text: str | None) -> None:
+    assert value_text(index, 0, value) == text
+
+
+def test_a_statusword_pattern_that_is_no_state_says_so() -> None:
+    assert statusword_text(0x0011) == "no CiA 402 state · voltage enabled"
+
+
+def test_raw_is_the_fields_bytes_in_frame_order() -> None:
+    decoder = PdoDecoder(MDI_TPDO1, dictionary("mdi-s1c"))
+    data = bytes.fromhex("5002") + (-1000).to_bytes(4, "little", signed=True) + b"\x01"
+    raws = [decoded.raw_bytes.hex(" ").upper() for decoded in decoder.decode(data)]
+    assert raws == ["50 02", "18 FC FF FF", "01"]

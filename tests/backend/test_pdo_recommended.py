@@ -89,19 +89,21 @@ def test_mdi_profile_position_and_velocity_is_the_chapter_6_example() -> None:
     assert {p.transmission_type for p in pdos} == {255}
 
 
+# event-driven TPDOs get ServoDesk's 100 ms event timer (the manuals give none): a standing
+# drive still reports its state every 100 ms
 @pytest.mark.parametrize(
-    ("profile", "modes", "rpdo_type", "tpdo_type", "inhibit"),
+    ("profile", "modes", "rpdo_type", "tpdo_type", "inhibit", "event_timer"),
     [
-        ("mdi-s1c", ["pp"], 255, 255, 100),  # chapter 6 step 11; 10 ms inhibit (§2.5.3 3))
-        ("kinco", ["pv"], 255, 254, 100),  # §5.4.4: FEh, inhibit 100 = 10 ms
-        ("cia402", ["pt"], 255, 255, 100),  # the drive's own 1800h:03 default
-        ("mdi-s1c", ["pp", "ip"], 1, 1, 0),  # interpolation runs on SYNC
-        ("kinco", ["ip"], 1, 1, 0),  # §5.4.5
-        ("cia402", ["hm", "ip"], 1, 1, 0),
+        ("mdi-s1c", ["pp"], 255, 255, 100, 100),  # chapter 6 step 11; 10 ms inhibit (§2.5.3 3))
+        ("kinco", ["pv"], 255, 254, 100, 100),  # §5.4.4: FEh, inhibit 100 = 10 ms
+        ("cia402", ["pt"], 255, 255, 100, 100),  # the drive's own 1800h:03 default
+        ("mdi-s1c", ["pp", "ip"], 1, 1, 0, 0),  # interpolation runs on SYNC
+        ("kinco", ["ip"], 1, 1, 0, 0),  # §5.4.5
+        ("cia402", ["hm", "ip"], 1, 1, 0, 0),
     ],
 )
 def test_transmission_follows_the_manual(
-    profile: str, modes: list[str], rpdo_type: int, tpdo_type: int, inhibit: int
+    profile: str, modes: list[str], rpdo_type: int, tpdo_type: int, inhibit: int, event_timer: int
 ) -> None:
     used = [p for p in recommendation(profile, modes) if p.valid]
     assert {(p.kind, p.transmission_type) for p in used} == {
@@ -109,7 +111,19 @@ def test_transmission_follows_the_manual(
         ("tpdo", tpdo_type),
     }
     assert {p.inhibit_time_100us for p in used if p.kind == "tpdo"} == {inhibit}
+    assert {p.event_timer_ms for p in used if p.kind == "tpdo"} == {event_timer}
     assert {p.inhibit_time_100us + p.event_timer_ms for p in used if p.kind == "rpdo"} == {0}
+
+
+def test_no_event_timer_where_the_drive_has_no_sub_5() -> None:
+    od = dictionary("mdi-s1c", NODE)
+    objects = dict(od.objects)
+    for index in range(0x1800, 0x1804):  # TPDO1–4 communication parameters without sub 5
+        subs = {n: sub for n, sub in objects[index].subs.items() if n != 5}
+        objects[index] = replace(objects[index], subs=subs)
+    pdos = recommendation("mdi-s1c", ["pp"], od=replace(od, objects=objects))
+    assert {p.event_timer_ms for p in pdos if p.kind == "tpdo"} == {0}
+    assert validate(pdos, context("mdi-s1c", od=replace(od, objects=objects))) == []
 
 
 @pytest.mark.parametrize("profile", ["mdi-s1c", "kinco", "cia402"])

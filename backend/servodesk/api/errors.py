@@ -32,7 +32,8 @@ from servodesk.errors import (
     SdoAbortError,
     ServodeskError,
 )
-from servodesk.models import ErrorBody, PdoProblem
+from servodesk.models import ErrorBody
+from servodesk.pdo_models import PdoProblem
 from servodesk.sdo.jobs import JobNotFoundError
 
 log = logging.getLogger(__name__)

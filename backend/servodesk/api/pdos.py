@@ -10,17 +10,19 @@ from fastapi.responses import PlainTextResponse
 
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import BUS_ERRORS, NODE_ERRORS, PDO_APPLY_ERRORS
-from servodesk.models import (
+from servodesk.pdo.bus_load import DEFAULT_MASTER_PERIOD_MS
+from servodesk.pdo.model import MappedObject, PdoConfig
+from servodesk.pdo.service import DEFAULT_THRESHOLD
+from servodesk.pdo_models import (
     BusLoadResult,
     LiveCheck,
     Pdo,
     PdoIn,
     PdoList,
+    PdoRules,
     PdoValidation,
     PdoWriteRequest,
 )
-from servodesk.pdo.model import MappedObject, PdoConfig
-from servodesk.pdo.service import DEFAULT_THRESHOLD
 from servodesk_protocol.pdo import transmission_words
 
 router = APIRouter(prefix="/nodes/{node}/pdos", tags=["pdo"], responses=NODE_ERRORS)
@@ -35,6 +37,16 @@ Modes = Annotated[
 ]
 Threshold = Annotated[
     float, Query(ge=0, le=100, description="percent of the bitrate above which load is too high")
+]
+MasterPeriod = Annotated[
+    int,
+    Query(
+        ge=1,
+        le=60_000,
+        description=(
+            "ms: the master cycle assumed for event-driven RPDOs while no SYNC producer runs"
+        ),
+    ),
 ]
 ExportFormat = Annotated[
     Literal["dcf", "python"],
@@ -64,11 +76,23 @@ async def apply_pdos(node: NodeId, body: PdoWriteRequest, services: ServicesDep)
     return [to_api(pdo) for pdo in await services.pdos.apply(node, pdos)]
 
 
+@router.get("/rules")
+async def pdo_rules(node: NodeId, services: ServicesDep) -> PdoRules:
+    return services.pdos.rules(node)
+
+
 @router.post("/validate")
 async def validate_pdos(
-    node: NodeId, body: PdoWriteRequest, services: ServicesDep
+    node: NodeId,
+    body: PdoWriteRequest,
+    services: ServicesDep,
+    threshold: Threshold = DEFAULT_THRESHOLD,
+    master_period_ms: MasterPeriod = DEFAULT_MASTER_PERIOD_MS,
 ) -> PdoValidation:
-    return await services.pdos.validate(node, [from_api(pdo) for pdo in body.pdos])
+    pdos = [from_api(pdo) for pdo in body.pdos]
+    return await services.pdos.validate(
+        node, pdos, threshold=threshold, master_period_ms=master_period_ms
+    )
 
 
 @router.get("/recommended")
@@ -106,6 +130,8 @@ async def stop_live(node: NodeId, services: ServicesDep) -> LiveCheck:
 
 @bus_router.get("/bus-load")
 async def bus_load(
-    services: ServicesDep, threshold: Threshold = DEFAULT_THRESHOLD
+    services: ServicesDep,
+    threshold: Threshold = DEFAULT_THRESHOLD,
+    master_period_ms: MasterPeriod = DEFAULT_MASTER_PERIOD_MS,
 ) -> BusLoadResult:
-    return await services.pdos.bus_load(threshold)
+    return await services.pdos.bus_load(threshold, master_period_ms=master_period_ms)

@@ -194,6 +194,7 @@ class ParamSetService:
             plain = {key: v for key, v in values.items() if key not in pdo_values}
             written, stalled = await self._write_plan(session, target, plan_writes(plain), failed)
             if pdo_values and self._pdos is not None and not stalled:
+                self._pdos.forget(node)  # whatever happens next, the cached PDOs may be stale
                 outcome = await apply_file_values(self._pdos, node, pdo_values)
                 written |= outcome.written
                 skipped += len(outcome.skipped)

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from servodesk.od import ObjectDictionaryModel
-from servodesk.pdo.procedure import Procedure, procedure_for
+from servodesk.pdo.procedure import Procedure, procedure_for, procedure_words
 from servodesk.pdo.read import Slot, slots
 from servodesk.pdo.validate import PdoContext
 from servodesk_data import DriveData
@@ -27,6 +27,7 @@ class NodePdoFacts:
     rtr_supported: bool
     fixed_cob_ids: int
     procedure: Procedure
+    procedure_text: str  # the procedure in words, citing the manual section
 
     @property
     def rpdo_count(self) -> int:
@@ -63,6 +64,7 @@ def node_facts(
         granularity = od.device.granularity
         byte_granular = granularity is not None and granularity >= BYTE
         rtr, fixed = True, 0
+    procedure = procedure_for(profile, data)
     return NodePdoFacts(
         node=node,
         profile=profile,
@@ -71,5 +73,6 @@ def node_facts(
         byte_granular=byte_granular,
         rtr_supported=rtr,
         fixed_cob_ids=fixed,
-        procedure=procedure_for(profile, data),
+        procedure=procedure,
+        procedure_text=procedure_words(procedure, data),
     )

@@ -16,6 +16,7 @@ from servodesk.od import datatypes as dt
 from servodesk.od.model import ObjectDictionaryModel
 from servodesk.pdo.model import MappedObject
 from servodesk.pdo.validate import object_label
+from servodesk_protocol import cia402
 from servodesk_protocol.pdo import DUMMY_BITS
 
 _REAL32 = struct.Struct("<f")
@@ -43,6 +44,12 @@ class Decoded:
     value: int | float | bool
     raw: int  # the field's bits as an unsigned number
     unit: str
+    bits: int  # the field's length in the frame
+
+    @property
+    def raw_bytes(self) -> bytes:
+        """The field's bytes in frame order (little-endian; a bit field padded to whole bytes)."""
+        return self.raw.to_bytes((self.bits + 7) // 8, "little")
 
 
 class _Kind(Enum):
@@ -102,7 +109,9 @@ class PdoDecoder:
         for field, (offset, mask, kind, sign) in zip(self.fields, self._plan, strict=True):
             raw = (payload >> offset) & mask
             value = _convert(raw, kind, sign)
-            out.append(Decoded(field.index, field.subindex, field.name, value, raw, field.unit))
+            out.append(
+                Decoded(field.index, field.subindex, field.name, value, raw, field.unit, field.bits)
+            )
         return out
 
     def _check(self, data: bytes) -> None:
@@ -141,3 +150,37 @@ def _convert(raw: int, kind: _Kind, sign: int) -> int | float | bool:
         return value
     value = _REAL64.unpack(raw.to_bytes(8, "little"))[0]
     return value
+
+
+# statusword bits worth naming beside the state (bits 0–3, 5, 6 are the state; bit 9 remote is
+# set on every drive the master controls, and naming it in every frame would only be noise)
+_STATUS_BITS = (
+    (cia402.SW_VOLTAGE_ENABLED, "voltage enabled"),
+    (cia402.SW_WARNING, "warning"),
+    (cia402.SW_TARGET_REACHED, "target reached"),
+    (cia402.SW_INTERNAL_LIMIT, "internal limit active"),
+    (cia402.SW_MODE_BIT12, "mode bit 12"),
+    (cia402.SW_MODE_BIT13, "mode bit 13"),
+)
+
+
+def statusword_text(statusword: int) -> str:
+    """6041h in words: the CiA 402 state, then the notable bits set
+    ("Switch on disabled · voltage enabled")."""
+    try:
+        state = cia402.decode_state(statusword).name.replace("_", " ").capitalize()
+    except ValueError:
+        state = "no CiA 402 state"
+    return " · ".join([state, *(words for bit, words in _STATUS_BITS if statusword & bit)])
+
+
+def value_text(index: int, subindex: int, value: int | float | bool) -> str | None:
+    """A decoded value in words where CiA 402 gives it one: 6041h the state and notable bits,
+    6060h/6061h the mode; None for everything else."""
+    if subindex != 0 or not isinstance(value, int) or isinstance(value, bool):
+        return None
+    if index == cia402.STATUSWORD:
+        return statusword_text(value)
+    if index in (cia402.MODES_OF_OPERATION, cia402.MODES_DISPLAY):
+        return cia402.mode_name(value)
+    return None

@@ -16,11 +16,8 @@ from servodesk.errors import PdoApplyError
 from servodesk.od.model import Value
 from servodesk.pdo.model import PdoConfig
 from servodesk.pdo.read import Key, RawPdo, Slot, read_raw, to_config
-from servodesk.pdo.service import PdoService
-from servodesk_protocol.pdo import MAX_ENTRIES, RPDO_COMM, TPDO_COMM, TPDO_MAP
-
-PDO_AREA = range(RPDO_COMM, TPDO_MAP + 0x200)  # 1400h–1BFFh
-MAP_OFFSET = 0x200
+from servodesk.pdo.service import PDO_AREA, PdoService
+from servodesk_protocol.pdo import MAP_OFFSET, MAX_ENTRIES, RPDO_COMM, TPDO_COMM
 
 
 def is_pdo_entry(index: int) -> bool:

@@ -28,7 +28,8 @@ class FrameStats:
     """One COB-ID as seen so far."""
 
     frames: int
-    rate_hz: float  # frames per second over the last RATE_WINDOW_S (shorter right after start)
+    # (n - 1) / (last - first) over the n frames of the last RATE_WINDOW_S; None below 2 frames
+    rate_hz: float | None
     last_data: bytes | None
     age_s: float | None  # since the last frame
 
@@ -50,15 +51,17 @@ class _Buffer:
             self._last = data
             self._last_time = now
 
-    def stats(self, now: float, started: float) -> FrameStats:
+    def stats(self, now: float) -> FrameStats:
         with self._lock:
             while self._times and self._times[0] < now - RATE_WINDOW_S:
                 self._times.popleft()
             recent = len(self._times)
+            span = self._times[-1] - self._times[0] if recent else 0.0
             frames, data, last_time = self._frames, self._last, self._last_time
-        window = min(RATE_WINDOW_S, max(now - started, 1e-3))
+        # frame to frame: a single frame (or two at once) has no rate yet
+        rate = (recent - 1) / span if recent >= 2 and span > 0 else None
         age = None if last_time is None else max(now - last_time, 0.0)
-        return FrameStats(frames=frames, rate_hz=recent / window, last_data=data, age_s=age)
+        return FrameStats(frames=frames, rate_hz=rate, last_data=data, age_s=age)
 
 
 class PdoCapture:
@@ -69,7 +72,6 @@ class PdoCapture:
     ) -> None:
         self.network = network
         self._clock = clock
-        self.started = clock()
         self.started_wall = time.time()
         self._buffers = {cob: _Buffer() for cob in cob_ids}
         self._callbacks: dict[int, Callable[[int, bytearray, float], None]] = {}
@@ -96,7 +98,7 @@ class PdoCapture:
         self._callbacks.clear()
 
     def stats(self, cob: int) -> FrameStats:
-        return self._buffers[cob].stats(self._clock(), self.started)
+        return self._buffers[cob].stats(self._clock())
 
     def _recorder(self, buffer: _Buffer) -> Callable[[int, bytearray, float], None]:
         clock = self._clock

@@ -9,11 +9,12 @@ from dataclasses import dataclass
 
 import canopen
 
-from servodesk.models import LiveCheck, LivePdo, LiveValue, Value
+from servodesk.model_base import Value
 from servodesk.od import ObjectDictionaryModel
-from servodesk.pdo.decode import Decoded, PdoDecoder
+from servodesk.pdo.decode import Decoded, PdoDecoder, value_text
 from servodesk.pdo.live import PdoCapture
 from servodesk.pdo.model import PdoConfig
+from servodesk.pdo_models import LiveCheck, LivePdo, LiveValue
 
 
 @dataclass
@@ -75,7 +76,7 @@ class LiveChecks:
                     kind=pdo.kind,
                     number=pdo.number,
                     frames=stats.frames,
-                    rate_hz=round(stats.rate_hz, 2),
+                    rate_hz=None if stats.rate_hz is None else round(stats.rate_hz, 2),
                     age_ms=None if stats.age_s is None else round(stats.age_s * 1000),
                     values=[] if data is None else [_value(d) for d in decoder.decode(data)],
                 )
@@ -89,8 +90,9 @@ def _value(decoded: Decoded) -> LiveValue:
         subindex=decoded.subindex,
         name=decoded.name,
         value=_api_value(decoded.value),
-        raw=_hex(decoded.raw),
+        raw=decoded.raw_bytes.hex(" ").upper(),
         unit=decoded.unit or "",
+        text=value_text(decoded.index, decoded.subindex, decoded.value),
     )
 
 
@@ -102,11 +104,3 @@ def _api_value(value: object) -> Value:
     if isinstance(value, bytes | bytearray):
         return value.hex(" ").upper()
     return None if value is None else str(value)
-
-
-def _hex(raw: object) -> str:
-    if isinstance(raw, bytes | bytearray):
-        return raw.hex(" ").upper()
-    if isinstance(raw, int):
-        return f"{raw:X}"
-    return "" if raw is None else str(raw)

@@ -51,10 +51,25 @@ PROCEDURE_WORDS: Mapping[Procedure, str] = {
         "(Kinco servo CANopen manual §5.4.4–§5.4.6); invalid around a new CAN id"
     ),
     Procedure.OUTSIDE_OPERATIONAL: (
-        "Pre-operational, then the MDi order, then back to the previous NMT state "
+        "Pre-operational, then invalidate the COB-ID, mapping count 0, entries, count, "
+        "communication parameters, COB-ID, then back to the previous NMT state "
         "(Nanotec CANopen article: no PDO changes in Operational, abort 08000022)"
     ),
 }
+
+
+# a node without a profile: what CiA 301 asks of every device (no manual to cite)
+GENERIC_WORDS = (
+    "invalidate the COB-ID (bit 31), mapping count 0, entries, count, communication parameters, "
+    "COB-ID valid again (CiA 301 §7.5.2.35–38)"
+)
+
+
+def procedure_words(procedure: Procedure, data: DriveData | None) -> str:
+    """How the drive takes a new mapping, in words, citing where that comes from."""
+    if data is None and procedure is Procedure.INVALIDATE_FIRST:
+        return GENERIC_WORDS
+    return procedure.words
 
 
 def procedure_for(profile: str, data: DriveData | None) -> Procedure:

@@ -25,6 +25,7 @@ from servodesk_protocol.pdo import (
     MAX_ENTRIES,
     MAX_PDO_BITS,
     SUB_COB_ID,
+    SUB_EVENT_TIMER,
     comm_index,
     default_can_id,
 )
@@ -119,7 +120,7 @@ def recommended(
                 f" {kind.upper()}s ({bits} bits) but this drive has {usable} usable"
             )
         _add_optional(frames, extra, usable)
-        out += _configs(kind, count, ids, frames, timing)
+        out += _configs(kind, count, ids, frames, timing, od)
     return out
 
 
@@ -285,7 +286,9 @@ def _configs(
     ids: Sequence[int],
     frames: Sequence[Sequence[MappedObject]],
     timing: Transmission,
+    od: ObjectDictionaryModel,
 ) -> list[PdoConfig]:
+    """The PDOs; a TPDO gets the event timer only where the drive has its sub 5."""
     out: list[PdoConfig] = []
     for number in range(1, count + 1):
         can_id = ids[number - 1] if number <= len(ids) else 0
@@ -294,6 +297,7 @@ def _configs(
             out.append(PdoConfig(kind, number, can_id, False, timing.of(kind)))
             continue
         tpdo = kind == "tpdo"
+        timer = od.get(comm_index(DIRECTION[kind], number), SUB_EVENT_TIMER) is not None
         out.append(
             PdoConfig(
                 kind,
@@ -302,7 +306,7 @@ def _configs(
                 valid=True,
                 transmission_type=timing.of(kind),
                 inhibit_time_100us=timing.tpdo_inhibit_time_100us if tpdo else 0,
-                event_timer_ms=timing.tpdo_event_timer_ms if tpdo else 0,
+                event_timer_ms=timing.tpdo_event_timer_ms if tpdo and timer else 0,
                 mapping=tuple(frames[number - 1]),
             )
         )

@@ -17,27 +17,22 @@ from typing import Literal
 import canopen
 
 from servodesk.errors import InvalidValueError, PdoInvalidError, ServodeskError
-from servodesk.models import (
-    BusLoadResult,
-    BusState,
-    BusStatus,
-    LiveCheck,
-    LiveEvent,
-    PdoProblem,
-    PdoValidation,
-    SyncConfig,
-)
+from servodesk.models import BusState, BusStatus, LiveEvent, SyncConfig
 from servodesk.nodes.access import NodeAccess
 from servodesk.pdo.apply import apply_pdos
-from servodesk.pdo.bus_load import bus_load
+from servodesk.pdo.bus_load import DEFAULT_MASTER_PERIOD_MS, bus_load
 from servodesk.pdo.context import NodePdoFacts, node_facts
 from servodesk.pdo.export import canopen_snippet, dcf_fragment
 from servodesk.pdo.live_check import LiveChecks
 from servodesk.pdo.model import PdoConfig, Problem
+from servodesk.pdo.procedure import Procedure
 from servodesk.pdo.read import Runner, read_raw, to_config, with_names
 from servodesk.pdo.recommended import recommended
 from servodesk.pdo.validate import used_ids, validate
+from servodesk.pdo_models import BusLoadResult, LiveCheck, PdoProblem, PdoRules, PdoValidation
+from servodesk_protocol.pdo import MAP_OFFSET, RPDO_COMM, TPDO_MAP
 
+PDO_AREA = range(RPDO_COMM, TPDO_MAP + MAP_OFFSET)  # 1400h–1BFFh: communication and mapping
 DEFAULT_BITRATE = 500_000  # bit/s, when the bus does not say (virtual bus)
 DEFAULT_THRESHOLD = 70.0  # percent
 ExportFormat = Literal["dcf", "python"]
@@ -75,6 +70,9 @@ class PdoService:
         self._cache[node] = pdos
         return pdos
 
+    def rules(self, node: int) -> PdoRules:
+        return rules_of(self.facts(node))
+
     async def cached(self, node: int) -> list[PdoConfig]:
         if node not in self._cache:
             return await self.read(node)
@@ -83,12 +81,19 @@ class PdoService:
     # ------------------------------------------------------------------ checking and applying
 
     async def validate(
-        self, node: int, pdos: Sequence[PdoConfig], *, threshold: float = DEFAULT_THRESHOLD
+        self,
+        node: int,
+        pdos: Sequence[PdoConfig],
+        *,
+        threshold: float = DEFAULT_THRESHOLD,
+        master_period_ms: int = DEFAULT_MASTER_PERIOD_MS,
     ) -> PdoValidation:
         facts = self.facts(node)
         problems = await self.problems(facts, pdos)
         current = await self.cached(node)
-        load = await self.bus_load(threshold, replace={node: _merged(current, pdos)})
+        load = await self.bus_load(
+            threshold, master_period_ms=master_period_ms, replace={node: _merged(current, pdos)}
+        )
         rows = [PdoProblem.model_validate(p, from_attributes=True) for p in problems]
         return PdoValidation(ok=not problems, problems=rows, bus_load=load)
 
@@ -168,9 +173,11 @@ class PdoService:
         self,
         threshold: float = DEFAULT_THRESHOLD,
         *,
+        master_period_ms: int = DEFAULT_MASTER_PERIOD_MS,
         replace: Mapping[int, Sequence[PdoConfig]] | None = None,
     ) -> BusLoadResult:
-        """Per node and total, at the tool's SYNC period and the bus bitrate."""
+        """Per node and total, at the tool's SYNC period (else the assumed master cycle for
+        the master's event-driven RPDOs) and the bus bitrate."""
         pdos_by_node, notes = await self._all_pdos(list(replace or ()))
         pdos_by_node.update(replace or {})
         bitrate = self._bitrate()
@@ -186,6 +193,7 @@ class PdoService:
             bitrate=bitrate,
             sync_period_us=sync.period_us if sync.producing else None,
             threshold_percent=threshold,
+            master_period_ms=master_period_ms,
         )
         result = BusLoadResult.model_validate(dataclasses.asdict(load))
         result.notes = notes + result.notes
@@ -232,6 +240,11 @@ class PdoService:
         else:
             self._cache.pop(node, None)
 
+    def sdo_written(self, node: int, index: int, _subindex: int) -> None:
+        """A raw SDO write (or one that may have landed) to a PDO parameter (1400h–1BFFh)."""
+        if index in PDO_AREA:
+            self.forget(node)
+
     def on_event(self, event: LiveEvent) -> None:
         """A boot-up or NMT command may have reset a node's PDOs to their stored values."""
         if event.kind in ("boot-up", "nmt", "bus"):
@@ -251,6 +264,19 @@ class PdoService:
 
     def close(self) -> None:
         self._live.stop_all()
+
+
+def rules_of(facts: NodePdoFacts) -> PdoRules:
+    """How the node takes PDO changes (GET …/pdos/rules)."""
+    return PdoRules(
+        byte_granular=facts.byte_granular,
+        fixed_cob_ids=facts.fixed_cob_ids,
+        rtr_supported=facts.rtr_supported,
+        rpdo_count=facts.rpdo_count,
+        tpdo_count=facts.tpdo_count,
+        procedure=facts.procedure_text,
+        needs_pre_operational=facts.procedure is Procedure.OUTSIDE_OPERATIONAL,
+    )
 
 
 async def _read_all(runner: Runner, facts: NodePdoFacts) -> list[PdoConfig]:

@@ -6,6 +6,8 @@ is refused before a frame is sent. SDO aborts arrive as SdoAbortError from the n
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from servodesk.errors import InvalidValueError
 from servodesk.models import SdoValue
 from servodesk.nodes.access import NodeAccess
@@ -46,9 +48,15 @@ def sdo_value(
     )
 
 
+WriteListener = Callable[[int, int, int], None]  # (node, index, sub-index)
+
+
 class SdoService:
-    def __init__(self, access: NodeAccess) -> None:
+    def __init__(self, access: NodeAccess, *, on_write: WriteListener | None = None) -> None:
         self._access = access
+        # told of every write that may have reached the device (the PDO cache drops a node's
+        # PDOs on a write to 1400h–1BFFh), also when it failed part-way
+        self._on_write = on_write
 
     async def read(self, node: int, index: int, subindex: int) -> SdoValue:
         session = self._access.session(node)
@@ -73,9 +81,13 @@ class SdoService:
         data = self.encode(model, index, subindex, value, size)
         sub = model.get(index, subindex)
         # one step on the node: a parallel write cannot land between the write and its read-back
-        back = await session.write_and_read(
-            index, subindex, data, read_back=sub is None or sub.access != "wo"
-        )
+        try:
+            back = await session.write_and_read(
+                index, subindex, data, read_back=sub is None or sub.access != "wo"
+            )
+        finally:
+            if self._on_write is not None:
+                self._on_write(node, index, subindex)
         return sdo_value(node, model, index, subindex, data if back is None else back)
 
     @staticmethod

@@ -438,6 +438,23 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/nodes/{node}/pdos/rules": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Pdo Rules */
+        get: operations["pdo_rules_api_nodes__node__pdos_rules_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/nodes/{node}/pdos/validate": {
         parameters: {
             query?: never;
@@ -673,6 +690,8 @@ export interface components {
         BusLoadResult: {
             /** Bitrate */
             bitrate: number;
+            /** Master Period Ms */
+            master_period_ms: number;
             /** Nodes */
             nodes: components["schemas"]["NodeLoadModel"][];
             /** Notes */
@@ -988,7 +1007,7 @@ export interface components {
             /** Number */
             number: number;
             /** Rate Hz */
-            rate_hz: number;
+            rate_hz?: number | null;
             /** Values */
             values: components["schemas"]["LiveValue"][];
         };
@@ -1005,6 +1024,8 @@ export interface components {
             raw: string;
             /** Subindex */
             subindex: number;
+            /** Text */
+            text?: string | null;
             /**
              * Unit
              * @default
@@ -1371,6 +1392,8 @@ export interface components {
         };
         /** PdoProblem */
         PdoProblem: {
+            /** Index */
+            index?: number | null;
             /**
              * Kind
              * @enum {string}
@@ -1380,6 +1403,28 @@ export interface components {
             message: string;
             /** Number */
             number: number;
+            /** Subindex */
+            subindex?: number | null;
+        };
+        /**
+         * PdoRules
+         * @description How one node takes PDO changes: from its profile, else CiA 301 and its dictionary.
+         */
+        PdoRules: {
+            /** Byte Granular */
+            byte_granular: boolean;
+            /** Fixed Cob Ids */
+            fixed_cob_ids: number;
+            /** Needs Pre Operational */
+            needs_pre_operational: boolean;
+            /** Procedure */
+            procedure: string;
+            /** Rpdo Count */
+            rpdo_count: number;
+            /** Rtr Supported */
+            rtr_supported: boolean;
+            /** Tpdo Count */
+            tpdo_count: number;
         };
         /** PdoValidation */
         PdoValidation: {
@@ -1493,6 +1538,8 @@ export interface operations {
             query?: {
                 /** @description percent of the bitrate above which load is too high */
                 threshold?: number;
+                /** @description ms: the master cycle assumed for event-driven RPDOs while no SYNC producer runs */
+                master_period_ms?: number;
             };
             header?: never;
             path?: never;
@@ -3836,9 +3883,82 @@ export interface operations {
             };
         };
     };
-    validate_pdos_api_nodes__node__pdos_validate_post: {
+    pdo_rules_api_nodes__node__pdos_rules_get: {
         parameters: {
             query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PdoRules"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    validate_pdos_api_nodes__node__pdos_validate_post: {
+        parameters: {
+            query?: {
+                /** @description percent of the bitrate above which load is too high */
+                threshold?: number;
+                /** @description ms: the master cycle assumed for event-driven RPDOs while no SYNC producer runs */
+                master_period_ms?: number;
+            };
             header?: never;
             path: {
                 /** @description CANopen node id 1–127 */

@@ -41,7 +41,9 @@ export function ApplyResult({
           {close}
         </header>
         <p>{outcome.message}</p>
-        <p className="small">The problems are listed with each PDO below.</p>
+        <p className="small">
+          Each problem is shown below at the PDO, field or mapped object it is about.
+        </p>
       </section>
     );
   }

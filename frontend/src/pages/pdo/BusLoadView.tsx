@@ -2,7 +2,7 @@ import { Fragment, useId, useState, type ReactNode } from "react";
 
 import { formatBitrate } from "../../lib/format";
 import { formatCobId, formatPercent, formatRate, pdoLabel } from "./model";
-import type { BusLoad } from "./types";
+import type { BusLoad, LoadSettings } from "./types";
 
 /** A load bar: the used share, and a mark at the threshold. */
 export function LoadBar({
@@ -32,14 +32,57 @@ export function LoadBar({
   );
 }
 
-/** The bus load the mapping will cause: total and per node, and how each PDO was counted. */
+/** A number input that keeps what is typed and hands on only values in range. */
+function SettingInput({
+  label,
+  unit,
+  initial,
+  ok,
+  onValue,
+  title,
+}: {
+  label: string;
+  unit: string;
+  title?: string;
+  initial: number;
+  ok: (value: number) => boolean;
+  onValue: (value: number) => void;
+}): ReactNode {
+  const id = useId();
+  const [text, setText] = useState(String(initial));
+  const valid = (t: string): boolean => t.trim() !== "" && ok(Number(t));
+  return (
+    <span className="inline pdo-setting">
+      <label htmlFor={id} className="small">
+        {label}
+      </label>
+      <input
+        id={id}
+        className="tiny"
+        type="number"
+        title={title}
+        value={text}
+        aria-invalid={!valid(text)}
+        onChange={(e) => {
+          setText(e.target.value);
+          if (valid(e.target.value)) onValue(Number(e.target.value));
+        }}
+      />
+      <span className="small">{unit}</span>
+    </span>
+  );
+}
+
+/** The bus load the mapping will cause: total and per node, and how each PDO was counted.
+ * The server counts with the settings here (warning threshold, the master's cycle for
+ * event-driven RPDOs) and says whether the load is too high. */
 export function BusLoadView({
   load,
   node,
   title,
   open,
-  threshold,
-  onThreshold,
+  settings,
+  onSettings,
 }: {
   load: BusLoad;
   /** The node this page is about: its PDOs are listed. */
@@ -47,11 +90,11 @@ export function BusLoadView({
   title: string;
   /** Show how each PDO was counted without a click (a draft's load). */
   open: boolean;
-  threshold: number;
-  onThreshold: (percent: number) => void;
+  settings: LoadSettings;
+  onSettings: (settings: LoadSettings) => void;
 }): ReactNode {
   const id = useId();
-  const [text, setText] = useState(String(threshold));
+  const threshold = load.threshold_percent;
   const mine = load.nodes.find((n) => n.node === node);
   return (
     <section className="card pdo-load" aria-labelledby={`${id}-h`} data-testid="bus-load">
@@ -62,26 +105,23 @@ export function BusLoadView({
           {load.sync_period_us ? ` · SYNC every ${load.sync_period_us / 1000} ms` : " · no SYNC"}
         </span>
         <span className="spacer" />
-        <label htmlFor={`${id}-t`} className="small">
-          Warn above
-        </label>
-        <input
-          id={`${id}-t`}
-          className="tiny"
-          type="number"
-          min={1}
-          max={100}
-          value={text}
-          aria-invalid={!(Number(text) >= 1 && Number(text) <= 100)}
-          onChange={(e) => {
-            setText(e.target.value);
-            const value = Number(e.target.value);
-            if (e.target.value !== "" && value >= 1 && value <= 100) onThreshold(value);
-          }}
+        <SettingInput
+          label="Master cycle"
+          unit="ms"
+          title="How often the master sends each event-driven RPDO, assumed while no SYNC runs"
+          initial={settings.masterPeriodMs}
+          ok={(ms) => ms > 0 && ms <= 10_000}
+          onValue={(masterPeriodMs) => onSettings({ ...settings, masterPeriodMs })}
         />
-        <span className="small">%</span>
+        <SettingInput
+          label="Warn above"
+          unit="%"
+          initial={settings.threshold}
+          ok={(percent) => percent >= 1 && percent <= 100}
+          onValue={(percent) => onSettings({ ...settings, threshold: percent })}
+        />
       </header>
-      {load.percent > threshold && (
+      {load.over_threshold && (
         <p className="warning" role="alert">
           The bus would be {formatPercent(load.percent)} loaded, above {threshold} %: frames may be
           delayed. Slow down SYNC, raise inhibit times or map fewer PDOs.
@@ -99,13 +139,9 @@ export function BusLoadView({
           </Fragment>
         ))}
       </div>
-      <details className="pdo-load-details" open={open}>
-        <summary>
-          How node {node}'s PDOs are counted
-          {load.notes.length > 0 &&
-            ` · ${load.notes.length} note${load.notes.length === 1 ? "" : "s"}`}
-        </summary>
-        {mine && mine.pdos.length > 0 && (
+      {mine && mine.pdos.length > 0 && (
+        <details className="pdo-load-details" open={open}>
+          <summary>How node {node}'s PDOs are counted</summary>
           <table className="data-table pdo-load-table">
             <thead>
               <tr>
@@ -130,15 +166,21 @@ export function BusLoadView({
               ))}
             </tbody>
           </table>
-        )}
-        {load.notes.length > 0 && (
+        </details>
+      )}
+      {load.notes.length > 0 && (
+        <details className="pdo-load-details">
+          <summary>
+            {load.notes.length === 1 ? "1 note" : `${load.notes.length} notes`} on how the load is
+            estimated
+          </summary>
           <ul className="muted small pdo-notes">
             {load.notes.map((note, i) => (
               <li key={i}>{note}</li>
             ))}
           </ul>
-        )}
-      </details>
+        </details>
+      )}
     </section>
   );
 }

@@ -1,4 +1,4 @@
-import type { CSSProperties, ReactNode } from "react";
+import { useId, type CSSProperties, type ReactNode } from "react";
 
 import { odAddress } from "../../lib/format";
 import { MAX_BITS, type Layout, type LayoutBlock } from "./model";
@@ -11,7 +11,15 @@ function blockText(block: LayoutBlock): string {
   return `${block.name ?? address} (${address}, ${block.bits} bit${unit})`;
 }
 
-function Block({ block, flagged }: { block: LayoutBlock; flagged: boolean }): ReactNode {
+function Block({
+  block,
+  flagged,
+  describedBy,
+}: {
+  block: LayoutBlock;
+  flagged: boolean;
+  describedBy?: string | undefined;
+}): ReactNode {
   const span = Math.min(block.bits, MAX_BITS - block.startBit);
   const style: CSSProperties = { gridColumn: `${block.startBit + 1} / span ${span}` };
   const classes = [
@@ -28,6 +36,7 @@ function Block({ block, flagged }: { block: LayoutBlock; flagged: boolean }): Re
       title={blockText(block)}
       role="listitem"
       aria-label={blockText(block)}
+      aria-describedby={describedBy}
     >
       <span className="frame-name">
         {block.name ?? (block.known ? "" : odAddress(block.index, block.subindex))}
@@ -40,24 +49,35 @@ function Block({ block, flagged }: { block: LayoutBlock; flagged: boolean }): Re
   );
 }
 
+/** Where a problem's note sits under its block: from the block's start rightwards, or (for a
+ * block in the frame's second half) ending under the block's end, so it has room to read. */
+function noteColumn(block: LayoutBlock): string {
+  const end = Math.min(block.startBit + block.bits, MAX_BITS);
+  return block.startBit < MAX_BITS / 2 ? `${block.startBit + 1} / -1` : `1 / ${end + 1}`;
+}
+
 /**
  * The 8-byte frame as a bar: byte cells above, each mapped object a block spanning its bits
  * (packed little-endian from bit 0), free bits hatched, objects past 64 bits listed in red.
+ * An object a problem names is outlined, with the problem written under it.
  */
 export function ByteLayout({
   layout,
   label,
-  flagged = [],
+  problems,
 }: {
   layout: Layout;
   /** Accessible name: "TPDO1 frame". */
   label: string;
-  /** Mapping positions a problem names. */
-  flagged?: readonly number[];
+  /** Problem messages by mapping position. */
+  problems?: ReadonlyMap<number, readonly string[]>;
 }): ReactNode {
+  const id = useId();
   const inside = layout.blocks.filter((b) => b.startBit < MAX_BITS);
   const outside = layout.blocks.filter((b) => b.startBit >= MAX_BITS || b.overflow);
   const free = MAX_BITS - Math.min(layout.usedBits, MAX_BITS);
+  const noted = inside.filter((b) => (problems?.get(b.position)?.length ?? 0) > 0);
+  const noteId = (block: LayoutBlock): string => `${id}-p${block.position}`;
   return (
     <div className="frame" data-testid="byte-layout">
       <div className="frame-grid" aria-hidden="true">
@@ -72,9 +92,17 @@ export function ByteLayout({
         ))}
       </div>
       <div className="frame-grid frame-row" role="list" aria-label={label}>
-        {inside.map((block) => (
-          <Block key={block.position} block={block} flagged={flagged.includes(block.position)} />
-        ))}
+        {inside.map((block) => {
+          const flagged = noted.includes(block);
+          return (
+            <Block
+              key={block.position}
+              block={block}
+              flagged={flagged}
+              describedBy={flagged ? noteId(block) : undefined}
+            />
+          );
+        })}
         {free > 0 && (
           <div
             className="frame-free"
@@ -84,6 +112,20 @@ export function ByteLayout({
           </div>
         )}
       </div>
+      {noted.length > 0 && (
+        <div className="frame-grid frame-notes">
+          {noted.map((block) => (
+            <p
+              key={block.position}
+              id={noteId(block)}
+              className={`frame-note error-text${block.startBit < MAX_BITS / 2 ? "" : " end"}`}
+              style={{ gridColumn: noteColumn(block) }}
+            >
+              {problems?.get(block.position)?.join(" ")}
+            </p>
+          ))}
+        </div>
+      )}
       <div className="frame-foot muted small">
         <span>
           {layout.usedBits} of {MAX_BITS} bits · {layout.bytes} byte{layout.bytes === 1 ? "" : "s"}{" "}

@@ -1,14 +1,17 @@
 import { useId, useState, type ReactNode } from "react";
 
 import {
+  fixedCobIdReason,
   formatCobId,
   inhibitFromMs,
   inhibitMs,
   parseCobId,
   pdoLabel,
   transmissionWords,
+  type CommField,
+  type FitRules,
 } from "./model";
-import type { Pdo } from "./types";
+import type { Pdo, Problem } from "./types";
 
 /** The transmission type in words: the server's own when it sends them. */
 export function pdoWords(pdo: Pdo): string {
@@ -61,7 +64,13 @@ function msIn(text: string): number | null {
   return ms <= 6553.5 ? inhibitFromMs(ms) : null;
 }
 
-/** A text field that keeps what is typed and hands on only values that parse. */
+/** Keys that would change an input's text. */
+function isEdit(key: string): boolean {
+  return key.length === 1 || key === "Backspace" || key === "Delete";
+}
+
+/** A text field that keeps what is typed and hands on only values that parse. A field the
+ * drive fixes is read-only and says why when someone tries to change it. */
 function Field({
   label,
   name,
@@ -70,6 +79,10 @@ function Field({
   onValue,
   className = "tiny",
   title,
+  problemId,
+  hasProblem = false,
+  fixed = null,
+  onRefused,
 }: {
   label: string;
   /** Accessible name, unique on the page ("TPDO1 COB-ID"). */
@@ -79,6 +92,13 @@ function Field({
   onValue: (value: number) => void;
   className?: string;
   title?: string;
+  /** The id of the server's problem with this field. */
+  problemId?: string | undefined;
+  hasProblem?: boolean;
+  /** Why the drive does not let this field change; null when it does. */
+  fixed?: string | null;
+  /** Told the reason on a try to change a fixed field, and null when the field is left. */
+  onRefused?: (reason: string | null) => void;
 }): ReactNode {
   const id = useId();
   const [text, setText] = useState(initial);
@@ -89,80 +109,132 @@ function Field({
         id={id}
         className={className}
         aria-label={name}
-        aria-invalid={parse(text) === null}
+        aria-invalid={hasProblem || parse(text) === null}
+        aria-describedby={problemId}
         inputMode="decimal"
-        title={title}
+        title={fixed ?? title}
+        readOnly={fixed !== null}
         value={text}
+        onKeyDown={(e) => {
+          if (fixed !== null && isEdit(e.key)) onRefused?.(fixed);
+        }}
+        onPaste={() => {
+          if (fixed !== null) onRefused?.(fixed);
+        }}
+        onBlur={() => {
+          if (fixed !== null) onRefused?.(null);
+        }}
         onChange={(e) => {
           setText(e.target.value);
           const value = parse(e.target.value);
           if (value !== null) onValue(value);
         }}
       />
+      {fixed !== null && <span className="muted small">fixed by the drive</span>}
     </>
   );
 }
 
+const FIELD_LABELS: Readonly<Record<CommField, string>> = {
+  cob_id: "COB-ID",
+  transmission_type: "Transmission type",
+  inhibit_time: "Inhibit time",
+  event_timer: "Event timer",
+  sync_start: "SYNC start",
+};
+
 /** The communication parameter as a draft's inputs (the card is keyed per draft, so the
- * fields start from the draft's values). */
+ * fields start from the draft's values). The server's problems with a field mark it and are
+ * written under the fields; a COB-ID the drive fixes cannot be edited. */
 export function CommEditor({
   pdo,
+  rules,
+  problems,
   onChange,
 }: {
   pdo: Pdo;
+  rules: FitRules;
+  problems: ReadonlyMap<CommField, readonly Problem[]>;
   onChange: (pdo: Pdo) => void;
 }): ReactNode {
+  const id = useId();
   const label = pdoLabel(pdo);
+  const [refused, setRefused] = useState<string | null>(null);
+  const at = (field: CommField): { problemId?: string; hasProblem: boolean } =>
+    problems.has(field) ? { problemId: `${id}-${field}`, hasProblem: true } : { hasProblem: false };
   return (
-    <div className="pdo-edit-fields">
-      <label className="check">
-        <input
-          type="checkbox"
-          checked={pdo.valid}
-          onChange={(e) => onChange({ ...pdo, valid: e.target.checked })}
-        />
-        Valid
-      </label>
-      <Field
-        label="COB-ID"
-        name={`${label} COB-ID`}
-        className="narrow mono"
-        title="CAN identifier in hex, 001h–7FFh"
-        initial={formatCobId(pdo.cob_id)}
-        parse={parseCobId}
-        onValue={(cob_id) => onChange({ ...pdo, cob_id })}
-      />
-      <Field
-        label="Transmission type"
-        name={`${label} transmission type`}
-        initial={String(pdo.transmission_type)}
-        parse={intIn(255)}
-        onValue={(transmission_type) => onChange({ ...pdo, transmission_type })}
-      />
-      <span className="muted small pdo-words">{pdoWords({ ...pdo, transmission: "" })}</span>
-      <Field
-        label="Inhibit ms"
-        name={`${label} inhibit time ms`}
-        initial={String(inhibitMs(pdo.inhibit_time_100us))}
-        parse={msIn}
-        onValue={(inhibit_time_100us) => onChange({ ...pdo, inhibit_time_100us })}
-      />
-      <Field
-        label="Event timer ms"
-        name={`${label} event timer ms`}
-        initial={String(pdo.event_timer_ms)}
-        parse={intIn(65535)}
-        onValue={(event_timer_ms) => onChange({ ...pdo, event_timer_ms })}
-      />
-      {pdo.kind === "tpdo" && (
+    <>
+      <div className="pdo-edit-fields">
+        <label className="check">
+          <input
+            type="checkbox"
+            checked={pdo.valid}
+            onChange={(e) => onChange({ ...pdo, valid: e.target.checked })}
+          />
+          Valid
+        </label>
         <Field
-          label="SYNC start"
-          name={`${label} SYNC start`}
-          initial={String(pdo.sync_start)}
-          parse={intIn(240)}
-          onValue={(sync_start) => onChange({ ...pdo, sync_start })}
+          label="COB-ID"
+          name={`${label} COB-ID`}
+          className="narrow mono"
+          title="CAN identifier in hex, 001h–7FFh"
+          initial={formatCobId(pdo.cob_id)}
+          parse={parseCobId}
+          onValue={(cob_id) => onChange({ ...pdo, cob_id })}
+          fixed={fixedCobIdReason(pdo, rules)}
+          onRefused={setRefused}
+          {...at("cob_id")}
         />
+        <Field
+          label="Transmission type"
+          name={`${label} transmission type`}
+          initial={String(pdo.transmission_type)}
+          parse={intIn(255)}
+          onValue={(transmission_type) => onChange({ ...pdo, transmission_type })}
+          {...at("transmission_type")}
+        />
+        <span className="muted small pdo-words">{pdoWords({ ...pdo, transmission: "" })}</span>
+        <Field
+          label="Inhibit ms"
+          name={`${label} inhibit time ms`}
+          initial={String(inhibitMs(pdo.inhibit_time_100us))}
+          parse={msIn}
+          onValue={(inhibit_time_100us) => onChange({ ...pdo, inhibit_time_100us })}
+          {...at("inhibit_time")}
+        />
+        <Field
+          label="Event timer ms"
+          name={`${label} event timer ms`}
+          initial={String(pdo.event_timer_ms)}
+          parse={intIn(65535)}
+          onValue={(event_timer_ms) => onChange({ ...pdo, event_timer_ms })}
+          {...at("event_timer")}
+        />
+        {pdo.kind === "tpdo" && (
+          <Field
+            label="SYNC start"
+            name={`${label} SYNC start`}
+            initial={String(pdo.sync_start)}
+            parse={intIn(240)}
+            onValue={(sync_start) => onChange({ ...pdo, sync_start })}
+            {...at("sync_start")}
+          />
+        )}
+      </div>
+      {refused && (
+        <p className="error-text small" role="alert">
+          {refused}
+        </p>
       )}
-    </div>
+      {problems.size > 0 && (
+        <ul className="pdo-problems pdo-field-problems" aria-label={`${label} parameter problems`}>
+          {[...problems].map(([field, list]) => (
+            <li key={field} id={`${id}-${field}`} className="error-text">
+              <strong>{FIELD_LABELS[field]}:</strong> {list.map((p) => p.message).join(" ")}
+            </li>
+          ))}
+        </ul>
+      )}
+    </>
   );
 }

@@ -1,21 +1,35 @@
 import { useState, type ReactNode } from "react";
 
+import type { ApiError } from "../../api/errors";
+import type { NmtStateName } from "../../api/types";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction } from "../../lib/useApi";
 import { draftChanges, isSynchronous, pdoLabel } from "./model";
-import { applyPdos, validatePdos, type ApplyOutcome } from "./pdoApi";
+import { applyPdos, type ApplyOutcome } from "./pdoApi";
 import { SyncControl } from "./SyncControl";
-import type { Pdo, Validation } from "./types";
+import type { Pdo, PdoRules, Validation } from "./types";
+
+const DEFAULT_PROCEDURE = "each changed PDO is made invalid, remapped and made valid again";
+
+/** `text` ending in one full stop. */
+function sentence(text: string): string {
+  return text.trim().replace(/\.*$/, ".");
+}
 
 interface Props {
   node: number;
   device: readonly Pdo[];
   draft: Pdo[];
   source: string;
+  /** How the node takes PDOs (undefined while they load). */
+  rules: PdoRules | undefined;
+  nmtState: NmtStateName | undefined;
   validation: Validation | null;
-  onValidated: (validation: Validation) => void;
+  validating: boolean;
+  validateError: ApiError | null;
+  onValidate: () => void;
   onOutcome: (outcome: ApplyOutcome) => void;
   onDiscard: () => void;
 }
@@ -27,14 +41,17 @@ export function DraftBar({
   device,
   draft,
   source,
+  rules,
+  nmtState,
   validation,
-  onValidated,
+  validating,
+  validateError,
+  onValidate,
   onOutcome,
   onDiscard,
 }: Props): ReactNode {
   const [confirming, setConfirming] = useState(false);
   const changes = draftChanges(device, draft);
-  const validate = useAction(async () => onValidated(await validatePdos(node, draft)));
   const apply = useAction(async () => {
     const outcome = await applyPdos(node, draft);
     setConfirming(false);
@@ -59,7 +76,7 @@ export function DraftBar({
           </span>
         )}
         <span className="spacer" />
-        <button type="button" disabled={validate.busy} onClick={() => void validate.run()}>
+        <button type="button" disabled={validating} onClick={onValidate}>
           Validate
         </button>
         <button
@@ -76,10 +93,10 @@ export function DraftBar({
         <button type="button" onClick={onDiscard}>
           Discard draft
         </button>
-        {validate.busy && <Spinner label="Validating" />}
+        {validating && <Spinner label="Validating" />}
       </header>
       {draft.some((p) => p.valid && isSynchronous(p.transmission_type)) && <SyncControl />}
-      <ErrorText error={validate.error} />
+      <ErrorText error={validateError} />
       {confirming && (
         <Dialog
           title={`Apply PDO mapping to node ${node}`}
@@ -101,10 +118,7 @@ export function DraftBar({
             </>
           }
         >
-          <p>
-            Node {node} will get these PDO settings. Each changed PDO is made invalid, remapped and
-            made valid again; if a step fails, the previous settings are written back.
-          </p>
+          <p>Node {node} will get these PDO settings:</p>
           <ul className="pdo-confirm-list">
             {changes.map(({ pdo, changes: words }) => (
               <li key={`${pdo.kind}${pdo.number}`}>
@@ -112,6 +126,17 @@ export function DraftBar({
               </li>
             ))}
           </ul>
+          <p className="pdo-procedure">
+            <strong>How node {node} takes the new mapping:</strong>{" "}
+            {sentence(rules?.procedure ?? DEFAULT_PROCEDURE)} If a step fails, the previous settings
+            are written back.
+          </p>
+          {rules?.needs_pre_operational && nmtState === "operational" && (
+            <p className="warning">
+              Node {node} is operational: it goes to pre-operational for the change, so it neither
+              sends nor takes PDOs until it is back.
+            </p>
+          )}
           {validation && !validation.ok && (
             <p className="warning">
               The last check found {validation.problems.length} problem

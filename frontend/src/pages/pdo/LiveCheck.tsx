@@ -7,8 +7,49 @@ import { odAddress } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { formatCobId, formatRate, isSynchronous, pdoLabel } from "./model";
 import { SyncControl } from "./SyncControl";
-import type { Pdo } from "./types";
+import type { LivePdo, LiveValue, Pdo } from "./types";
 import { useLiveCapture } from "./useLiveCapture";
+
+/** One decoded value: the number with its unit, its meaning in words when it has one
+ * ("592 · Switch on disabled"), the frame's bytes in the tooltip. */
+function Value({ value: v }: { value: LiveValue }): ReactNode {
+  const address = odAddress(v.index, v.subindex);
+  const shown = v.value == null ? v.raw || "—" : String(v.value);
+  return (
+    <div>
+      <dt title={address}>{v.name ?? address}</dt>
+      <dd className="num" title={v.raw ? `${address} bytes: ${v.raw}` : undefined}>
+        {shown}
+        {v.unit && ` ${v.unit}`}
+        {v.text && <span className="pdo-value-text"> · {v.text}</span>}
+      </dd>
+    </div>
+  );
+}
+
+function Row({ row }: { row: LivePdo }): ReactNode {
+  return (
+    <tr className={row.kind === "rpdo" ? "pdo-live-master" : undefined}>
+      <td className="mono">{formatCobId(row.cob_id)}</td>
+      <td>{pdoLabel(row)}</td>
+      <td className="num">{row.frames}</td>
+      <td className="num" data-testid={`rate-${row.cob_id}`}>
+        {formatRate(row.rate_hz)}
+      </td>
+      <td>
+        {row.frames === 0 ? (
+          <span className="muted small">none yet</span>
+        ) : (
+          <dl className="pdo-values">
+            {row.values.map((v) => (
+              <Value key={`${v.index}:${v.subindex}`} value={v} />
+            ))}
+          </dl>
+        )}
+      </td>
+    </tr>
+  );
+}
 
 /** After an apply: start the node, give it SYNC if the mapping needs it, and watch the PDOs
  * arrive with their rate and decoded values. */
@@ -26,6 +67,12 @@ export function LiveCheck({ node, device }: { node: number; device: readonly Pdo
     await live.start();
   });
   const rows = live.capture?.pdos ?? [];
+  // TPDOs are what the node sends, so they come first; RPDOs are the master's commands to it
+  // (often nothing yet while commissioning), a quieter group whose silent PDOs share one line.
+  const sent = rows.filter((r) => r.kind === "tpdo");
+  const received = rows.filter((r) => r.kind === "rpdo");
+  const seen = received.filter((r) => r.frames > 0);
+  const unseen = received.filter((r) => r.frames === 0);
 
   return (
     <section className="card" aria-labelledby="pdo-live-heading">
@@ -66,40 +113,43 @@ export function LiveCheck({ node, device }: { node: number; device: readonly Pdo
               <th>Values</th>
             </tr>
           </thead>
-          <tbody>
-            {rows.map((row) => (
-              <tr key={row.cob_id}>
-                <td className="mono">{formatCobId(row.cob_id)}</td>
-                <td>{pdoLabel(row)}</td>
-                <td className="num">{row.frames}</td>
-                <td className="num" data-testid={`rate-${row.cob_id}`}>
-                  {formatRate(row.rate_hz)}
-                </td>
-                <td>
-                  <dl className="pdo-values">
-                    {row.values.map((v) => (
-                      <div key={`${v.index}:${v.subindex}`}>
-                        <dt title={odAddress(v.index, v.subindex)}>
-                          {v.name ?? odAddress(v.index, v.subindex)}
-                        </dt>
-                        <dd className="num">
-                          {v.value == null ? v.raw || "—" : String(v.value)}
-                          {v.unit && ` ${v.unit}`}
-                        </dd>
-                      </div>
-                    ))}
-                  </dl>
-                </td>
-              </tr>
+          <tbody aria-label={`Sent by node ${node}`}>
+            <tr className="pdo-live-group">
+              <th colSpan={5} scope="colgroup">
+                Sent by node {node} <span className="muted small">(its TPDOs)</span>
+              </th>
+            </tr>
+            {sent.map((row) => (
+              <Row key={row.cob_id} row={row} />
             ))}
-            {rows.length === 0 && (
+            {sent.length === 0 && (
               <tr>
                 <td colSpan={5} className="muted">
-                  No PDO received yet.
+                  No TPDO received yet.
                 </td>
               </tr>
             )}
           </tbody>
+          {received.length > 0 && (
+            <tbody className="pdo-live-master" aria-label="Sent by the master">
+              <tr className="pdo-live-group">
+                <th colSpan={5} scope="colgroup">
+                  Sent by the master to node {node} <span className="muted small">(its RPDOs)</span>
+                </th>
+              </tr>
+              {seen.map((row) => (
+                <Row key={row.cob_id} row={row} />
+              ))}
+              {unseen.length > 0 && (
+                <tr>
+                  <td colSpan={5} className="muted small">
+                    None seen from the master:{" "}
+                    {unseen.map((r) => `${pdoLabel(r)} (${formatCobId(r.cob_id)})`).join(", ")}.
+                  </td>
+                </tr>
+              )}
+            </tbody>
+          )}
         </table>
       )}
     </section>

@@ -6,9 +6,11 @@ import { CommEditor, CommFacts } from "./CommFields";
 import { MappingEditor } from "./MappingEditor";
 import {
   frameLayout,
+  MAX_BITS,
   pdoChanges,
   pdoLabel,
   pdoObjects,
+  placeProblems,
   type FitRules,
   type Lookup,
   type ObjectInfo,
@@ -44,11 +46,21 @@ export const PdoCard = memo(function PdoCard({
   const layout = useMemo(() => frameLayout(pdo.mapping, lookup), [pdo.mapping, lookup]);
   const changes = draft ? pdoChanges(device, pdo) : [];
   const mappingChanged = changes.some((c) => c.startsWith("mapping"));
-  const flagged = pdo.mapping
-    .map((e, i) =>
-      problems.some((p) => p.index === e.index && p.subindex === e.subindex) ? i : -1,
-    )
-    .filter((i) => i >= 0);
+  const placed = useMemo(() => placeProblems(pdo, problems), [pdo, problems]);
+  // Objects inside the frame carry their problems; those past 64 bits and the rest are
+  // listed under the PDO (with the comm fields' when not editing: no field to show them at).
+  const inFrame = new Map(
+    [...placed.atEntry].filter(([position]) => {
+      const block = layout.blocks[position];
+      return block !== undefined && block.startBit < MAX_BITS;
+    }),
+  );
+  const listed = problems.filter(
+    (p) =>
+      ![...inFrame.values()].some((list) => list.includes(p)) &&
+      !(draft && [...placed.atField.values()].some((list) => list.includes(p))),
+  );
+  const frameNotes = new Map([...inFrame].map(([k, list]) => [k, list.map((p) => p.message)]));
   const classes = ["card", "pdo-card", pdo.valid ? "" : "invalid", changes.length ? "changed" : ""];
 
   return (
@@ -65,8 +77,12 @@ export const PdoCard = memo(function PdoCard({
         {changes.length > 0 && <span className="badge pdo-draft">draft: changed</span>}
         <span className="muted small">{pdoObjects(pdo)}</span>
       </header>
-      {draft ? <CommEditor pdo={pdo} onChange={onChange} /> : <CommFacts pdo={pdo} />}
-      <ByteLayout layout={layout} label={`${label} frame`} flagged={flagged} />
+      {draft ? (
+        <CommEditor pdo={pdo} rules={rules} problems={placed.atField} onChange={onChange} />
+      ) : (
+        <CommFacts pdo={pdo} />
+      )}
+      <ByteLayout layout={layout} label={`${label} frame`} problems={frameNotes} />
       {mappingChanged && device && (
         <div className="pdo-device-now">
           <span className="muted small">On the device now:</span>
@@ -81,9 +97,9 @@ export const PdoCard = memo(function PdoCard({
           <strong>Changes:</strong> {changes.join("; ")}
         </p>
       )}
-      {problems.length > 0 && (
+      {listed.length > 0 && (
         <ul className="pdo-problems" aria-label={`${label} problems`}>
-          {problems.map((p, i) => (
+          {listed.map((p, i) => (
             <li key={i} className="error-text">
               {p.index != null && (
                 <span className="mono">{odAddress(p.index, p.subindex ?? 0)}: </span>

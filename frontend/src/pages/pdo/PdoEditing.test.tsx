@@ -5,7 +5,8 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 import { LiveStore } from "../../live/store";
 import { stubFetch, type FetchStub } from "../../test/fetchStub";
 import { renderPage } from "../../test/render";
-import { DEVICE, INFO, LOAD, TREE } from "./fixtures";
+import { CIA402_RULES, DEVICE, INFO, LOAD, RULES, TREE } from "./fixtures";
+import type { PdoRules } from "./types";
 import { PdoPage } from "./PdoPage";
 
 afterEach(() => {
@@ -26,15 +27,53 @@ const LIVE = {
       rate_hz: 100,
       age_ms: 5,
       values: [
-        { index: 0x6041, subindex: 0, name: "Statusword", value: 0x237, raw: "37 02", unit: "" },
-        { index: 0x6064, subindex: 0, name: "Position actual value", value: 1234, unit: "inc" },
+        {
+          index: 0x6041,
+          subindex: 0,
+          name: "Statusword",
+          value: 592,
+          raw: "50 02",
+          unit: "",
+          text: "Switch on disabled",
+        },
+        {
+          index: 0x6064,
+          subindex: 0,
+          name: "Position actual value",
+          value: 1234,
+          raw: "D2 04 00 00",
+          unit: "inc",
+          text: null,
+        },
       ],
     },
+    {
+      cob_id: 0x281,
+      kind: "tpdo",
+      number: 2,
+      frames: 1,
+      rate_hz: null, // one frame: no rate yet
+      age_ms: 5,
+      values: [
+        {
+          index: 0x6061,
+          subindex: 0,
+          name: null,
+          value: 1,
+          raw: "01",
+          unit: "",
+          text: "Profile position",
+        },
+      ],
+    },
+    { cob_id: 0x201, kind: "rpdo", number: 1, frames: 0, rate_hz: null, age_ms: null, values: [] },
+    { cob_id: 0x301, kind: "rpdo", number: 2, frames: 0, rate_hz: null, age_ms: null, values: [] },
   ],
 };
 
-function render(profile = INFO.profile): FetchStub & { unmount: () => void } {
+function render(rules: PdoRules = RULES): FetchStub & { unmount: () => void } {
   const fetch = stubFetch({
+    "GET /api/nodes/1/pdos/rules": rules,
     "GET /api/nodes/1/pdos": DEVICE,
     "GET /api/nodes/1/od": TREE,
     "GET /api/bus-load": LOAD,
@@ -48,7 +87,7 @@ function render(profile = INFO.profile): FetchStub & { unmount: () => void } {
       new Response("[1A00sub0]\nParameterValue=0x02\n", { status: 200 }),
   });
   const store = new LiveStore();
-  store.upsertInfo({ ...INFO, profile });
+  store.upsertInfo(INFO);
   const { unmount } = renderPage(<PdoPage node={1} />, "/nodes/1/pdos", store);
   return { ...fetch, unmount };
 }
@@ -95,7 +134,7 @@ describe("PDO draft editing", () => {
   });
 
   it("refuses what would pass 64 bits", async () => {
-    render("cia402");
+    render(CIA402_RULES);
     await editDraft();
     const rpdo = within(screen.getByRole("region", { name: "RPDO1 draft" }));
     const search = rpdo.getByLabelText("Find an object to map into RPDO1");
@@ -112,7 +151,7 @@ describe("PDO draft editing", () => {
   });
 
   it("edits the communication parameter and words the transmission type", async () => {
-    render();
+    render(CIA402_RULES);
     await editDraft();
     const tpdo = within(screen.getByRole("region", { name: "TPDO1 draft" }));
     const type = tpdo.getByLabelText("TPDO1 transmission type");
@@ -127,6 +166,38 @@ describe("PDO draft editing", () => {
     await userEvent.type(tpdo.getByLabelText("TPDO1 inhibit time ms"), "1.5");
     expect(tpdo.getByText(/inhibit 2.5 → 1.5 ms/)).toBeTruthy();
   });
+
+  it("refuses a COB-ID the drive fixes and says why; the valid bit still changes", async () => {
+    const fetch = render();
+    await editDraft();
+    const tpdo = within(screen.getByRole("region", { name: "TPDO1 draft" }));
+    const cob = tpdo.getByLabelText<HTMLInputElement>("TPDO1 COB-ID");
+    expect(cob.readOnly).toBe(true);
+    expect(tpdo.getByText("fixed by the drive")).toBeTruthy();
+    await userEvent.type(cob, "2");
+    expect(tpdo.getByRole("alert").textContent).toBe(
+      "This drive fixes the CAN id of PDOs 1–4 to the pre-defined set; only the valid bit can change.",
+    );
+    expect(cob.value).toBe("0x181");
+    expect(tpdo.queryByText("draft: changed")).toBeNull();
+    await userEvent.click(tpdo.getByRole("checkbox", { name: "Valid" }));
+    expect(tpdo.queryByRole("alert")).toBeNull(); // said once, gone when the field is left
+    expect(tpdo.getByText(/made invalid/)).toBeTruthy();
+    expect(fetch.calls.some((c) => c.method !== "GET")).toBe(false);
+  });
+
+  it("lets a COB-ID past the fixed ones change", async () => {
+    render({ ...RULES, fixed_cob_ids: 1 });
+    await editDraft();
+    const transmit = within(screen.getByRole("region", { name: "Transmit PDOs" }));
+    await userEvent.click(transmit.getByRole("button", { name: "Show them" }));
+    const tpdo = within(screen.getByRole("region", { name: "TPDO2 draft" }));
+    const cob = tpdo.getByLabelText<HTMLInputElement>("TPDO2 COB-ID");
+    expect(cob.readOnly).toBe(false);
+    await userEvent.clear(cob);
+    await userEvent.type(cob, "0x481");
+    expect(tpdo.getByText(/COB-ID 0x281 → 0x481/)).toBeTruthy();
+  });
 });
 
 describe("PDO live check and export", () => {
@@ -139,6 +210,33 @@ describe("PDO live check and export", () => {
     expect(await within(table).findByText("100/s")).toBeTruthy();
     expect(within(table).getByText("Position actual value")).toBeTruthy();
     expect(within(table).getByText("1234 inc")).toBeTruthy();
+    // a value in words next to the number, the frame's bytes in the tooltip
+    const status = within(table).getByText("Statusword").nextElementSibling;
+    expect(status?.textContent).toBe("592 · Switch on disabled");
+    expect(status?.getAttribute("title")).toBe("6041h:00 bytes: 50 02");
+    // one frame: no rate yet
+    expect(within(table).getByTestId("rate-641").textContent).toBe("—");
+    expect(within(table).getByText("6061h:00").nextElementSibling?.textContent).toBe(
+      "1 · Profile position",
+    );
+    // the node's TPDOs first; the master's RPDOs apart, the silent ones on one line
+    const groups = within(table).getAllByRole("rowgroup");
+    expect(groups.map((g) => g.getAttribute("aria-label"))).toEqual([
+      null,
+      "Sent by node 1",
+      "Sent by the master",
+    ]);
+    const rows = within(groups[1] as HTMLElement).getAllByRole("row");
+    expect(rows.map((r) => r.textContent.slice(0, 10))).toEqual([
+      "Sent by no",
+      "0x181TPDO1",
+      "0x281TPDO2",
+    ]);
+    const master = within(groups[2] as HTMLElement);
+    expect(
+      master.getByText("None seen from the master: RPDO1 (0x201), RPDO2 (0x301)."),
+    ).toBeTruthy();
+    expect(master.queryByText("0/s")).toBeNull();
     const nmt = fetch.calls.find((c) => c.path === "/api/nodes/1/nmt");
     expect(JSON.parse(nmt?.body ?? "{}")).toEqual({ command: "start" });
     const sync = fetch.calls.find((c) => c.method === "PUT" && c.path === "/api/sync");

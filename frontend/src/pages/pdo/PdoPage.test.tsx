@@ -1,11 +1,11 @@
-import { screen, within } from "@testing-library/react";
+import { screen, waitFor, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
 import { LiveStore } from "../../live/store";
 import { json, stubFetch, type Handler } from "../../test/fetchStub";
 import { renderPage } from "../../test/render";
-import { DEVICE, INFO, LOAD, RECOMMENDED, TREE } from "./fixtures";
+import { CIA402_RULES, DEVICE, INFO, loadFor, RECOMMENDED, RULES, TREE } from "./fixtures";
 import { PdoPage } from "./PdoPage";
 
 afterEach(() => {
@@ -15,16 +15,26 @@ afterEach(() => {
 const BASE = {
   "GET /api/nodes/1/pdos": DEVICE,
   "GET /api/nodes/1/od": TREE,
-  "GET /api/bus-load": { ...LOAD, percent: 12, over_threshold: false },
+  "GET /api/bus-load": (request: Request) => loadFor(request, 12),
   "GET /api/sync": { producing: false, period_us: null },
+  "GET /api/nodes/1/pdos/rules": RULES,
 };
 
-function render(routes: Record<string, Handler | object> = {}): ReturnType<typeof stubFetch> {
+function render(
+  routes: Record<string, Handler | object> = {},
+  info = INFO,
+): ReturnType<typeof stubFetch> {
   const fetch = stubFetch({ ...BASE, ...routes });
   const store = new LiveStore();
-  store.upsertInfo(INFO);
+  store.upsertInfo(info);
   renderPage(<PdoPage node={1} />, "/nodes/1/pdos", store);
   return fetch;
+}
+
+/** The text of what an element's aria-describedby names. */
+function description(element: HTMLElement): string {
+  const ids = element.getAttribute("aria-describedby")?.split(/\s+/) ?? [];
+  return ids.map((id) => document.getElementById(id)?.textContent ?? "").join(" ");
 }
 
 async function recommendPp(): Promise<void> {
@@ -58,20 +68,33 @@ describe("PdoPage", () => {
   it("drafts a mapping for the chosen modes, validates it and shows the bus load", async () => {
     const fetch = render({
       "GET /api/nodes/1/pdos/recommended": { pdos: RECOMMENDED },
-      "POST /api/nodes/1/pdos/validate": {
+      "POST /api/nodes/1/pdos/validate": (request: Request) => ({
         ok: false,
         problems: [
           {
             kind: "tpdo",
             number: 1,
-            message: "Every SYNC at 1 ms loads the bus too much",
+            message: "TPDO1: 6064h:00 Position actual value is not PDO-mappable",
             index: 0x6064,
             subindex: 0,
           },
-          { kind: "rpdo", number: 2, message: "RPDO2 uses a COB-ID another node sends" },
+          {
+            kind: "tpdo",
+            number: 1,
+            message: "TPDO1 is synchronous (every SYNC) but nothing produces SYNC",
+            index: 0x1800,
+            subindex: 2,
+          },
+          {
+            kind: "rpdo",
+            number: 2,
+            message: "RPDO2 uses a COB-ID another node sends",
+            index: null,
+            subindex: null,
+          },
         ],
-        bus_load: LOAD,
-      },
+        bus_load: loadFor(request),
+      }),
     });
     await userEvent.click(await screen.findByLabelText("Profile velocity (PV)"));
     await recommendPp();
@@ -85,17 +108,27 @@ describe("PdoPage", () => {
     expect(screen.getByText(/2 PDOs differ from the device: RPDO1, TPDO1/)).toBeTruthy();
 
     await userEvent.click(screen.getByRole("button", { name: "Validate" }));
-    expect(await screen.findByText("2 problems")).toBeTruthy();
-    expect(tpdo.getByText("Every SYNC at 1 ms loads the bus too much")).toBeTruthy();
-    // the object a problem names is outlined in the frame
+    expect(await screen.findByText("3 problems")).toBeTruthy();
+    // the object a problem names is outlined in the frame, the message written under it
     const flagged = tpdo.getByRole("listitem", { name: /^Position actual value/ });
     expect(flagged.className).toContain("flagged");
+    expect(description(flagged)).toBe("TPDO1: 6064h:00 Position actual value is not PDO-mappable");
+    const frame = within(tpdo.getByRole("list", { name: "TPDO1 frame" }));
+    expect(frame.getByRole("listitem", { name: /^Statusword/ }).className).not.toContain("flagged");
+    // a problem with a communication parameter marks its field
+    const type = tpdo.getByLabelText("TPDO1 transmission type");
+    expect(type.getAttribute("aria-invalid")).toBe("true");
+    expect(description(type)).toMatch(/Transmission type: TPDO1 is synchronous/);
+    expect(tpdo.queryByRole("list", { name: "TPDO1 problems" })).toBeNull();
     // an unused PDO that a problem names comes out of the folded line
     const rpdo2 = within(screen.getByRole("region", { name: "RPDO2 draft" }));
     expect(rpdo2.getByText("RPDO2 uses a COB-ID another node sends")).toBeTruthy();
     expect(
       JSON.parse(fetch.calls.find((c) => c.path.endsWith("/validate"))?.body ?? "{}"),
     ).toHaveProperty("pdos.length", 4);
+    expect(fetch.urls.find((u) => u.includes("/validate"))).toMatch(
+      /\/validate\?threshold=70&master_period_ms=10$/,
+    );
     const load = within(screen.getByTestId("bus-load"));
     expect(load.getByText("Bus load with the draft")).toBeTruthy();
     expect(load.getByRole("meter", { name: "Total bus load" }).getAttribute("aria-valuenow")).toBe(
@@ -103,10 +136,38 @@ describe("PdoPage", () => {
     );
     expect(load.getByRole("alert").textContent).toContain("above 70 %");
     expect(load.getByText("every SYNC at 1000 µs")).toBeTruthy();
+    // the notes stay folded
+    const notes = load.getByText(/^1 note on how the load is estimated/).closest("details");
+    expect(notes?.open).toBe(false);
+    // the server compares against the threshold: a new one checks the draft again
     const threshold = load.getByLabelText("Warn above");
     await userEvent.clear(threshold);
     await userEvent.type(threshold, "90");
-    expect(load.queryByRole("alert")).toBeNull();
+    await waitFor(() => expect(load.queryByRole("alert")).toBeNull());
+    expect(fetch.urls.filter((u) => u.includes("/validate")).at(-1)).toMatch(/threshold=90&/);
+  });
+
+  it("passes the warning threshold and the master's cycle to the bus load", async () => {
+    const fetch = render({ "GET /api/bus-load": (request: Request) => loadFor(request) });
+    const loads = (): string[] => fetch.urls.filter((u) => u.includes("/api/bus-load"));
+    const load = within(await screen.findByTestId("bus-load"));
+    expect(load.getByText("Bus load now")).toBeTruthy();
+    expect(load.getByRole("alert").textContent).toContain("above 70 %");
+    expect(loads().at(-1)).toMatch(/\/api\/bus-load\?threshold=70&master_period_ms=10$/);
+    const cycle = load.getByLabelText("Master cycle");
+    await userEvent.clear(cycle);
+    await userEvent.type(cycle, "4");
+    await waitFor(() =>
+      expect(loads().at(-1)).toMatch(/\/api\/bus-load\?threshold=70&master_period_ms=4$/),
+    );
+    // the field keeps its focus: the view stays while the load reloads
+    expect(document.activeElement).toBe(cycle);
+    const threshold = load.getByLabelText("Warn above");
+    await userEvent.clear(threshold);
+    await userEvent.type(threshold, "85");
+    await waitFor(() => expect(load.queryByRole("alert")).toBeNull());
+    expect(document.activeElement).toBe(threshold);
+    expect(loads().at(-1)).toMatch(/threshold=85&master_period_ms=4$/);
   });
 
   it("applies after saying what changes, then shows the read-back", async () => {
@@ -122,6 +183,9 @@ describe("PdoPage", () => {
     const dialog = within(screen.getByRole("dialog"));
     expect(dialog.getByText(/mapping → Controlword, Target position/)).toBeTruthy();
     expect(dialog.getByText(/transmission 5 → 1 \(every SYNC\)/)).toBeTruthy();
+    expect(dialog.getByText(/How node 1 takes the new mapping:/).parentElement?.textContent).toBe(
+      `How node 1 takes the new mapping: ${RULES.procedure}. If a step fails, the previous settings are written back.`,
+    );
     await userEvent.click(dialog.getByRole("button", { name: "Apply" }));
     expect(await screen.findByText(/Read back from the device: 4 PDOs, 2 valid/)).toBeTruthy();
     expect(screen.queryByRole("region", { name: "Draft" })).toBeNull();
@@ -163,7 +227,22 @@ describe("PdoPage", () => {
         {
           error: "invalid_value",
           message: "node 1: RPDO1 maps 72 bits; nothing was written",
-          problems: [{ kind: "rpdo", number: 1, message: "RPDO1 maps 72 bits, more than 64" }],
+          problems: [
+            {
+              kind: "rpdo",
+              number: 1,
+              message: "RPDO1 maps 72 bits, more than 64",
+              index: 0x1600,
+              subindex: 0,
+            },
+            {
+              kind: "rpdo",
+              number: 1,
+              message: "RPDO1: 607Ah:00 Target position is read-only",
+              index: 0x607a,
+              subindex: 0,
+            },
+          ],
         },
         422,
       ),
@@ -175,6 +254,30 @@ describe("PdoPage", () => {
     );
     expect(await screen.findByText("Not applied")).toBeTruthy();
     const rpdo = within(screen.getByRole("region", { name: "RPDO1 draft" }));
-    expect(rpdo.getByText("RPDO1 maps 72 bits, more than 64")).toBeTruthy();
+    expect(
+      within(rpdo.getByRole("list", { name: "RPDO1 problems" })).getByText(
+        /RPDO1 maps 72 bits, more than 64/,
+      ),
+    ).toBeTruthy();
+    const target = rpdo.getByRole("listitem", { name: /^Target position/ });
+    expect(target.className).toContain("flagged");
+    expect(description(target)).toBe("RPDO1: 607Ah:00 Target position is read-only");
+  });
+
+  it("warns that a drive changing PDOs outside Operational stops its PDOs meanwhile", async () => {
+    render(
+      {
+        "GET /api/nodes/1/pdos/rules": CIA402_RULES,
+        "GET /api/nodes/1/pdos/recommended": { pdos: RECOMMENDED },
+      },
+      { ...INFO, nmt_state: "operational" },
+    );
+    await recommendPp();
+    await userEvent.click(screen.getByRole("button", { name: "Apply…" }));
+    const dialog = within(screen.getByRole("dialog"));
+    expect(
+      dialog.getByText(/How node 1 takes the new mapping:/).parentElement?.textContent,
+    ).toContain("Pre-operational, then the MDi order");
+    expect(dialog.getByText(/Node 1 is operational: it goes to pre-operational/)).toBeTruthy();
   });
 });

@@ -1,21 +1,23 @@
-import { useCallback, useMemo, useState, type ReactNode } from "react";
+import { useCallback, useMemo, useRef, useState, type ReactNode } from "react";
 
 import { api, call } from "../../api/client";
 import type { OdObject } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useLive } from "../../live/context";
-import { useApi } from "../../lib/useApi";
+import { useAction, useApi } from "../../lib/useApi";
 import { ApplyResult } from "./ApplyResult";
 import { BusLoadView } from "./BusLoadView";
 import { DraftBar } from "./DraftBar";
 import { ExportButtons } from "./ExportButtons";
 import { LiveCheck } from "./LiveCheck";
-import { isByteGranular, mergePdos, pdoKey, sortPdos, typeBits, type ObjectInfo } from "./model";
+import { fitRules, mergePdos, pdoKey, sortPdos, typeBits, type ObjectInfo } from "./model";
 import { ModeWizard } from "./ModeWizard";
-import { busLoad, listPdos, type ApplyOutcome } from "./pdoApi";
+import { busLoad, listPdos, pdoRules, validatePdos, type ApplyOutcome } from "./pdoApi";
 import { PdoList } from "./PdoList";
-import type { Pdo, Problem, Validation } from "./types";
+import type { LoadSettings, Pdo, Problem, Validation } from "./types";
+
+const DEFAULT_SETTINGS: LoadSettings = { threshold: 70, masterPeriodMs: 10 };
 
 interface Draft {
   pdos: Pdo[];
@@ -47,13 +49,36 @@ export function PdoPage({ node }: { node: number }): ReactNode {
     (signal) => call(api.GET("/api/nodes/{node}/od", { params: { path: { node } }, signal })),
     `od-${node}`,
   );
-  const profile = useLive((s) => s.infos.find((i) => i.node === node)?.profile);
-  const [threshold, setThreshold] = useState(70);
-  const current = useApi((signal) => busLoad(threshold, signal), `bus-load-${threshold}`);
+  const rulesApi = useApi((signal) => pdoRules(node, signal), `pdo-rules-${node}`);
+  const nmtState = useLive((s) => s.infos.find((i) => i.node === node)?.nmt_state);
+  const [settings, setSettings] = useState<LoadSettings>(DEFAULT_SETTINGS);
+  // One resource whatever the settings: the bars stay while a changed setting reloads them.
+  const current = useApi((signal) => busLoad(settings, signal), "bus-load");
   const [draft, setDraft] = useState<Draft | null>(null);
   const [validation, setValidation] = useState<Validation | null>(null);
   const [problems, setProblems] = useState<Problem[]>([]);
   const [outcome, setOutcome] = useState<ApplyOutcome | null>(null);
+
+  // The last validation request wins (settings typed fast re-validate in quick succession).
+  const validationSeq = useRef(0);
+  const validate = useAction(async (pdos: Pdo[], with_: LoadSettings) => {
+    const seq = ++validationSeq.current;
+    const result = await validatePdos(node, pdos, with_);
+    if (seq !== validationSeq.current) return;
+    setValidation(result);
+    setProblems(result.problems);
+  });
+  const forgetValidation = useCallback(() => {
+    validationSeq.current += 1;
+    setValidation(null);
+    setProblems([]);
+  }, []);
+  const changeSettings = (next: LoadSettings): void => {
+    setSettings(next);
+    current.reload();
+    // a checked draft is checked again: the server compares against the settings
+    if (draft && (validation || validate.busy)) void validate.run(draft.pdos, next);
+  };
 
   const infos = useMemo(() => objectInfos(od.data?.objects ?? []), [od.data]);
   const byAddress = useMemo(
@@ -65,7 +90,7 @@ export function PdoPage({ node }: { node: number }): ReactNode {
     [byAddress],
   );
   const mappable = useMemo(() => infos.filter((o) => o.mappable), [infos]);
-  const rules = useMemo(() => ({ byteGranular: isByteGranular(profile) }), [profile]);
+  const rules = useMemo(() => fitRules(rulesApi.data), [rulesApi.data]);
   const device = useMemo(() => sortPdos(pdos.data ?? []), [pdos.data]);
 
   const startDraft = useCallback(
@@ -75,32 +100,32 @@ export function PdoPage({ node }: { node: number }): ReactNode {
         source,
         version: (old?.version ?? 0) + 1,
       }));
-      setValidation(null);
-      setProblems([]);
+      forgetValidation();
       setOutcome(null);
     },
-    [device],
+    [device, forgetValidation],
   );
-  const onChange = useCallback((pdo: Pdo) => {
-    setDraft(
-      (old) =>
-        old && {
-          ...old,
-          pdos: old.pdos.map((p) => (pdoKey(p) === pdoKey(pdo) ? pdo : p)),
-          source: old.source.endsWith("(edited)") ? old.source : `${old.source} (edited)`,
-        },
-    );
-    setValidation(null);
-    setProblems([]);
-  }, []);
+  const onChange = useCallback(
+    (pdo: Pdo) => {
+      setDraft(
+        (old) =>
+          old && {
+            ...old,
+            pdos: old.pdos.map((p) => (pdoKey(p) === pdoKey(pdo) ? pdo : p)),
+            source: old.source.endsWith("(edited)") ? old.source : `${old.source} (edited)`,
+          },
+      );
+      forgetValidation();
+    },
+    [forgetValidation],
+  );
   const onOutcome = useCallback(
     (result: ApplyOutcome) => {
       setOutcome(result);
       if (result.result === "applied") {
         pdos.setData(() => result.pdos);
         setDraft(null);
-        setProblems([]);
-        setValidation(null);
+        forgetValidation();
         current.reload();
       } else if (result.result === "rejected") {
         setProblems(result.problems);
@@ -108,7 +133,7 @@ export function PdoPage({ node }: { node: number }): ReactNode {
         pdos.reload();
       }
     },
-    [pdos, current],
+    [pdos, current, forgetValidation],
   );
 
   const load = validation?.bus_load ?? current.data;
@@ -126,6 +151,7 @@ export function PdoPage({ node }: { node: number }): ReactNode {
       </div>
       <ErrorText error={pdos.error} onRetry={pdos.reload} />
       <ErrorText error={od.error} />
+      <ErrorText error={rulesApi.error} onRetry={rulesApi.reload} />
       {outcome && <ApplyResult outcome={outcome} onClose={() => setOutcome(null)} />}
       <ModeWizard
         node={node}
@@ -139,16 +165,16 @@ export function PdoPage({ node }: { node: number }): ReactNode {
           device={device}
           draft={draft.pdos}
           source={draft.source}
+          rules={rulesApi.data}
+          nmtState={nmtState}
           validation={validation}
-          onValidated={(result) => {
-            setValidation(result);
-            setProblems(result.problems);
-          }}
+          validating={validate.busy}
+          validateError={validate.error}
+          onValidate={() => void validate.run(draft.pdos, settings)}
           onOutcome={onOutcome}
           onDiscard={() => {
             setDraft(null);
-            setValidation(null);
-            setProblems([]);
+            forgetValidation();
           }}
         />
       )}
@@ -158,8 +184,8 @@ export function PdoPage({ node }: { node: number }): ReactNode {
           node={node}
           title={validation ? "Bus load with the draft" : "Bus load now"}
           open={validation !== null}
-          threshold={threshold}
-          onThreshold={setThreshold}
+          settings={settings}
+          onSettings={changeSettings}
         />
       )}
       <ErrorText error={validation ? null : current.error} />

@@ -1,6 +1,6 @@
 // Canned answers for the PDO page tests: node 1, an MDi-S1-C (byte-granular), PP mapping.
 import type { NodeInfo, OdEntry, OdTree } from "../../api/types";
-import type { BusLoad, Pdo } from "./types";
+import type { BusLoad, Pdo, PdoRules } from "./types";
 
 export const INFO: NodeInfo = {
   node: 1,
@@ -126,6 +126,7 @@ export const RECOMMENDED: Pdo[] = [
 
 export const LOAD: BusLoad = {
   bitrate: 500_000,
+  master_period_ms: 10,
   sync_period_us: 1000,
   sync_bits_per_s: 47_000,
   nodes: [
@@ -152,3 +153,39 @@ export const LOAD: BusLoad = {
   over_threshold: true,
   notes: ["Worst-case bit stuffing counted."],
 };
+
+/** How the MDi-S1-C takes PDOs: whole bytes, CAN ids of PDOs 1–4 fixed, no RTR. */
+export const RULES: PdoRules = {
+  byte_granular: true,
+  fixed_cob_ids: 4,
+  rtr_supported: false,
+  rpdo_count: 4,
+  tpdo_count: 4,
+  procedure:
+    "invalidate the COB-ID, mapping count 0, entries, count, communication parameters, COB-ID (MDi-S1-C CANopen manual §2.5.4)",
+  needs_pre_operational: false,
+};
+
+/** A CiA 402 drive's rules: bit-granular, every COB-ID free, changes outside Operational. */
+export const CIA402_RULES: PdoRules = {
+  ...RULES,
+  byte_granular: false,
+  fixed_cob_ids: 0,
+  rtr_supported: true,
+  procedure:
+    "Pre-operational, then the MDi order, then back to the previous NMT state (Nanotec CANopen article: no PDO changes in Operational, abort 08000022)",
+  needs_pre_operational: true,
+};
+
+/** The bus-load answer for the settings in `request`'s query, compared as the server does. */
+export function loadFor(request: Request, percent = LOAD.percent): BusLoad {
+  const query = new URL(request.url).searchParams;
+  const threshold = Number(query.get("threshold") ?? 70);
+  return {
+    ...LOAD,
+    master_period_ms: Number(query.get("master_period_ms") ?? 10),
+    percent,
+    threshold_percent: threshold,
+    over_threshold: percent > threshold,
+  };
+}

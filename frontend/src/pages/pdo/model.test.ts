@@ -6,18 +6,22 @@ import {
   formatCobId,
   frameLayout,
   inhibitFromMs,
+  fitRules,
+  fixedCobIdReason,
+  formatPercent,
+  formatRate,
   inhibitMs,
-  isByteGranular,
   isSynchronous,
   mergePdos,
   moveEntry,
   parseCobId,
+  placeProblems,
   sortPdos,
   transmissionWords,
   typeBits,
   type ObjectInfo,
 } from "./model";
-import type { MappedObject, Pdo } from "./types";
+import type { MappedObject, Pdo, PdoRules, Problem } from "./types";
 
 function object(over: Partial<ObjectInfo> = {}): ObjectInfo {
   return {
@@ -129,14 +133,125 @@ describe("numbers as shown", () => {
   ])("%s is %s bits", (name, bits) => {
     expect(typeBits(name)).toBe(bits);
   });
+});
+
+describe("numbers in the load and live tables", () => {
+  it.each([
+    [null, "—"], // fewer than two frames: no rate yet
+    [undefined, "—"],
+    [0, "0/s"],
+    [0.25, "0.3/s"],
+    [9.94, "9.9/s"],
+    [9.96, "10/s"],
+    [100, "100/s"],
+  ])("rate %s is %s", (value, text) => {
+    expect(formatRate(value)).toBe(text);
+  });
 
   it.each([
-    ["mdi-s1c", true],
-    ["kinco", true],
-    ["cia402", false],
-    [undefined, false],
-  ])("profile %s byte-granular: %s", (profile, granular) => {
-    expect(isByteGranular(profile)).toBe(granular);
+    [2.34, "2.3 %"],
+    [9.96, "10 %"],
+    [46.4, "46 %"],
+  ])("load %s is %s", (value, text) => {
+    expect(formatPercent(value)).toBe(text);
+  });
+});
+
+describe("the node's rules", () => {
+  const mdi: PdoRules = {
+    byte_granular: true,
+    fixed_cob_ids: 4,
+    rtr_supported: false,
+    rpdo_count: 4,
+    tpdo_count: 4,
+    procedure: "invalidate the COB-ID, …",
+    needs_pre_operational: false,
+  };
+
+  it("takes byte granularity and fixed COB-IDs from the server, permissive while loading", () => {
+    expect(fitRules(mdi)).toEqual({ byteGranular: true, fixedCobIds: 4 });
+    expect(fitRules(undefined)).toEqual({ byteGranular: false, fixedCobIds: 0 });
+  });
+
+  it.each([
+    [
+      1,
+      4,
+      "This drive fixes the CAN id of PDOs 1–4 to the pre-defined set; only the valid bit can change.",
+    ],
+    [4, 4, "PDOs 1–4"],
+    [5, 4, null],
+    [1, 1, "the CAN id of PDO 1 to"],
+    [2, 1, null],
+    [1, 0, null],
+  ])("PDO %s with %s fixed COB-IDs: %s", (number, fixed, expected) => {
+    const reason = fixedCobIdReason({ number }, { byteGranular: false, fixedCobIds: fixed });
+    if (expected === null) expect(reason).toBeNull();
+    else expect(reason).toContain(expected);
+  });
+});
+
+describe("placeProblems", () => {
+  const tpdo1 = pdo({
+    kind: "tpdo",
+    mapping: [entry(0x6041, 16), entry(0x6064, 32), entry(0x6041, 16)],
+  });
+  const problem = (index: number | null, subindex: number | null = 0): Problem => ({
+    kind: "tpdo",
+    number: 1,
+    message: `about ${index ?? "the PDO"}:${subindex ?? "-"}`,
+    index,
+    subindex,
+  });
+
+  it("puts each problem at the object, field or PDO it names", () => {
+    const atObject = problem(0x6064);
+    const twice = problem(0x6041);
+    const entry3 = problem(0x1a00, 3); // the 3rd mapping entry
+    const count = problem(0x1a00, 0); // the mapping count: the whole frame
+    const cobId = problem(0x1800, 1);
+    const transmission = problem(0x1800, 2);
+    const eventTimer = problem(0x1800, 5);
+    const otherPdo = problem(0x1801, 1);
+    const whole = problem(null, null);
+    const notMapped = problem(0x607a);
+    const placed = placeProblems(tpdo1, [
+      atObject,
+      twice,
+      entry3,
+      count,
+      cobId,
+      transmission,
+      eventTimer,
+      otherPdo,
+      whole,
+      notMapped,
+    ]);
+    expect(placed.atEntry).toEqual(
+      new Map([
+        [1, [atObject]],
+        [0, [twice]],
+        [2, [twice, entry3]],
+      ]),
+    );
+    expect(placed.atField).toEqual(
+      new Map([
+        ["cob_id", [cobId]],
+        ["transmission_type", [transmission]],
+        ["event_timer", [eventTimer]],
+      ]),
+    );
+    expect(placed.rest).toEqual([count, otherPdo, whole, notMapped]);
+  });
+
+  it("reads an RPDO's parameters at 14xxh / 16xxh", () => {
+    const rpdo2 = pdo({ number: 2, mapping: [entry(0x6040, 16)] });
+    const placed = placeProblems(rpdo2, [
+      { kind: "rpdo", number: 2, message: "a", index: 0x1401, subindex: 2 },
+      { kind: "rpdo", number: 2, message: "b", index: 0x1601, subindex: 1 },
+    ]);
+    expect([...placed.atField.keys()]).toEqual(["transmission_type"]);
+    expect([...placed.atEntry.keys()]).toEqual([0]);
   });
 });
 
@@ -178,8 +293,8 @@ describe("frameLayout", () => {
 });
 
 describe("fitProblem", () => {
-  const byteRules = { byteGranular: true };
-  const bitRules = { byteGranular: false };
+  const byteRules = { byteGranular: true, fixedCobIds: 0 };
+  const bitRules = { byteGranular: false, fixedCobIds: 0 };
   const full32 = [entry(0x6064, 32), entry(0x606c, 32)];
   const eight = Array.from({ length: 8 }, (_, i) => entry(0x2000 + i, 1));
 

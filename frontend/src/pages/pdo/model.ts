@@ -2,7 +2,7 @@
 // what a draft changes against the device. No I/O; table-tested in model.test.ts.
 import { integerType } from "../../lib/dataTypes";
 import { odAddress } from "../../lib/format";
-import type { MappedObject, Pdo, PdoKind } from "./types";
+import type { MappedObject, Pdo, PdoKind, PdoRules, Problem } from "./types";
 
 export const MAX_BITS = 64; // one classic CAN frame
 export const MAX_ENTRIES = 8; // mapping sub 0 range 0–8
@@ -33,7 +33,7 @@ export function pdoLabel(pdo: { kind: PdoKind; number: number }): string {
 
 /** The communication / mapping parameter indices of a PDO: "1800h / 1A00h". */
 export function pdoObjects(pdo: { kind: PdoKind; number: number }): string {
-  const comm = (pdo.kind === "rpdo" ? 0x1400 : 0x1800) + pdo.number - 1;
+  const comm = commIndex(pdo);
   return `${odAddress(comm)} / ${odAddress(comm + 0x200)}`;
 }
 
@@ -164,6 +164,22 @@ export function usedBits(mapping: readonly MappedObject[]): number {
 export interface FitRules {
   /** The drive maps whole bytes only (MDi-S1-C, Kinco). */
   byteGranular: boolean;
+  /** PDOs 1..n keep their pre-defined CAN id (0: every COB-ID can change). */
+  fixedCobIds: number;
+}
+
+/** What the browser checks before asking the server, from the node's rules (permissive
+ * while they load: the server's validation still catches what they would have). */
+export function fitRules(rules: PdoRules | undefined): FitRules {
+  return { byteGranular: rules?.byte_granular ?? false, fixedCobIds: rules?.fixed_cob_ids ?? 0 };
+}
+
+/** Why the COB-ID of `pdo` cannot change on this drive; null when it can. */
+export function fixedCobIdReason(pdo: { number: number }, rules: FitRules): string | null {
+  const n = rules.fixedCobIds;
+  if (n <= 0 || pdo.number > n) return null;
+  const which = n === 1 ? "PDO 1" : `PDOs 1–${n}`;
+  return `This drive fixes the CAN id of ${which} to the pre-defined set; only the valid bit can change.`;
 }
 
 /** Why `object` cannot be added to `pdo`, in words; null when it fits. */
@@ -190,6 +206,60 @@ export function fitProblem(pdo: Pdo, object: ObjectInfo, rules: FitRules): strin
     return `${what} needs ${object.bits} bits; ${pdoLabel(pdo)} has ${MAX_BITS - used} of ${MAX_BITS} left.`;
   }
   return null;
+}
+
+/** The communication parameter fields a problem can name, by subindex (CiA 301 §7.5.2.35). */
+export type CommField =
+  "cob_id" | "transmission_type" | "inhibit_time" | "event_timer" | "sync_start";
+
+const COMM_FIELDS: Readonly<Record<number, CommField>> = {
+  1: "cob_id",
+  2: "transmission_type",
+  3: "inhibit_time",
+  5: "event_timer",
+  6: "sync_start",
+};
+
+export function commIndex(pdo: { kind: PdoKind; number: number }): number {
+  return (pdo.kind === "rpdo" ? 0x1400 : 0x1800) + pdo.number - 1;
+}
+
+/** A PDO's problems by where they are shown: at a mapped object in the frame (by mapping
+ * position), at a communication parameter field, or under the PDO (`rest`). */
+export interface PlacedProblems {
+  atEntry: Map<number, Problem[]>;
+  atField: Map<CommField, Problem[]>;
+  rest: Problem[];
+}
+
+export function placeProblems(pdo: Pdo, problems: readonly Problem[]): PlacedProblems {
+  const placed: PlacedProblems = { atEntry: new Map(), atField: new Map(), rest: [] };
+  const add = <K>(map: Map<K, Problem[]>, key: K, problem: Problem): void => {
+    map.set(key, [...(map.get(key) ?? []), problem]);
+  };
+  const comm = commIndex(pdo);
+  for (const problem of problems) {
+    const { index, subindex } = problem;
+    if (index == null) {
+      placed.rest.push(problem);
+      continue;
+    }
+    const sub = subindex ?? 0;
+    const positions = pdo.mapping
+      .map((e, i) => (e.index === index && e.subindex === sub ? i : -1))
+      .filter((i) => i >= 0);
+    const field = index === comm ? COMM_FIELDS[sub] : undefined;
+    if (positions.length > 0) {
+      for (const position of positions) add(placed.atEntry, position, problem);
+    } else if (index === comm + 0x200 && sub >= 1 && sub <= pdo.mapping.length) {
+      add(placed.atEntry, sub - 1, problem); // a mapping entry (1A00h:02 is the 2nd object)
+    } else if (field) {
+      add(placed.atField, field, problem);
+    } else {
+      placed.rest.push(problem);
+    }
+  }
+  return placed;
 }
 
 /** The mapping with the entry at `from` moved to `to` (both clamped). */
@@ -282,20 +352,18 @@ export const MODES: readonly ModeChoice[] = [
   { code: "ip", name: "Interpolated position", value: 7 },
 ];
 
-/** Drive families whose PDO mapping lengths must be whole bytes (MDi-S1-C CANopen manual
- * §5.2, Kinco servo CANopen manual §5.4.3), by the profile name the server reports. */
-const BYTE_GRANULAR_PROFILES: ReadonlySet<string> = new Set(["mdi-s1c", "kinco"]);
-
-export function isByteGranular(profile: string | undefined): boolean {
-  return profile !== undefined && BYTE_GRANULAR_PROFILES.has(profile);
+/** One decimal below 10, none from 10 on (9.96 reads "10", not "10.0"). */
+function shortNumber(value: number): string {
+  const tenths = Math.round(value * 10) / 10;
+  return tenths < 10 ? tenths.toFixed(1) : tenths.toFixed(0);
 }
 
 export function formatPercent(value: number): string {
-  return `${value < 10 ? value.toFixed(1) : value.toFixed(0)} %`;
+  return `${shortNumber(value)} %`;
 }
 
 export function formatRate(value: number | null | undefined): string {
   if (value == null) return "—";
   if (value === 0) return "0/s";
-  return `${value < 10 ? value.toFixed(1) : value.toFixed(0)}/s`;
+  return `${shortNumber(value)}/s`;
 }

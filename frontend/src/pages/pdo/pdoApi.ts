@@ -3,16 +3,45 @@
 // the page shows its step, abort code and whether the device was restored.
 import { api, call } from "../../api/client";
 import { asApiError, toApiError } from "../../api/errors";
-import type { ApplyFailure, BusLoad, LiveCapture, Pdo, Problem, Validation } from "./types";
+import type {
+  ApplyFailure,
+  BusLoad,
+  LiveCapture,
+  LoadSettings,
+  Pdo,
+  PdoRules,
+  Problem,
+  Validation,
+} from "./types";
 
 const path = (node: number): { path: { node: number } } => ({ path: { node } });
+
+/** The bus-load settings as the server's query: it compares against the threshold itself. */
+function loadQuery(settings: LoadSettings): { threshold: number; master_period_ms: number } {
+  return { threshold: settings.threshold, master_period_ms: settings.masterPeriodMs };
+}
 
 export function listPdos(node: number, signal?: AbortSignal): Promise<Pdo[]> {
   return call(api.GET("/api/nodes/{node}/pdos", { params: path(node), signal }));
 }
 
-export function validatePdos(node: number, pdos: Pdo[]): Promise<Validation> {
-  return call(api.POST("/api/nodes/{node}/pdos/validate", { params: path(node), body: { pdos } }));
+export function validatePdos(
+  node: number,
+  pdos: Pdo[],
+  settings: LoadSettings,
+  signal?: AbortSignal,
+): Promise<Validation> {
+  return call(
+    api.POST("/api/nodes/{node}/pdos/validate", {
+      params: { ...path(node), query: loadQuery(settings) },
+      body: { pdos },
+      signal,
+    }),
+  );
+}
+
+export function pdoRules(node: number, signal?: AbortSignal): Promise<PdoRules> {
+  return call(api.GET("/api/nodes/{node}/pdos/rules", { params: path(node), signal }));
 }
 
 export async function recommendedPdos(node: number, modes: string[]): Promise<Pdo[]> {
@@ -24,8 +53,8 @@ export async function recommendedPdos(node: number, modes: string[]): Promise<Pd
   return answer.pdos;
 }
 
-export function busLoad(threshold: number, signal?: AbortSignal): Promise<BusLoad> {
-  return call(api.GET("/api/bus-load", { params: { query: { threshold } }, signal }));
+export function busLoad(settings: LoadSettings, signal?: AbortSignal): Promise<BusLoad> {
+  return call(api.GET("/api/bus-load", { params: { query: loadQuery(settings) }, signal }));
 }
 
 export type ApplyOutcome =

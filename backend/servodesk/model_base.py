@@ -1,0 +1,27 @@
+"""What every API schema module builds on: the value type, strict JSON integers and the base of
+request bodies (servodesk.models, servodesk.pdo_models)."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict
+
+Value = int | float | str | None
+
+
+def _not_text(value: object) -> object:
+    if isinstance(value, str | bool):
+        raise ValueError("a number, not text or true/false")
+    return value
+
+
+# A JSON integer: 12 and 12.0 (JSON Schema's integer), never "12" or 12.5.
+JsonInt = Annotated[int, BeforeValidator(_not_text)]
+
+
+class RequestBody(BaseModel):
+    """What clients send: no silent coercion ("12" is not 12, "true" is not true: JsonInt and
+    StrictBool fields) and no unknown fields (a misspelt "comfirm" must not be ignored)."""
+
+    model_config = ConfigDict(extra="forbid")
