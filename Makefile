@@ -32,10 +32,14 @@ install: $(STAMP) $(NPM_STAMP)
 frontend: install $(STATIC)
 
 # Debian's Chromium drives the end-to-end tests (Playwright never downloads a browser here);
-# a CJK font renders the MDi's Chinese parameter names in its screenshots.
+# a CJK font renders the MDi's Chinese parameter names in its screenshots; tshark is the
+# independent CANopen decoder the log tests compare against (wireshark-common asks a debconf
+# question, hence noninteractive).
 system-deps:
-	@test -x $(CHROMIUM) && fc-list | grep -qi microhei || { $(SUDO) apt-get update -qq && \
-		$(SUDO) apt-get install -y -qq --no-install-recommends chromium fonts-liberation fonts-wqy-microhei; }
+	@test -x $(CHROMIUM) && fc-list | grep -qi microhei && command -v tshark >/dev/null || { \
+		$(SUDO) apt-get update -qq && \
+		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+			chromium fonts-liberation fonts-wqy-microhei tshark; }
 
 run: frontend
 	$(BIN)/servodesk serve --sim --bind 127.0.0.1 --port 8000
@@ -72,6 +76,7 @@ bench: install
 	$(BIN)/python bench/sim_realtime.py
 	$(BIN)/python bench/sdo_overhead.py
 	$(BIN)/python bench/od_upload.py
+	$(BIN)/python bench/log_decode.py
 
 clean:
 	rm -rf $(VENV) node_modules backend/servodesk/static .mypy_cache .pytest_cache .ruff_cache

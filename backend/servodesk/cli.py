@@ -6,6 +6,7 @@
     servodesk write NODE INDEX SUB VALUE [--size 1|2|4] [--sim] [bus flags]
     servodesk dump NODE [--sim] [bus flags] > node.dcf
     servodesk eds-check FILE
+    servodesk decode-log FILE [--dcf FILE] [--format text|csv|json|parquet] [-o OUT]
 
 Bus flags are python-can's own (`--interface/--channel/--bitrate/--bus-kwargs`); without them
 python-can's config file and environment apply. Every error is one line on stderr and a
@@ -112,6 +113,20 @@ def build_parser() -> argparse.ArgumentParser:
 
     check = commands.add_parser("eds-check", help="load an EDS/DCF/XDD and list its problems")
     check.add_argument("file")
+
+    decode = commands.add_parser(
+        "decode-log", help="decode a CAN log (candump, ASC, BLF, TRC, CSV) into a timeline"
+    )
+    decode.add_argument("file", help="the log: .log .asc .blf .trc .csv (.mf4 with asammdf)")
+    decode.add_argument("--dcf", help="a DCF of one node: its PDO mappings, identity, bitrate")
+    decode.add_argument(
+        "--format", choices=("text", "csv", "json", "parquet"), default="text",
+        help="how the events are written (json: JSON lines; parquet needs -o)",
+    )  # fmt: skip
+    decode.add_argument("-o", "--output", help="write the events here instead of stdout")
+    decode.add_argument(
+        "--bitrate", type=int, help="bit/s for the bus load (default: DCF or 500000)"
+    )
     return parser
 
 
@@ -146,6 +161,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return serve(args, raw)
         if args.command == "eds-check":
             return eds_check(args.file)
+        if args.command == "decode-log":
+            from servodesk.logs.cli import decode_log
+
+            return decode_log(args)
         return asyncio.run(_field_command(args))
     except ServodeskError as error:
         _say(str(error), debug=args.debug)

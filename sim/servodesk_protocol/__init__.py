@@ -6,6 +6,7 @@
 - `sdo_abort`: SDO abort codes and their meanings.
 - `pdo`: PDO parameter layout, mapping entries, packing, transmission types.
 - `emcy`: EMCY data in the MDi, Kinco and CiA 301 formats; error register bits.
+- `emcy_codes`: CiA 402 / CiA 301 EMCY codes and classes in words, error register words.
 - `cia402`: controlword builders, statusword states, modes of operation.
 
 Neither the app nor the simulator owns these definitions, so the tool and the simulated drives

@@ -1,0 +1,178 @@
+"""EMCY frames in words, layered: the drive's own alarm table first (MDi-S1-C CANopen manual
+§4.1 alarm numbers, Kinco servo CANopen manual §8 603Fh codes), then CiA 402, then CiA 301,
+then the code's class with its raw hex: never nothing.
+
+Pure: `decode_emcy(profile, node, data)` takes the node's profile data (None when its identity
+is unknown: the CiA 301 format is assumed) and an EMCY's data bytes; the caller supplies the time.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from servodesk_data import DriveData, EmcyFormat, FaultEntry
+from servodesk_protocol import emcy_codes
+from servodesk_protocol.emcy import FRAME_LENGTH
+from servodesk_protocol.emcy_codes import CodeSource, describe, is_reset
+
+_CJK = re.compile(r"[\u3400-\u9fff]")
+# where each shipped profile's fault table comes from, by profile name
+_MANUALS = {
+    "mdi-s1c": "MDi-S1-C CANopen manual §4.1",
+    "kinco": "Kinco servo CANopen manual §8",
+    "cia402": "Nanotec CANopen article",
+}
+_ALARM = EmcyFormat.ALARM_NUMBER
+
+
+@dataclass(frozen=True, slots=True)
+class FaultRecord:
+    """One decoded fault; the fields are the API's `Fault`."""
+
+    time: float
+    node: int
+    code: int  # the format's own code: MDi alarm number, low 16 bits of Kinco 603Fh, EMCY code
+    code_hex: str  # "0x8611"
+    source: str  # CodeSource value: vendor | cia402 | cia301 | unknown
+    name_en: str
+    name_zh: str | None
+    check: str | None  # cause and what to check, when a table says
+    error_register: int | None  # only the CiA 301 format carries 1001h
+    manufacturer_hex: str | None  # CiA 301 bytes 3–7, raw
+    raw_hex: str  # the whole EMCY data
+
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def fault_words(record: FaultRecord, profile: DriveData | None) -> str:
+    """One phrase for a timeline: "alarm 4 位置超差 Following error" for an MDi alarm number,
+    "0x8611 Following error" for an EMCY code."""
+    name = f"{record.name_zh} {record.name_en}" if record.name_zh else record.name_en
+    if profile is not None and profile.quirks.emcy_format is EmcyFormat.ALARM_NUMBER:
+        return f"alarm {record.code} {name}"
+    return f"{record.code_hex} {name}"
+
+
+@dataclass(frozen=True, slots=True)
+class _Raw:
+    """What the frame itself carries, beside the code."""
+
+    raw_hex: str
+    error_register: int | None
+    manufacturer_hex: str | None
+
+
+def decode_emcy(
+    profile: DriveData | None, node: int, data: bytes, *, time: float = 0.0
+) -> FaultRecord:
+    """The EMCY `data` of `node` in words (see the module docstring for the layering)."""
+    fmt = profile.quirks.emcy_format if profile is not None else EmcyFormat.CIA301
+    raw_hex = data.hex(" ").upper()
+    if len(data) < 2:
+        text = f"Malformed EMCY ({len(data)} data bytes, the code needs 2)"
+        return _record(time, node, 0, CodeSource.UNKNOWN, text, _Raw(raw_hex, None, None))
+    code = int.from_bytes(data[:2], "little")
+    register: int | None = None
+    manufacturer: str | None = None
+    if fmt is EmcyFormat.CIA301 and len(data) >= 3:  # a 2-byte frame: an alarm-number drive
+        register = data[2]
+        manufacturer = data[3:FRAME_LENGTH].hex(" ").upper()
+    raw = _Raw(raw_hex, register, manufacturer)
+    if is_reset(code) and (fmt is EmcyFormat.CIA301 or code == 0):
+        return _record(time, node, code, CodeSource.CIA301, emcy_codes.RESET_TEXT, raw)
+    if profile is not None and fmt is EmcyFormat.ALARM_NUMBER:
+        entry = profile.fault(code)
+        if entry is None:
+            manual = _MANUALS.get(profile.profile, "drive's alarm table")
+            text = f"Unknown alarm {code} (not in the {manual})"
+            return _record(time, node, code, CodeSource.UNKNOWN, text, raw)
+        return _vendor(time, node, code, [entry], profile, raw)
+    if profile is not None:
+        entries = _matching(profile, code, fmt)
+        if entries:
+            return _vendor(time, node, code, entries, profile, raw)
+    # every shipped profile is a drive, and an unknown node of a servo tool most likely one
+    cia = describe(code, cia402=True)
+    parts = [] if cia.source is CodeSource.UNKNOWN else [f"CiA class: {cia.code_class}."]
+    if register:
+        words = ", ".join(emcy_codes.error_register_words(register))
+        parts.append(f"Error register {register:02X}h: {words}.")
+    check = " ".join(parts) or None
+    return _record(time, node, code, cia.source, cia.text, raw, check=check)
+
+
+def decode_kinco_bits(profile: DriveData, detected: int) -> list[FaultEntry]:
+    """The faults a Kinco 2600h:02 Detected_Faults value reports, lowest bit first."""
+    return [e for e in profile.faults if e.kinco_bit and detected & e.kinco_bit]
+
+
+def _matching(profile: DriveData, code: int, fmt: EmcyFormat) -> list[FaultEntry]:
+    """Table entries an EMCY code stands for. Kinco sends only the low 16 bits of 603Fh, so
+    0x2320 is any of 12320h/22320h/32320h; an exact code comes first."""
+    if fmt is EmcyFormat.KINCO:
+        found = [e for e in profile.faults if e.code & 0xFFFF == code]
+        return sorted(found, key=lambda e: e.code != code)
+    return [e for e in profile.faults if e.code == code]
+
+
+def _vendor(
+    time: float,
+    node: int,
+    code: int,
+    entries: list[FaultEntry],
+    profile: DriveData,
+    raw: _Raw,
+) -> FaultRecord:
+    fmt = profile.quirks.emcy_format
+    first = entries[0]
+    names = " / ".join(e.name_en for e in entries)
+    parts = [f"Cause: {e.description}" for e in entries[:1]]
+    if len(entries) > 1:
+        codes = ", ".join(f"{e.code:X}h" for e in entries)
+        parts.append(
+            f"The EMCY carries only the low 16 bits of 603Fh ({codes} share them): read 603Fh"
+            " or 2600h:02 to tell which."
+        )
+    for entry in entries:
+        check = entry.what_to_check.rstrip(".")
+        if entry.kinco_bit:
+            check += f" (2600h:02 bit {entry.kinco_bit:#x} {entry.name})"
+        parts.append(f"Check: {check}.")
+    cia = describe(first.emcy_code)
+    # the CiA meaning adds something unless the vendor code is that CiA code itself
+    if cia.source is not CodeSource.UNKNOWN and (first.emcy_code != code or fmt is _ALARM):
+        parts.append(f"CiA code {first.emcy_code:04X}h: {cia.text}.")
+    parts.append(f"Source: {_MANUALS.get(profile.profile, 'the drive profile')}.")
+    name_zh = first.name if _CJK.search(first.name) else None
+    return _record(
+        time, node, code, CodeSource.VENDOR, names, raw, name_zh=name_zh, check=" ".join(parts)
+    )
+
+
+def _record(
+    time: float,
+    node: int,
+    code: int,
+    source: CodeSource,
+    name_en: str,
+    raw: _Raw,
+    *,
+    name_zh: str | None = None,
+    check: str | None = None,
+) -> FaultRecord:
+    return FaultRecord(
+        time=time,
+        node=node,
+        code=code,
+        code_hex=f"0x{code:04X}",
+        source=source.value,
+        name_en=name_en,
+        name_zh=name_zh,
+        check=check,
+        error_register=raw.error_register,
+        manufacturer_hex=raw.manufacturer_hex,
+        raw_hex=raw.raw_hex,
+    )

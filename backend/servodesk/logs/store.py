@@ -1,0 +1,123 @@
+"""The service the log routes will use: decode a log file once, keep its events for paging.
+
+Each result is one SQLite file under `<data_dir>/logs/<id>.sqlite` holding the summary, the
+totals and every event; `events(id, since, limit)` pages by the event sequence number. Events
+are inserted in batches while the log streams past, so memory stays flat for any log size.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import sqlite3
+import uuid
+from collections.abc import Callable, Iterator
+from contextlib import closing
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from servodesk.logs.analysis import LogAnalysis
+from servodesk.logs.events import COLUMNS, Event
+
+INSERT_BATCH = 10_000
+MAX_PAGE = 10_000
+_ID = re.compile(r"^[0-9a-f]{32}$")
+_SCHEMA = """
+CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE events (
+    seq INTEGER PRIMARY KEY, time REAL NOT NULL, frame INTEGER NOT NULL, kind TEXT NOT NULL,
+    node INTEGER, text TEXT NOT NULL, "index" INTEGER, subindex INTEGER, code INTEGER, data TEXT
+);
+"""
+_INSERT = f"INSERT INTO events VALUES ({', '.join('?' * len(COLUMNS))})"
+
+
+class LogNotFoundError(KeyError):
+    """No decoded log with this id."""
+
+
+@dataclass(frozen=True)
+class LogResult:
+    id: str
+    name: str  # the file's name
+    summary: list[str]
+    stats: dict[str, Any]
+
+
+class LogStore:
+    def __init__(self, data_dir: Path) -> None:
+        self.root = data_dir / "logs"
+
+    def decode_file(
+        self,
+        path: Path,
+        *,
+        dcf: Path | None = None,
+        bitrate: int | None = None,
+        progress: Callable[[int], None] | None = None,
+    ) -> LogResult:
+        """Decode `path` (any python-can log format) and store its events; blocking, run it
+        off the event loop."""
+        self.root.mkdir(parents=True, exist_ok=True)
+        log_id = uuid.uuid4().hex
+        target = self._path(log_id)
+        partial = target.with_suffix(".partial")
+        analysis = LogAnalysis(path, dcf=dcf, bitrate=bitrate)
+        try:
+            with closing(sqlite3.connect(partial)) as db:
+                db.executescript("PRAGMA journal_mode = OFF; PRAGMA synchronous = OFF;" + _SCHEMA)
+                batch: list[tuple[Any, ...]] = []
+                for event in analysis.events(progress):
+                    batch.append(tuple(getattr(event, c) for c in COLUMNS))
+                    if len(batch) >= INSERT_BATCH:
+                        db.executemany(_INSERT, batch)
+                        batch.clear()
+                db.executemany(_INSERT, batch)
+                result = LogResult(log_id, path.name, analysis.summary(), analysis.stats())
+                meta = {"name": result.name, "summary": result.summary, "stats": result.stats}
+                db.executemany(
+                    "INSERT INTO meta VALUES (?, ?)",
+                    [(k, json.dumps(v, ensure_ascii=False)) for k, v in meta.items()],
+                )
+                db.commit()
+            partial.rename(target)  # only a finished decode is ever visible
+        finally:
+            partial.unlink(missing_ok=True)
+        return result
+
+    def result(self, log_id: str) -> LogResult:
+        with closing(self._open(log_id)) as db:
+            meta = {k: json.loads(v) for k, v in db.execute("SELECT key, value FROM meta")}
+        return LogResult(log_id, meta["name"], meta["summary"], meta["stats"])
+
+    def events(self, log_id: str, since: int = 0, limit: int = 500) -> list[Event]:
+        """Events with seq >= `since`, at most `limit` (≤ MAX_PAGE) of them, in order."""
+        limit = max(0, min(limit, MAX_PAGE))
+        with closing(self._open(log_id)) as db:
+            rows = db.execute(
+                "SELECT * FROM events WHERE seq >= ? ORDER BY seq LIMIT ?", (since, limit)
+            ).fetchall()
+        return [Event(*row) for row in rows]
+
+    def ids(self) -> Iterator[str]:
+        if self.root.is_dir():
+            for path in sorted(self.root.glob("*.sqlite")):
+                yield path.stem
+
+    def delete(self, log_id: str) -> None:
+        path = self._path(log_id)
+        if not path.is_file():
+            raise LogNotFoundError(log_id)
+        path.unlink()
+
+    def _path(self, log_id: str) -> Path:
+        if not _ID.match(log_id):  # ids come from URLs: never a path of their own
+            raise LogNotFoundError(log_id)
+        return self.root / f"{log_id}.sqlite"
+
+    def _open(self, log_id: str) -> sqlite3.Connection:
+        path = self._path(log_id)
+        if not path.is_file():
+            raise LogNotFoundError(log_id)
+        return sqlite3.connect(f"file:{path}?mode=ro", uri=True)

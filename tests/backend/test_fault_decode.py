@@ -1,0 +1,126 @@
+"""EMCY decoding layered over the drives' own tables: every MDi alarm and every Kinco code of
+the profile data decodes to the manual's text; frames from the simulator's encoder round-trip."""
+
+from __future__ import annotations
+
+import pytest
+
+import servodesk_data
+from servodesk.faults import decode_emcy, decode_kinco_bits, fault_words
+from servodesk_data import DriveData
+from servodesk_protocol.emcy import make_alarm_number, make_cia301, make_kinco
+from servodesk_sim.emcy import Fault, emcy_payload
+
+MDI = servodesk_data.load("mdi-s1c")
+KINCO = servodesk_data.load("kinco")
+CIA402 = servodesk_data.load("cia402")
+
+
+@pytest.mark.parametrize("entry", MDI.faults, ids=lambda e: f"alarm{e.code}")
+def test_every_mdi_alarm_decodes_to_the_manual_text(entry: servodesk_data.FaultEntry) -> None:
+    record = decode_emcy(MDI, 1, make_alarm_number(entry.code), time=12.5)
+    assert (record.source, record.code, record.name_zh) == ("vendor", entry.code, entry.name)
+    assert record.name_en == entry.name_en
+    assert record.check is not None
+    assert entry.description in record.check
+    assert entry.what_to_check.rstrip(".") in record.check
+    assert "MDi-S1-C CANopen manual §4.1" in record.check
+    assert (record.time, record.node, record.error_register) == (12.5, 1, None)
+    assert record.code_hex == f"0x{entry.code:04X}"
+
+
+@pytest.mark.parametrize("entry", KINCO.faults, ids=lambda e: f"{e.code:#x}")
+def test_every_kinco_code_decodes_to_the_manual_text(entry: servodesk_data.FaultEntry) -> None:
+    record = decode_emcy(KINCO, 2, make_kinco(entry.code))
+    assert record.source == "vendor"
+    assert record.code == entry.code & 0xFFFF  # only the low 16 bits travel (manual §8)
+    assert entry.name_en in record.name_en.split(" / ")
+    assert record.check is not None
+    assert f"2600h:02 bit {entry.kinco_bit:#x} {entry.name}" in record.check
+    assert "Kinco servo CANopen manual §8" in record.check
+
+
+def test_kinco_exact_code_comes_first_and_shared_codes_say_so() -> None:
+    record = decode_emcy(KINCO, 2, make_kinco(0x7305))
+    assert record.name_en == "Motor encoder non-equivalence error / Motor encoder counting error"
+    shared = decode_emcy(KINCO, 2, bytes.fromhex("20 23 00 00 00 00 00 00"))
+    assert shared.name_en.startswith("Short circuit phase A / Short circuit phase B")
+    assert shared.check is not None
+    assert "12320h, 22320h, 32320h" in shared.check
+
+
+def test_kinco_fault_bits() -> None:
+    found = decode_kinco_bits(KINCO, 0x2000 | 0x2)
+    assert [e.name for e in found] == ["FAULT_REGLERWD_BIT", "FAULT_FOLLOWINGERROR_BIT"]
+
+
+@pytest.mark.parametrize(
+    ("data", "source", "code", "name", "register", "manufacturer"),
+    [
+        ("11 86 21 00 00 00 00 00", "vendor", 0x8611, "Following error", 0x21, "00 00 00 00 00"),
+        ("50 82 11 01 02 03 04 05", "cia301", 0x8250, "RPDO timeout",
+         0x11, "01 02 03 04 05"),
+        ("01 8F 81 AA 00 00 00 00", "unknown", 0x8F01, "Unknown monitoring code 0x8F01", 0x81,
+         "AA 00 00 00 00"),
+        ("00 00 00 00 00 00 00 00", "cia301", 0, "Error reset / no error", 0, "00 00 00 00 00"),
+    ],
+)  # fmt: skip
+def test_cia301_format_exact_frames(
+    data: str, source: str, code: int, name: str, register: int, manufacturer: str
+) -> None:
+    record = decode_emcy(CIA402, 3, bytes.fromhex(data))
+    assert (record.source, record.code, record.name_en) == (source, code, name)
+    assert (record.error_register, record.manufacturer_hex, record.raw_hex) == (
+        register, manufacturer, data.upper()
+    )  # fmt: skip
+
+
+def test_unknown_node_uses_cia_tables_and_class() -> None:
+    assert decode_emcy(None, 9, make_cia301(0x3210, 0x05)).name_en == "DC-link over-voltage"
+    assert decode_emcy(None, 9, make_cia301(0x3210, 0x05)).source == "cia402"
+    unknown = decode_emcy(None, 9, make_cia301(0x5123, 0x81))
+    assert unknown.name_en == "Unknown device hardware code 0x5123"
+    assert unknown.check == "Error register 81h: generic, manufacturer."
+    # a 2-byte EMCY of an unidentified node still decodes its code
+    assert decode_emcy(None, 9, bytes.fromhex("11 86")).name_en == "Following error"
+
+
+def test_never_nothing() -> None:
+    assert decode_emcy(MDI, 1, make_alarm_number(999)).name_en == (
+        "Unknown alarm 999 (not in the MDi-S1-C CANopen manual §4.1)"
+    )
+    assert decode_emcy(MDI, 1, b"\x04").name_en.startswith("Malformed EMCY (1 data bytes")
+    assert decode_emcy(MDI, 1, make_alarm_number(0)).name_en == "Error reset / no error"
+
+
+@pytest.mark.parametrize("profile", [MDI, KINCO, CIA402], ids=lambda p: p.profile)
+def test_simulator_frames_round_trip(profile: DriveData) -> None:
+    """The simulated drive's EMCY payload for every fault of its table decodes back to it."""
+    for entry in profile.faults:
+        fault = Fault(entry.code, entry.emcy_code, entry.error_register, entry.kinco_bit)
+        data = emcy_payload(profile.quirks.emcy_format, fault, entry.error_register)
+        record = decode_emcy(profile, 1, data)
+        assert record.source == "vendor"
+        assert entry.name_en in record.name_en.split(" / ")
+        if profile is CIA402:
+            assert record.error_register == entry.error_register
+    reset = decode_emcy(profile, 1, emcy_payload(profile.quirks.emcy_format, None, 0))
+    assert reset.name_en == "Error reset / no error"
+
+
+def test_fault_words() -> None:
+    assert fault_words(decode_emcy(MDI, 1, make_alarm_number(4)), MDI) == (
+        "alarm 4 位置超差 Position deviation too large"
+    )
+    assert fault_words(decode_emcy(CIA402, 3, make_cia301(0x8611, 0x21)), CIA402) == (
+        "0x8611 Following error"
+    )
+
+
+def test_record_is_the_api_shape() -> None:
+    record = decode_emcy(MDI, 1, make_alarm_number(62), time=1.0)
+    assert set(record.as_dict()) == {
+        "time", "node", "code", "code_hex", "source", "name_en", "name_zh", "check",
+        "error_register", "manufacturer_hex", "raw_hex",
+    }  # fmt: skip
+    assert record.name_zh == "同步帧丢失异常"
