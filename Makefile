@@ -77,6 +77,7 @@ bench: install
 	$(BIN)/python bench/sdo_overhead.py
 	$(BIN)/python bench/od_upload.py
 	$(BIN)/python bench/log_decode.py
+	$(BIN)/python bench/jog_stop.py
 
 clean:
 	rm -rf $(VENV) node_modules backend/servodesk/static .mypy_cache .pytest_cache .ruff_cache

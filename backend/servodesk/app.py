@@ -10,7 +10,19 @@ from pathlib import Path
 from fastapi import APIRouter, FastAPI
 
 from servodesk import __version__
-from servodesk.api import bus, health, nodes, od, params, paramsets, pdos, sdo, ws
+from servodesk.api import (
+    bus,
+    drive,
+    health,
+    jog,
+    nodes,
+    od,
+    params,
+    paramsets,
+    pdos,
+    sdo,
+    ws,
+)
 from servodesk.api.errors import install_error_handlers
 from servodesk.api.schema import install_schema
 from servodesk.api.security import HostGuard, SameOriginGuard
@@ -28,7 +40,7 @@ STATIC_DIR = Path(__file__).parent / "static"
 
 def api_router() -> APIRouter:
     router = APIRouter(prefix="/api")
-    for module in (health, bus, nodes, od, sdo, params, paramsets, pdos):
+    for module in (health, bus, nodes, od, sdo, params, paramsets, pdos, drive, jog):
         router.include_router(module.router)
     router.include_router(bus.sync_router)
     router.include_router(pdos.bus_router)
@@ -48,7 +60,8 @@ def create_app(
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         services = build_services(settings, bus_factory=bus_factory)
         app.state.services = services
-        services.live.start()
+        await services.open()
+        services.start()
         await _connect_at_start(services)
         try:
             yield
@@ -71,6 +84,7 @@ def create_app(
     app.add_middleware(HostGuard)
     install_error_handlers(app)
     install_schema(app)
+    ws.install_live_schema(app)
     app.include_router(api_router())
     if static_dir is not None:
         mount_frontend(app, static_dir)

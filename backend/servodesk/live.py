@@ -1,22 +1,40 @@
-"""Live state for the browser over one WebSocket: bus status, node states, events.
+"""Live state for the browser over one WebSocket: bus status, node states, events, and for the
+drive panel the watched drives' state (~10 Hz), who controls them, and stopped jogs.
 
-Each client keeps only the newest bus and node snapshot plus a short queue of events, so a slow
-browser skips stale states instead of building up a backlog (docs/api.md, WebSocket).
+Each client keeps only the newest snapshot per kind plus a short queue of events, so a slow
+browser skips stale states instead of building up a backlog (docs/api.md, WebSocket). Message
+shapes are the models of live_messages.py.
 """
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
+import logging
 from collections import deque
 from typing import Any
 
 from servodesk.bus.connection import BusManager
+from servodesk.errors import ServodeskError
+from servodesk.live_messages import (
+    BusMessage,
+    ControllerMessage,
+    DriveStateMessage,
+    EventMessage,
+    JogStoppedMessage,
+    dump,
+)
 from servodesk.models import BusStatus, LiveEvent
+from servodesk.motion.lease import Client
+from servodesk.motion.safety import MotionSafety
+from servodesk.motion.safety_models import JogInfo
 from servodesk.nodes.registry import NodeRegistry
+
+log = logging.getLogger(__name__)
 
 NODES_PERIOD = 0.2  # s: node states at 5 Hz
 BUS_PERIOD = 2.0  # s: bus status (counters) even when nothing changed
+DRIVE_PERIOD = 0.1  # s: a watched drive's state at ~10 Hz
 EVENT_BACKLOG = 100  # per client; older events are dropped for a client that does not read
 RECENT_EVENTS = 200  # kept by the server for pages that connect later (a reload loses none)
 
@@ -26,6 +44,9 @@ class LiveClient:
         self._latest: dict[str, dict[str, Any]] = {}
         self._events: deque[dict[str, Any]] = deque(maxlen=EVENT_BACKLOG)
         self._ready = asyncio.Event()
+        # Set by the socket's `hello`; until then the socket is anonymous and owns no jogs.
+        self.client = Client(id="", anonymous=True)
+        self.watching: set[int] = set()
 
     def offer(self, kind: str, message: dict[str, Any]) -> None:
         self._latest[kind] = message
@@ -46,16 +67,20 @@ class LiveClient:
 
 
 class LiveHub:
-    def __init__(self, bus: BusManager, registry: NodeRegistry) -> None:
+    def __init__(self, bus: BusManager, registry: NodeRegistry, safety: MotionSafety) -> None:
         self._bus = bus
         self._registry = registry
+        self._safety = safety
         self._clients: set[LiveClient] = set()
         self._recent: deque[dict[str, Any]] = deque(maxlen=RECENT_EVENTS)
         self._task: asyncio.Task[None] | None = None
+        self._pollers: dict[int, asyncio.Task[None]] = {}
         self._unsubscribe = [
             bus.add_listener(self._on_bus),
             registry.add_event_listener(self._on_event),
         ]
+        safety.lease.add_listener(self._on_controller)
+        safety.jogs.add_listener(self._on_jog_stopped)
 
     def start(self) -> None:
         if self._task is None:
@@ -64,11 +89,14 @@ class LiveHub:
     async def close(self) -> None:
         for unsubscribe in self._unsubscribe:
             unsubscribe()
-        if self._task is not None:
-            self._task.cancel()
+        tasks = [t for t in (self._task, *self._pollers.values()) if t is not None]
+        for task in tasks:
+            task.cancel()
+        for task in tasks:
             with contextlib.suppress(asyncio.CancelledError):
-                await self._task
-            self._task = None
+                await task
+        self._task = None
+        self._pollers.clear()
 
     def connect(self) -> LiveClient:
         client = LiveClient()
@@ -81,11 +109,28 @@ class LiveHub:
 
     def disconnect(self, client: LiveClient) -> None:
         self._clients.discard(client)
+        for node in list(client.watching):
+            self.unwatch(client, node)
+
+    def watch(self, client: LiveClient, node: int) -> None:
+        """Send `client` the node's drive state at ~10 Hz and who controls it."""
+        client.watching.add(node)
+        self._send_controller(client, node)
+        if node not in self._pollers:
+            self._pollers[node] = asyncio.create_task(self._poll(node), name=f"drive-state {node}")
+
+    def unwatch(self, client: LiveClient, node: int) -> None:
+        client.watching.discard(node)
+        if not any(node in c.watching for c in self._clients):
+            poller = self._pollers.pop(node, None)
+            if poller is not None:
+                poller.cancel()
 
     def _bus_message(self, status: BusStatus) -> dict[str, Any]:
-        return {"type": "bus", "bus": status.model_dump(mode="json")}
+        return dump(BusMessage(bus=status))
 
     def _nodes_message(self) -> dict[str, Any]:
+        # registry rows are already the LiveNode shape: no model round trip at 5 Hz
         return {"type": "nodes", "nodes": self._registry.live()}
 
     def _on_bus(self, status: BusStatus) -> None:
@@ -96,9 +141,44 @@ class LiveHub:
     def _on_event(self, event: LiveEvent) -> None:
         dumped = event.model_dump(mode="json")
         self._recent.append(dumped)
-        message = {"type": "event", "event": dumped}
+        message = dump(EventMessage(event=event))
         for client in self._clients:
             client.event(message)
+
+    def _on_controller(self, node: int) -> None:
+        for client in self._clients:
+            self._send_controller(client, node)
+
+    def _send_controller(self, client: LiveClient, node: int) -> None:
+        try:
+            info = self._safety.controller(node, client.client)
+        except ServodeskError:
+            return  # the node is gone
+        message = ControllerMessage(
+            node=node, holder=info.holder, you=info.you, protection=info.protection
+        )
+        client.offer(f"controller:{node}", dump(message))
+
+    def _on_jog_stopped(self, jog: JogInfo) -> None:
+        message = dump(JogStoppedMessage(jog=jog))
+        for client in self._clients:
+            if client.client.id == jog.owner or jog.node in client.watching:
+                client.event(message)
+
+    async def _poll(self, node: int) -> None:
+        loop = asyncio.get_running_loop()
+        while True:
+            started = loop.time()
+            try:
+                state = await self._safety.motion.state(node)
+            except ServodeskError as error:
+                log.debug("drive state of node %d: %s", node, error)
+            else:
+                message = dump(DriveStateMessage(node=node, state=state))
+                for client in self._clients:
+                    if node in client.watching:
+                        client.offer(f"drive:{node}", message)
+            await asyncio.sleep(max(0.0, DRIVE_PERIOD - (loop.time() - started)))
 
     async def _run(self) -> None:
         ticks_per_bus = round(BUS_PERIOD / NODES_PERIOD)

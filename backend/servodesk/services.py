@@ -7,6 +7,8 @@ from dataclasses import dataclass
 
 from servodesk.bus.connection import BusFactory, BusManager
 from servodesk.live import LiveHub
+from servodesk.motion.safety import MotionSafety
+from servodesk.motion.service import MotionService
 from servodesk.network.sync import SyncService
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.od.parser import OdParser
@@ -31,12 +33,23 @@ class Services:
     node_ids: NodeIdService
     paramsets: ParamSetService
     pdos: PdoService
+    motion: MotionService
+    safety: MotionSafety
     live: LiveHub
     od_parser: OdParser
+
+    async def open(self) -> None:
+        """What must run before the bus connects (nothing is missed)."""
+
+    def start(self) -> None:
+        self.safety.start()
+        self.live.start()
 
     async def close(self) -> None:
         self.od_parser.close()
         await self.live.close()
+        # before the registry and bus go: running jogs are stopped, 1016h entries restored
+        await self.safety.close()
         self.pdos.close()
         await self.jobs.close()
         self.sync.close()
@@ -63,6 +76,8 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
     registry.add_od_listener(pdos.forget)
     registry.add_event_listener(pdos.on_event)
     bus.add_listener(pdos.on_bus)
+    motion = MotionService(registry, settings, pdos, sync=sync)
+    safety = MotionSafety(motion, bus, registry, settings)
     return Services(
         settings=settings,
         bus=bus,
@@ -74,6 +89,8 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
         node_ids=NodeIdService(registry, settings),
         paramsets=ParamSetService(registry, od_parser, pdos),
         pdos=pdos,
-        live=LiveHub(bus, registry),
+        motion=motion,
+        safety=safety,
+        live=LiveHub(bus, registry, safety),
         od_parser=od_parser,
     )

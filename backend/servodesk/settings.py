@@ -36,5 +36,27 @@ class Settings(BaseSettings):
     # turns this off because each of its commands says what to look for.
     auto_scan: bool = True
 
+    # Motion safety (DESIGN: Motion safety). The tool produces its own heartbeat on this node id
+    # while it controls a drive, and sets the drive's heartbeat consumer (1016h) to it: if the
+    # tool dies, the drive stops by itself after `heartbeat_consumer_ms`.
+    tool_node_id: int = Field(default=127, ge=1, le=127)
+    heartbeat_consumer_ms: int = Field(default=300, ge=50, le=5000)
+    tool_heartbeat_ms: int = Field(default=100, ge=10, le=1000)  # well inside the consumer time
+    jog_keepalive_max_ms: int = 500  # hold-to-run: the longest keep-alive interval a jog may ask
+
+    # Motion (CiA 402). Timeouts in s; `motion_transition_timeouts` overrides the transition
+    # time per profile name ("mdi-s1c": 0.8) for drives that need longer to power their stage.
+    motion_transition_timeout: float = 0.5  # one state machine transition (enable, reset…)
+    motion_transition_timeouts: dict[str, float] = Field(default_factory=dict)
+    motion_setpoint_timeout: float = 0.5  # PP set-point acknowledge (statusword bit 12)
+    motion_move_timeout: float = 60.0  # a queued set-point that never reaches its target
+    motion_homing_timeout: float = 70.0  # the drives themselves give up after 60 s
+    motion_poll_interval: float = 0.02  # reading the statusword while waiting
+    motion_default_acceleration_rpm_s: float = 1000.0  # moves and jogs that name none
+    # Caps on the limits each node starts with (its overspeed object and 6072h otherwise)
+    motion_max_velocity_rpm: float | None = None
+    motion_max_torque_pct: float | None = None
+    motion_ip_max_duration: float = 30.0  # the longest interpolated stream (s)
+
     # Files: uploaded object dictionaries live here, per node
     data_dir: Path = Path.home() / ".local" / "share" / "servodesk"

@@ -17,7 +17,14 @@ from servodesk.settings import Settings
 
 HOST = "127.0.0.1:8000"
 EVIL = "http://evil.example"
-PATH_VALUES = {"node": "3", "index": "6081", "subindex": "0", "name": "PA-14", "job_id": "x"}
+PATH_VALUES = {
+    "node": "3",
+    "index": "6081",
+    "subindex": "0",
+    "name": "PA-14",
+    "job_id": "x",
+    "jog_id": "x",
+}
 BODIES: dict[str, dict[str, Any]] = {
     "json": {"json": {"command": "start", "value": 1, "confirm": True}},
     "multipart": {"files": {"file": ("set.dcf", b"[6081sub0]\nParameterValue=777\n")}},

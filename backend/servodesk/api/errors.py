@@ -33,8 +33,24 @@ from servodesk.errors import (
     ServodeskError,
 )
 from servodesk.models import ErrorBody
+from servodesk.motion.errors import EnableBlockedError, LimitError, MotionBusyError
+from servodesk.motion.jog import JogNotFoundError, JogStoppedError
+from servodesk.motion.lease import HeldByOtherError
+from servodesk.motion.safety_models import ControllerHolder, JogInfo
+from servodesk.motion.schemas import DriveState, EnableReason
 from servodesk.pdo_models import PdoProblem
 from servodesk.sdo.jobs import JobNotFoundError
+
+
+class MotionErrorBody(ErrorBody):
+    """ErrorBody with what the motion routes add: who holds the drive (held_by_other), why it
+    does not enable (enable_blocked: reasons and the drive state), a stopped jog."""
+
+    holder: ControllerHolder | None = None
+    reasons: list[EnableReason] | None = None
+    state: DriveState | None = None
+    jog: JogInfo | None = None
+
 
 log = logging.getLogger(__name__)
 
@@ -48,7 +64,7 @@ HTTP_ERRORS = {
 
 
 def error_response(error: ServodeskError) -> JSONResponse:
-    status, body = _describe(error)
+    status, body = describe(error)
     # pdo_apply_failed always names its abort code, null when the step failed otherwise
     keep = ("abort_code",) if isinstance(error, PdoApplyError) else ()
     return body_response(status, body, keep=keep)
@@ -61,13 +77,20 @@ def body_response(
     *,
     keep: tuple[str, ...] = (),
 ) -> JSONResponse:
-    content = body.model_dump(exclude_none=True)
+    if isinstance(body, MotionErrorBody):
+        # nested models (the drive state) keep their nulls: their schema requires the fields
+        content = {k: v for k, v in body.model_dump(mode="json").items() if v is not None}
+    else:
+        content = body.model_dump(exclude_none=True)
     for name in keep:
         content.setdefault(name, None)
     return JSONResponse(status_code=status, content=content, headers=headers)
 
 
-def _describe(error: ServodeskError) -> tuple[int, ErrorBody]:
+def describe(error: ServodeskError) -> tuple[int, ErrorBody]:
+    motion = _describe_motion(error)
+    if motion is not None:
+        return motion
     if isinstance(error, SdoAbortError):
         return 409, ErrorBody(
             error="sdo_abort",
@@ -108,6 +131,32 @@ def _describe(error: ServodeskError) -> tuple[int, ErrorBody]:
     if isinstance(error, ConfirmationRequiredError):
         return 428, ErrorBody(error="confirmation_required", message=str(error))
     return 500, ErrorBody(error="error", message=str(error))
+
+
+def _describe_motion(error: ServodeskError) -> tuple[int, ErrorBody] | None:
+    if isinstance(error, EnableBlockedError):
+        return 409, MotionErrorBody(
+            error="enable_blocked",
+            message=str(error),
+            node=error.node,
+            reasons=error.reasons,
+            state=error.state,
+        )
+    if isinstance(error, HeldByOtherError):
+        return 409, MotionErrorBody(
+            error="held_by_other", message=str(error), node=error.node, holder=error.holder
+        )
+    if isinstance(error, MotionBusyError):
+        return 409, MotionErrorBody(error="motion_busy", message=str(error), node=error.node)
+    if isinstance(error, JogStoppedError):
+        return 409, MotionErrorBody(
+            error="jog_stopped", message=str(error), node=error.info.node, jog=error.info
+        )
+    if isinstance(error, JogNotFoundError):
+        return 404, ErrorBody(error="jog_not_found", message=str(error))
+    if isinstance(error, LimitError):
+        return 422, ErrorBody(error="invalid_value", message=str(error), node=error.node)
+    return None
 
 
 def validation_message(errors: Sequence[Any]) -> str:
@@ -178,6 +227,24 @@ PDO_APPLY_ERRORS: dict[int | str, dict[str, object]] = {
 }
 CONFIRM_ERRORS: dict[int | str, dict[str, object]] = {
     428: _error("Needs confirmation: send again with confirm=true"),
+}
+
+
+def _motion_error(description: str) -> dict[str, object]:
+    return {"model": MotionErrorBody, "description": description}
+
+
+# Motion routes: a 409 may carry the holder, the enable reasons and the drive state.
+MOTION_ERRORS: dict[int | str, dict[str, object]] = {
+    **NODE_ERRORS,
+    409: _motion_error(
+        "held_by_other (holder): another client controls the drive, take over first; "
+        "enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped"
+    ),
+}
+JOG_ERRORS: dict[int | str, dict[str, object]] = {
+    404: _error("No such jog (jog_not_found)"),
+    409: _motion_error("jog_stopped (jog): the jog was stopped; start a new one to move again"),
 }
 BUS_ERRORS: dict[int | str, dict[str, object]] = {
     503: _error("Bus not connected"),

@@ -19,6 +19,12 @@ def _error(description: str) -> dict[str, Any]:
     return {"description": description, "content": {"application/json": {"schema": ERROR_REF}}}
 
 
+def _own_error_model(response: dict[str, Any]) -> bool:
+    """A route declared an ErrorBody subclass (MotionErrorBody): keep it."""
+    ref = response.get("content", {}).get("application/json", {}).get("schema", {}).get("$ref")
+    return isinstance(ref, str) and ref.rsplit("/", 1)[-1] not in (*FASTAPI_ONLY, "ErrorBody")
+
+
 def build_schema(app: FastAPI) -> dict[str, Any]:
     if app.openapi_schema is not None:
         return app.openapi_schema
@@ -34,7 +40,7 @@ def build_schema(app: FastAPI) -> dict[str, Any]:
                 continue
             responses: dict[str, Any] = operation["responses"]
             for status, response in responses.items():
-                if not status.startswith("2"):
+                if not status.startswith("2") and not _own_error_model(response):
                     # errors are JSON even where the success is text (GET …/dcf)
                     responses[status] = _error(response.get("description", "Error"))
             if operation.get("parameters") or operation.get("requestBody"):

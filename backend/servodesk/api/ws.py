@@ -1,14 +1,39 @@
-"""The live WebSocket: pushes bus status, node states and events (docs/api.md)."""
+"""The live WebSocket (docs/api.md, WebSocket): pushes bus status, node states, events and the
+watched drives' state; takes the page's hello, jog keep-alives and stops, page-hidden and quick
+stop. Each socket has an owner (the hello's client id): when it closes, the owner's jogs stop."""
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
+from typing import Any
 
-from fastapi import APIRouter, WebSocket, WebSocketDisconnect
+from fastapi import APIRouter, FastAPI, WebSocket, WebSocketDisconnect
+from pydantic import ValidationError
 
+from servodesk.api.errors import describe, validation_message
 from servodesk.api.security import origin_allowed
+from servodesk.errors import ServodeskError
 from servodesk.live import LiveClient
+from servodesk.live_messages import (
+    CLIENT_MESSAGE,
+    ClientMessageUnion,
+    ErrorMessage,
+    HelloMessage,
+    JogKeepaliveMessage,
+    JogStopMessage,
+    JogStoppedMessage,
+    PageHiddenMessage,
+    PingMessage,
+    PongMessage,
+    QuickStopMessage,
+    UnwatchDriveMessage,
+    WatchDriveMessage,
+    dump,
+    openapi_components,
+)
+from servodesk.motion.jog import JogStoppedError
+from servodesk.motion.lease import Client
 from servodesk.services import Services
 
 router = APIRouter()
@@ -27,19 +52,81 @@ async def live(websocket: WebSocket) -> None:
     sender = asyncio.create_task(_send(websocket, client))
     try:
         while True:
-            message = await websocket.receive_json()
-            if isinstance(message, dict) and message.get("type") == "ping":
-                await websocket.send_json({"type": "pong"})
+            raw = await websocket.receive_json()
+            reply = await _handle(services, client, raw)
+            if reply is not None:
+                await websocket.send_json(reply)
     except (WebSocketDisconnect, RuntimeError, ValueError):
         pass
     finally:
+        # first of all: jogs owned by this socket's client stop
+        if not client.client.anonymous:
+            services.safety.socket_closed(client.client.id)
         services.live.disconnect(client)
         sender.cancel()
         with contextlib.suppress(asyncio.CancelledError, WebSocketDisconnect, RuntimeError):
             await sender
 
 
+async def _handle(services: Services, client: LiveClient, raw: Any) -> dict[str, Any] | None:
+    """Act on one client message; returns the direct answer, if any."""
+    try:
+        message: ClientMessageUnion = CLIENT_MESSAGE.validate_python(raw)
+    except ValidationError as error:
+        return dump(
+            ErrorMessage(error="invalid_message", message=validation_message(error.errors()))
+        )
+    safety = services.safety
+    try:
+        match message:
+            case PingMessage():
+                return dump(PongMessage())
+            case HelloMessage(client_id=client_id, name=name):
+                if not client.client.anonymous:
+                    safety.socket_closed(client.client.id)  # a second hello renames the owner
+                client.client = Client(id=client_id, name=name)
+                safety.socket_opened(client_id)
+                for node in client.watching:
+                    services.live.watch(client, node)  # "you" may have changed
+            case JogKeepaliveMessage(jog_id=jog_id):
+                safety.jogs.keepalive(jog_id)
+            case JogStopMessage(jog_id=jog_id):
+                await safety.jogs.stop(jog_id, "stopped by the user")
+            case PageHiddenMessage():
+                if not client.client.anonymous:
+                    safety.page_hidden(client.client.id)
+            case QuickStopMessage(node=None):
+                await safety.quick_stop_all()
+            case QuickStopMessage(node=int(node)):
+                await safety.quick_stop(node)
+            case WatchDriveMessage(node=node):
+                services.registry.info(node)
+                services.live.watch(client, node)
+            case UnwatchDriveMessage(node=node):
+                services.live.unwatch(client, node)
+    except JogStoppedError as stopped:
+        return dump(JogStoppedMessage(jog=stopped.info))
+    except ServodeskError as error:
+        return dump(ErrorMessage(error=describe(error)[1].error, message=str(error)))
+    return None
+
+
 async def _send(websocket: WebSocket, client: LiveClient) -> None:
     while True:
         for message in await client.next_messages():
             await websocket.send_json(message)
+
+
+def install_live_schema(app: FastAPI) -> None:
+    """Add the WebSocket's message models to the OpenAPI components, so `npm run gen:api`
+    generates their TypeScript types (`ServerMessage`, `ClientMessage`)."""
+    build = app.openapi
+
+    def openapi() -> dict[str, Any]:
+        schema = build()
+        components = schema.setdefault("components", {}).setdefault("schemas", {})
+        for name, definition in openapi_components().items():
+            components.setdefault(name, definition)
+        return schema
+
+    app.openapi = openapi  # type: ignore[method-assign]  # FastAPI's documented override

@@ -8,6 +8,11 @@ a time on that node's own thread, off the event loop, and turns canopen's except
 A multi-step change (PDO apply, DCF load) takes the node for itself with `exclusive()`: while
 it runs, other callers' requests wait at the session's gate and none slips in between its steps
 (see `Transaction`).
+
+A stop must not wait behind any of that: `priority()` bypasses the gate and goes to the front of
+the worker's queue (the call in progress still finishes first: one SDO transfer at a time). If a
+transaction is open it then sees its step interrupted: the stop ran between two of its steps
+(`Transaction.interrupted` names it), and the drive it was configuring has been stopped.
 """
 
 from __future__ import annotations
@@ -15,8 +20,10 @@ from __future__ import annotations
 import asyncio
 import contextvars
 import functools
+import threading
+from collections import deque
 from collections.abc import AsyncIterator, Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future
 from contextlib import asynccontextmanager
 from typing import TypeVar
 
@@ -57,6 +64,8 @@ class Transaction:
         self.session = session
         self.actor = actor
         self.open = True
+        # What priority call (a stop) ran between this transaction's steps, if any.
+        self.interrupted: str | None = None
 
     @property
     def node_id(self) -> int:
@@ -89,6 +98,56 @@ class Transaction:
         return await self._live().write_and_read(index, subindex, data, read_back=read_back)
 
 
+class _Worker:
+    """One thread running submitted calls one at a time, with two lanes: priority items
+    (stops) are taken before every normal item queued so far; each lane is FIFO."""
+
+    def __init__(self, name: str) -> None:
+        self._normal: deque[tuple[Callable[[], object], Future[object]]] = deque()
+        self._urgent: deque[tuple[Callable[[], object], Future[object]]] = deque()
+        self._ready = threading.Condition()
+        self._shutdown = False
+        self._thread = threading.Thread(target=self._loop, name=name, daemon=True)
+        self._thread.start()
+
+    def submit(self, fn: Callable[[], T], *, urgent: bool = False) -> Future[T]:
+        future: Future[T] = Future()
+        with self._ready:
+            if self._shutdown:
+                raise RuntimeError("the node's worker has stopped")
+            lane = self._urgent if urgent else self._normal
+            lane.append((fn, future))  # type: ignore[arg-type]
+            self._ready.notify()
+        return future
+
+    def shutdown(self) -> None:
+        """Stop after the items already queued (each of which ends at once: the session is
+        closed, so `_call` refuses them)."""
+        with self._ready:
+            self._shutdown = True
+            self._ready.notify()
+
+    def _loop(self) -> None:
+        while True:
+            with self._ready:
+                while not self._urgent and not self._normal and not self._shutdown:
+                    self._ready.wait()
+                if self._urgent:
+                    fn, future = self._urgent.popleft()
+                elif self._normal:
+                    fn, future = self._normal.popleft()
+                else:
+                    return  # shut down and drained
+            if not future.set_running_or_notify_cancel():
+                continue
+            try:
+                result = fn()
+            except BaseException as error:  # handed to the awaiting caller
+                future.set_exception(error)
+            else:
+                future.set_result(result)
+
+
 class NodeSession:
     """Serialized, off-loop access to one remote node."""
 
@@ -98,15 +157,12 @@ class NodeSession:
         self._node_id: int = remote.id
         self.remote = remote
         remote.sdo.RESPONSE_TIMEOUT = sdo_timeout
-        self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix=f"node{remote.id}")
+        self._worker = _Worker(f"node{remote.id}")
         self._closed = False
         # Held by a transaction for its whole run; every other request passes it only to be
-        # queued (FIFO, so requests keep their order). A priority stop (a later issue) must
-        # not wait here nor behind the worker's queue: it would bypass this gate, go to the
-        # front of the worker's queue (a two-lane queue instead of ThreadPoolExecutor's FIFO),
-        # run between two steps of a transaction, and mark the transaction interrupted so it
-        # restores what it changed instead of continuing.
+        # queued (FIFO, so requests keep their order). `priority()` does not wait here.
         self._gate = asyncio.Lock()
+        self._transactions: list[Transaction] = []  # open ones, told when a stop cuts in
 
     @property
     def node_id(self) -> int:
@@ -132,10 +188,12 @@ class NodeSession:
                 raise RequestInterruptedError(self.node_id, CLOSED)
             tx = Transaction(self, actor)
             token = _HELD.set((*_HELD.get(), tx))
+            self._transactions.append(tx)
             try:
                 yield tx
             finally:
                 tx.open = False
+                self._transactions.remove(tx)
                 _HELD.reset(token)
 
     async def run(
@@ -153,17 +211,28 @@ class NodeSession:
         """
         if self._closed:
             raise RequestInterruptedError(self.node_id, CLOSED)
-        loop = asyncio.get_running_loop()
         call = functools.partial(self._call, fn, what, index, subindex)
         if self._inside():
-            return await loop.run_in_executor(self._executor, call)
+            return await asyncio.wrap_future(self._worker.submit(call))
         # Outside a transaction: wait while one holds the node, then queue (without holding
         # the gate while the call runs, so requests still pipeline on the worker).
         async with self._gate:
             if self._closed:
                 raise RequestInterruptedError(self.node_id, CLOSED)
-            pending = loop.run_in_executor(self._executor, call)
+            pending = asyncio.wrap_future(self._worker.submit(call))
         return await pending
+
+    async def priority(self, fn: Callable[[canopen.RemoteNode], T], *, what: str) -> T:
+        """Run `fn(remote)` ahead of every queued call and past a transaction's gate: for
+        stopping a drive, which must not wait behind an upload or a DCF load. The call in
+        progress finishes first (never two SDO transfers at once). An open transaction is
+        marked interrupted (see the module docstring)."""
+        if self._closed:
+            raise RequestInterruptedError(self.node_id, CLOSED)
+        for tx in self._transactions:
+            tx.interrupted = what
+        call = functools.partial(self._call, fn, what, 0, 0)
+        return await asyncio.wrap_future(self._worker.submit(call, urgent=True))
 
     async def upload(self, index: int, subindex: int) -> bytes:
         """SDO upload (read) of one entry's raw bytes."""
@@ -225,7 +294,7 @@ class NodeSession:
             if then is not None:
                 then()
 
-        self._executor.submit(swap)
+        self._worker.submit(swap)
 
     def _call(
         self, fn: Callable[[canopen.RemoteNode], T], what: str, index: int, subindex: int
@@ -255,7 +324,7 @@ class NodeSession:
         cancelled (their callers would see a bare CancelledError): each ends at once with
         RequestInterruptedError, and no new calls are accepted."""
         self._closed = True
-        self._executor.shutdown(wait=False, cancel_futures=False)
+        self._worker.shutdown()
 
 
 def _on_a_bus(remote: canopen.RemoteNode) -> bool:

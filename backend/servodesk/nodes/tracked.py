@@ -10,7 +10,7 @@ is refused at once with NodeStoppedError, and a timeout that turns out to be tha
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 from typing import TypeVar
 
 import canopen
@@ -55,8 +55,19 @@ class TrackedSession(NodeSession):
     ) -> T:
         if self._stopped():
             raise NodeStoppedError(self.node_id)
+        return await self._tracked(super().run(fn, what=what, index=index, subindex=subindex))
+
+    async def priority(self, fn: Callable[[canopen.RemoteNode], T], *, what: str) -> T:
+        # A Stopped node has no SDO: say so at once rather than after a timeout (a stop would
+        # otherwise hold its caller for the whole SDO timeout).
+        if self._stopped():
+            raise NodeStoppedError(self.node_id)
+        return await self._tracked(super().priority(fn, what=what))
+
+    async def _tracked(self, call: Awaitable[T]) -> T:
+        """Await `call` and tell the monitor whether the node answered."""
         try:
-            result = await super().run(fn, what=what, index=index, subindex=subindex)
+            result = await call
         except CommTimeoutError as timeout:
             self._on_outcome(self.node_id, False)
             if self._stopped():  # a heartbeat said "stopped" while we waited

@@ -141,6 +141,47 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/jog/{jog_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Jog */
+        get: operations["get_jog_api_jog__jog_id__get"];
+        put?: never;
+        post?: never;
+        /**
+         * Stop Jog
+         * @description Stop the jog (anyone may); answers once the stop was sent to the drive.
+         */
+        delete: operations["stop_jog_api_jog__jog_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/jog/{jog_id}/keepalive": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Keepalive
+         * @description Keep the jog moving; 409 jog_stopped once it was stopped (re-arming is explicit).
+         */
+        post: operations["keepalive_api_jog__jog_id__keepalive_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/nmt": {
         parameters: {
             query?: never;
@@ -278,6 +319,238 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/nodes/{node}/drive": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Drive State */
+        get: operations["drive_state_api_nodes__node__drive_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/controller": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Controller
+         * @description Who controls the drive, and whether it stops by itself if ServoDesk dies.
+         */
+        get: operations["controller_api_nodes__node__drive_controller_get"];
+        put?: never;
+        /**
+         * Take Control
+         * @description Take the drive (needs X-Client-Id); held by another client → 409 held_by_other unless
+         *     `take_over` (the other client's jogs then stop).
+         */
+        post: operations["take_control_api_nodes__node__drive_controller_post"];
+        /**
+         * Release Control
+         * @description Release the drive: its jogs stop and its heartbeat consumer entry is restored.
+         */
+        delete: operations["release_control_api_nodes__node__drive_controller_delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/disable": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Disable */
+        post: operations["disable_api_nodes__node__drive_disable_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/enable": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Enable
+         * @description Walk the CiA 402 state machine to Operation enabled; 409 enable_blocked names why not.
+         */
+        post: operations["enable_api_nodes__node__drive_enable_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/fault-reset": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Fault Reset */
+        post: operations["fault_reset_api_nodes__node__drive_fault_reset_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/home": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Home
+         * @description Accepted: homing runs on; its progress is the drive state's `homing`.
+         */
+        post: operations["home_api_nodes__node__drive_home_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/homing-methods": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Homing Methods */
+        get: operations["homing_methods_api_nodes__node__drive_homing_methods_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/ip-stream": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Ip Stream
+         * @description Runs the whole stream (up to 30 s) and answers how closely the axis followed.
+         */
+        post: operations["ip_stream_api_nodes__node__drive_ip_stream_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/limits": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Limits */
+        get: operations["limits_api_nodes__node__drive_limits_get"];
+        /** Set Limits */
+        put: operations["set_limits_api_nodes__node__drive_limits_put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/move": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Move
+         * @description Accepted: the move runs on; its progress is the drive state's `move`.
+         */
+        post: operations["move_api_nodes__node__drive_move_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/move-queue": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Move Queue */
+        post: operations["move_queue_api_nodes__node__drive_move_queue_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/quick-stop": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Quick Stop
+         * @description Open to every client, whoever controls the drive.
+         */
+        post: operations["quick_stop_api_nodes__node__drive_quick_stop_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/nodes/{node}/heartbeat": {
         parameters: {
             query?: never;
@@ -290,6 +563,27 @@ export interface paths {
         /** Set Heartbeat */
         put: operations["set_heartbeat_api_nodes__node__heartbeat_put"];
         post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/jog": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Start Jog
+         * @description Start moving (pv: velocity_rpm, pt: torque_pct); send a keep-alive (REST or WebSocket
+         *     `jog_keepalive`) at least every keepalive_ms or the axis stops.
+         */
+        post: operations["start_jog_api_nodes__node__jog_post"];
         delete?: never;
         options?: never;
         head?: never;
@@ -558,6 +852,26 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/quick-stop": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Quick Stop All
+         * @description Quick stop every known drive (the Network page's one click); open to every client.
+         */
+        post: operations["quick_stop_all_api_quick_stop_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/scan": {
         parameters: {
             query?: never;
@@ -709,6 +1023,15 @@ export interface components {
             /** Total Bits Per S */
             total_bits_per_s: number;
         };
+        /** BusMessage */
+        BusMessage: {
+            bus: components["schemas"]["BusStatus"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "bus";
+        };
         /**
          * BusState
          * @enum {string}
@@ -758,6 +1081,11 @@ export interface components {
              */
             tx_frames: number;
         };
+        /**
+         * ClientMessage
+         * @description Any message a client may send on /api/ws.
+         */
+        ClientMessage: components["schemas"]["HelloMessage"] | components["schemas"]["PingMessage"] | components["schemas"]["JogKeepaliveMessage"] | components["schemas"]["JogStopMessage"] | components["schemas"]["PageHiddenMessage"] | components["schemas"]["QuickStopMessage"] | components["schemas"]["WatchDriveMessage"] | components["schemas"]["UnwatchDriveMessage"];
         /** CompareResult */
         CompareResult: {
             identity?: components["schemas"]["IdentityCheck"] | null;
@@ -801,6 +1129,41 @@ export interface components {
              */
             confirm: boolean;
         };
+        /** ControllerHolder */
+        ControllerHolder: {
+            /** Client Id */
+            client_id: string;
+            /** Name */
+            name?: string | null;
+            /** Since */
+            since: number;
+        };
+        /** ControllerInfo */
+        ControllerInfo: {
+            holder: components["schemas"]["ControllerHolder"] | null;
+            /** Node */
+            node: number;
+            protection: components["schemas"]["HeartbeatProtection"];
+            /** You */
+            you: boolean;
+        };
+        /**
+         * ControllerMessage
+         * @description Who controls the node, on every change and when the client starts watching it.
+         */
+        ControllerMessage: {
+            holder: components["schemas"]["ControllerHolder"] | null;
+            /** Node */
+            node: number;
+            protection: components["schemas"]["HeartbeatProtection"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "controller";
+            /** You */
+            you: boolean;
+        };
         /** DcfDifference */
         DcfDifference: {
             /** Actual */
@@ -839,6 +1202,89 @@ export interface components {
             /** Written */
             written: number;
         };
+        /** DriveState */
+        DriveState: {
+            /** Controlword */
+            controlword: number;
+            /** Counts Per Rev */
+            counts_per_rev: number;
+            /** Digital Inputs */
+            digital_inputs: number | null;
+            fault: components["schemas"]["FaultInfo"] | null;
+            /** Following Error Inc */
+            following_error_inc: number | null;
+            /** Gear Ratio */
+            gear_ratio: [
+                number,
+                number
+            ] | null;
+            /** Homed */
+            homed: boolean | null;
+            homing: components["schemas"]["HomingProgress"] | null;
+            /** Inputs */
+            inputs: {
+                [key: string]: boolean;
+            };
+            /** Last Transition */
+            last_transition: string | null;
+            limits: components["schemas"]["MotionLimits"];
+            /** Mode */
+            mode: string | null;
+            /** Mode Display */
+            mode_display: string | null;
+            move: components["schemas"]["MoveProgress"] | null;
+            /** Nmt State */
+            nmt_state: string;
+            /** Node */
+            node: number;
+            /** Position Inc */
+            position_inc: number;
+            /** Position Rev */
+            position_rev: number;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "not_ready_to_switch_on" | "switch_on_disabled" | "ready_to_switch_on" | "switched_on" | "operation_enabled" | "quick_stop_active" | "fault_reaction_active" | "fault";
+            /** State Label */
+            state_label: string;
+            /** Status Bits */
+            status_bits: components["schemas"]["StatusBit"][];
+            /** Statusword */
+            statusword: number;
+            /** Supported Modes */
+            supported_modes: string[];
+            /** Target Reached */
+            target_reached: boolean;
+            /** Torque Pct */
+            torque_pct: number | null;
+            /** Velocity Rpm */
+            velocity_rpm: number;
+        };
+        /**
+         * DriveStateMessage
+         * @description ~10 Hz for each node the client watches (`watch_drive`).
+         */
+        DriveStateMessage: {
+            /** Node */
+            node: number;
+            state: components["schemas"]["DriveState"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "drive_state";
+        };
+        /** EnableReason */
+        EnableReason: {
+            /**
+             * Code
+             * @enum {string}
+             */
+            code: "nmt_stopped" | "nmt_not_operational" | "fault" | "voltage_disabled" | "quick_stop_active" | "mode_unsupported" | "halt_set" | "held_by_other" | "timeout" | "fault_reset_high" | "not_ready" | "not_enabled";
+            /** Message */
+            message: string;
+        };
         /** ErrorBody */
         ErrorBody: {
             /** Abort Code */
@@ -860,6 +1306,46 @@ export interface components {
             /** Subindex */
             subindex?: number | null;
         };
+        /**
+         * ErrorMessage
+         * @description A client message the server could not act on (unparsable, unknown jog …).
+         */
+        ErrorMessage: {
+            /** Error */
+            error: string;
+            /** Message */
+            message: string;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "error";
+        };
+        /** EventMessage */
+        EventMessage: {
+            event: components["schemas"]["LiveEvent"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "event";
+        };
+        /**
+         * FaultInfo
+         * @description The drive's active fault: 603Fh (and the code a profile names it by), decoded.
+         */
+        FaultInfo: {
+            /** Code */
+            code: number;
+            /** Code Hex */
+            code_hex: string;
+            /** Name */
+            name?: string | null;
+            /** Source */
+            source?: string | null;
+            /** Text */
+            text?: string | null;
+        };
         /** Health */
         Health: {
             bus: components["schemas"]["BusStatus"];
@@ -873,6 +1359,20 @@ export interface components {
             /** Producer Ms */
             producer_ms: number;
         };
+        /**
+         * HeartbeatProtection
+         * @description Whether the drive watches the tool's heartbeat (1016h) and stops if it goes silent.
+         */
+        HeartbeatProtection: {
+            /** Active */
+            active: boolean;
+            /** Consumer Ms */
+            consumer_ms: number;
+            /** Message */
+            message: string;
+            /** Tool Node Id */
+            tool_node_id: number;
+        };
         /** HeartbeatWrite */
         HeartbeatWrite: {
             /**
@@ -882,6 +1382,73 @@ export interface components {
             confirm: boolean;
             /** Producer Ms */
             producer_ms: number;
+        };
+        /**
+         * HelloMessage
+         * @description First message of a page: its client id (the one it sends as X-Client-Id) owns the
+         *     socket; jogs it started stop when the socket closes.
+         */
+        HelloMessage: {
+            /** Client Id */
+            client_id: string;
+            /**
+             * Name
+             * @default null
+             */
+            name: string | null;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "hello";
+        };
+        /** HistoryMessage */
+        HistoryMessage: {
+            /** Events */
+            events: components["schemas"]["LiveEvent"][];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "history";
+        };
+        /** HomeRequest */
+        HomeRequest: {
+            /** Acceleration Rpm S */
+            acceleration_rpm_s?: number | null;
+            /** Fast Rpm */
+            fast_rpm?: number | null;
+            /** Method */
+            method: number;
+            /** Offset Inc */
+            offset_inc?: number | null;
+            /** Slow Rpm */
+            slow_rpm?: number | null;
+        };
+        /** HomingMethodInfo */
+        HomingMethodInfo: {
+            /** Description */
+            description: string;
+            /** Method */
+            method: number;
+            /** Name */
+            name: string;
+            /** Path */
+            path: components["schemas"]["PathStep"][];
+        };
+        /** HomingProgress */
+        HomingProgress: {
+            /** Message */
+            message: string;
+            /** Method */
+            method: number;
+            /**
+             * Phase
+             * @enum {string}
+             */
+            phase: "running" | "attained" | "error" | "interrupted";
+            /** Position Inc */
+            position_inc: number | null;
         };
         /**
          * IdentityCheck
@@ -907,6 +1474,58 @@ export interface components {
             name: string;
             /** Needs Channel */
             needs_channel: boolean;
+        };
+        /** IpStreamRequest */
+        IpStreamRequest: {
+            /** Distance Rev */
+            distance_rev: number;
+            /** Duration S */
+            duration_s: number;
+            /** Period Ms */
+            period_ms: number;
+            /**
+             * Trajectory
+             * @enum {string}
+             */
+            trajectory: "point_to_point" | "sine";
+        };
+        /**
+         * IpStreamResult
+         * @description What an interpolated-position stream did: how closely the axis followed the plan and how
+         *     regular the tool's SYNC was.
+         */
+        IpStreamResult: {
+            /** Duration S */
+            duration_s: number;
+            fault: components["schemas"]["FaultInfo"] | null;
+            /** Final Error Inc */
+            final_error_inc: number;
+            /** Max Lag Inc */
+            max_lag_inc: number;
+            /** Max Lag Rev */
+            max_lag_rev: number;
+            /** Message */
+            message: string;
+            /** Node */
+            node: number;
+            /** Period Ms */
+            period_ms: number;
+            /** Points */
+            points: number;
+            /** Stalled */
+            stalled: boolean;
+            state: components["schemas"]["DriveState"];
+            /** Sync Interval Max Ms */
+            sync_interval_max_ms: number;
+            /** Sync Jitter Ms */
+            sync_jitter_ms: number;
+            /** Syncs */
+            syncs: number;
+            /**
+             * Trajectory
+             * @enum {string}
+             */
+            trajectory: "point_to_point" | "sine";
         };
         /** Job */
         Job: {
@@ -960,6 +1579,94 @@ export interface components {
             /** Value */
             value?: number | string | null;
         };
+        /** JogInfo */
+        JogInfo: {
+            /** Jog Id */
+            jog_id: string;
+            /** Keepalive Ms */
+            keepalive_ms: number;
+            /**
+             * Mode
+             * @enum {string}
+             */
+            mode: "pv" | "pt";
+            /** Node */
+            node: number;
+            /** Owner */
+            owner?: string | null;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "running" | "stopped";
+            /** Stop Reason */
+            stop_reason?: string | null;
+            /** Value */
+            value: number;
+        };
+        /** JogKeepaliveMessage */
+        JogKeepaliveMessage: {
+            /** Jog Id */
+            jog_id: string;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "jog_keepalive";
+        };
+        /** JogRequest */
+        JogRequest: {
+            /**
+             * Keepalive Ms
+             * @default 250
+             */
+            keepalive_ms: number;
+            /**
+             * Mode
+             * @enum {string}
+             */
+            mode: "pv" | "pt";
+            /** Torque Pct */
+            torque_pct?: number | null;
+            /** Velocity Rpm */
+            velocity_rpm?: number | null;
+        };
+        /** JogStopMessage */
+        JogStopMessage: {
+            /** Jog Id */
+            jog_id: string;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "jog_stop";
+        };
+        /**
+         * JogStoppedMessage
+         * @description A jog of this client (or of a watched node) stopped, and why.
+         */
+        JogStoppedMessage: {
+            jog: components["schemas"]["JogInfo"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "jog_stopped";
+        };
+        /**
+         * LimitsRequest
+         * @description PUT …/drive/limits: MotionLimits, strict (true/false is not a number).
+         */
+        LimitsRequest: {
+            /** Max Position Rev */
+            max_position_rev?: number | null;
+            /** Max Torque Pct */
+            max_torque_pct: number;
+            /** Max Velocity Rpm */
+            max_velocity_rpm: number;
+            /** Min Position Rev */
+            min_position_rev?: number | null;
+        };
         /** LintWarningModel */
         LintWarningModel: {
             /** Code */
@@ -990,6 +1697,34 @@ export interface components {
             pdos: components["schemas"]["LivePdo"][];
             /** Since */
             since?: number | null;
+        };
+        /** LiveEvent */
+        LiveEvent: {
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "boot-up" | "node-lost" | "node-back" | "nmt" | "bus";
+            /** Message */
+            message: string;
+            /**
+             * Node
+             * @default null
+             */
+            node: number | null;
+            /** Time */
+            time: number;
+        };
+        /** LiveNode */
+        LiveNode: {
+            /** Heartbeat Age Ms */
+            heartbeat_age_ms: number | null;
+            /** Nmt State */
+            nmt_state: string;
+            /** Node */
+            node: number;
+            /** Online */
+            online: boolean;
         };
         /** LivePdo */
         LivePdo: {
@@ -1038,6 +1773,89 @@ export interface components {
         MessageResult: {
             /** Message */
             message: string;
+        };
+        /**
+         * MotionErrorBody
+         * @description ErrorBody with what the motion routes add: who holds the drive (held_by_other), why it
+         *     does not enable (enable_blocked: reasons and the drive state), a stopped jog.
+         */
+        MotionErrorBody: {
+            /** Abort Code */
+            abort_code?: string | null;
+            /** Error */
+            error: string;
+            holder?: components["schemas"]["ControllerHolder"] | null;
+            /** Index */
+            index?: number | null;
+            jog?: components["schemas"]["JogInfo"] | null;
+            /** Message */
+            message: string;
+            /** Node */
+            node?: number | null;
+            /** Problems */
+            problems?: components["schemas"]["PdoProblem"][] | null;
+            /** Reasons */
+            reasons?: components["schemas"]["EnableReason"][] | null;
+            /** Restored */
+            restored?: boolean | null;
+            state?: components["schemas"]["DriveState"] | null;
+            /** Step */
+            step?: string | null;
+            /** Subindex */
+            subindex?: number | null;
+        };
+        /** MotionLimits */
+        MotionLimits: {
+            /** Max Position Rev */
+            max_position_rev?: number | null;
+            /** Max Torque Pct */
+            max_torque_pct: number;
+            /** Max Velocity Rpm */
+            max_velocity_rpm: number;
+            /** Min Position Rev */
+            min_position_rev?: number | null;
+        };
+        /** MoveProgress */
+        MoveProgress: {
+            /**
+             * Phase
+             * @enum {string}
+             */
+            phase: "moving" | "reached" | "error";
+            /** Queued */
+            queued: number;
+            /** Target Inc */
+            target_inc: number;
+        };
+        /** MoveQueueRequest */
+        MoveQueueRequest: {
+            /** Moves */
+            moves: components["schemas"]["MoveRequest"][];
+        };
+        /** MoveRequest */
+        MoveRequest: {
+            /** Acceleration Rpm S */
+            acceleration_rpm_s?: number | null;
+            /**
+             * Immediately
+             * @default false
+             */
+            immediately: boolean;
+            /**
+             * Mode
+             * @default pp
+             * @constant
+             */
+            mode: "pp";
+            /** Position Rev */
+            position_rev: number;
+            /**
+             * Relative
+             * @default false
+             */
+            relative: boolean;
+            /** Velocity Rpm */
+            velocity_rpm: number;
         };
         /**
          * NmtCommandName
@@ -1136,6 +1954,16 @@ export interface components {
             /** Percent */
             percent: number;
         };
+        /** NodesMessage */
+        NodesMessage: {
+            /** Nodes */
+            nodes: components["schemas"]["LiveNode"][];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "nodes";
+        };
         /** OdCheckResult */
         OdCheckResult: {
             device: components["schemas"]["OdDeviceSummary"];
@@ -1225,6 +2053,17 @@ export interface components {
             /** Warnings */
             warnings: components["schemas"]["LintWarningModel"][];
         };
+        /**
+         * PageHiddenMessage
+         * @description The page went to the background: every jog of this client stops.
+         */
+        PageHiddenMessage: {
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "page_hidden";
+        };
         /** Param */
         Param: {
             /** Choices */
@@ -1275,6 +2114,21 @@ export interface components {
             requires_reset: boolean;
             /** Requires Store */
             requires_store: boolean;
+        };
+        /** PathStep */
+        PathStep: {
+            /**
+             * Direction
+             * @enum {string}
+             */
+            direction: "negative" | "positive";
+            /**
+             * Speed
+             * @enum {string}
+             */
+            speed: "fast" | "slow";
+            /** Until */
+            until: string;
         };
         /**
          * Pdo
@@ -1439,6 +2293,50 @@ export interface components {
             /** Pdos */
             pdos: components["schemas"]["PdoIn"][];
         };
+        /** PingMessage */
+        PingMessage: {
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "ping";
+        };
+        /** PongMessage */
+        PongMessage: {
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "pong";
+        };
+        /**
+         * QuickStopMessage
+         * @description Quick stop one node, or every node when `node` is null; open to every client.
+         */
+        QuickStopMessage: {
+            /**
+             * Node
+             * @default null
+             */
+            node: number | null;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "quick_stop";
+        };
+        /**
+         * QuickStopResult
+         * @description `POST /api/quick-stop`: which drives were told to stop, and which could not be.
+         */
+        QuickStopResult: {
+            /** Failed */
+            failed: {
+                [key: string]: string;
+            };
+            /** Stopped */
+            stopped: number[];
+        };
         /** ScanRequest */
         ScanRequest: {
             /**
@@ -1485,6 +2383,20 @@ export interface components {
             /** Value */
             value: number | string;
         };
+        /**
+         * ServerMessage
+         * @description Any message the server sends on /api/ws.
+         */
+        ServerMessage: components["schemas"]["BusMessage"] | components["schemas"]["NodesMessage"] | components["schemas"]["EventMessage"] | components["schemas"]["HistoryMessage"] | components["schemas"]["PongMessage"] | components["schemas"]["DriveStateMessage"] | components["schemas"]["ControllerMessage"] | components["schemas"]["JogStoppedMessage"] | components["schemas"]["ErrorMessage"];
+        /** StatusBit */
+        StatusBit: {
+            /** Bit */
+            bit: number;
+            /** Name */
+            name: string;
+            /** On */
+            on: boolean;
+        };
         /** SyncConfig */
         SyncConfig: {
             /** Period Us */
@@ -1494,6 +2406,36 @@ export interface components {
              * @default false
              */
             producing: boolean;
+        };
+        /** TakeControlRequest */
+        TakeControlRequest: {
+            /** Name */
+            name?: string | null;
+            /**
+             * Take Over
+             * @default false
+             */
+            take_over: boolean;
+        };
+        /** UnwatchDriveMessage */
+        UnwatchDriveMessage: {
+            /** Node */
+            node: number;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "unwatch_drive";
+        };
+        /** WatchDriveMessage */
+        WatchDriveMessage: {
+            /** Node */
+            node: number;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "watch_drive";
         };
     };
     responses: never;
@@ -1898,6 +2840,171 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_jog_api_jog__jog_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                jog_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["JogInfo"];
+                };
+            };
+            /** @description No such jog (jog_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description jog_stopped (jog): the jog was stopped; start a new one to move again */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    stop_jog_api_jog__jog_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                jog_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["JogInfo"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such jog (jog_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description jog_stopped (jog): the jog was stopped; start a new one to move again */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    keepalive_api_jog__jog_id__keepalive_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                jog_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["JogInfo"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such jog (jog_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description jog_stopped (jog): the jog was stopped; start a new one to move again */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2641,6 +3748,1258 @@ export interface operations {
             };
         };
     };
+    drive_state_api_nodes__node__drive_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    controller_api_nodes__node__drive_controller_get: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ControllerInfo"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    take_control_api_nodes__node__drive_controller_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["TakeControlRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ControllerInfo"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    release_control_api_nodes__node__drive_controller_delete: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ControllerInfo"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    disable_api_nodes__node__drive_disable_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    enable_api_nodes__node__drive_enable_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    fault_reset_api_nodes__node__drive_fault_reset_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    home_api_nodes__node__drive_home_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["HomeRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            202: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    homing_methods_api_nodes__node__drive_homing_methods_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HomingMethodInfo"][];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    ip_stream_api_nodes__node__drive_ip_stream_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["IpStreamRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["IpStreamResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    limits_api_nodes__node__drive_limits_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionLimits"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    set_limits_api_nodes__node__drive_limits_put: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["LimitsRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionLimits"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    move_api_nodes__node__drive_move_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["MoveRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            202: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    move_queue_api_nodes__node__drive_move_queue_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["MoveQueueRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            202: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    quick_stop_api_nodes__node__drive_quick_stop_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
     heartbeat_api_nodes__node__heartbeat_get: {
         parameters: {
             query?: never;
@@ -2781,6 +5140,101 @@ export interface operations {
             };
             /** @description Needs confirmation: send again with confirm=true */
             428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    start_jog_api_nodes__node__jog_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["JogRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["JogInfo"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4547,6 +7001,71 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    quick_stop_all_api_quick_stop_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["QuickStopResult"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };

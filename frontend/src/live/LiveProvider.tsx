@@ -1,5 +1,6 @@
 import { useEffect, useState, type ReactNode } from "react";
 
+import { clientName, CLIENT_ID } from "./clientId";
 import { LiveConnection, liveUrl } from "./connection";
 import { LiveStoreContext } from "./context";
 import { refreshNodes } from "./nodes";
@@ -17,9 +18,22 @@ export function LiveProvider({ children, store: given, connect = true }: Props):
 
   useEffect(() => {
     if (!connect) return undefined;
-    const connection = new LiveConnection(store, { url: liveUrl(window.location) });
+    const connection = new LiveConnection(store, {
+      url: liveUrl(window.location),
+      hello: { type: "hello", client_id: CLIENT_ID, name: clientName() },
+    });
+    store.setSender((message) => connection.send(message));
     connection.start();
-    return () => connection.stop();
+    // A hidden page cannot hold a jog button: the server stops this tab's jogs at once.
+    const visibility = (): void => {
+      if (document.visibilityState === "hidden") store.send({ type: "page_hidden" });
+    };
+    document.addEventListener("visibilitychange", visibility);
+    return () => {
+      document.removeEventListener("visibilitychange", visibility);
+      store.setSender(null);
+      connection.stop();
+    };
   }, [store, connect]);
 
   useEffect(() => {

@@ -2,7 +2,7 @@
 // link (no message for a while: the server sends bus status every 2 s) and reconnects with
 // backoff. Timers are plain setTimeout/setInterval so tests drive them with fake timers.
 import { backoffDelay, DEFAULT_BACKOFF, type BackoffOptions } from "./backoff";
-import { parseMessage } from "./messages";
+import { parseMessage, type ClientMessage } from "./messages";
 import type { LiveStore } from "./store";
 
 /** The part of the browser WebSocket this module uses (tests hand in a fake). */
@@ -25,6 +25,8 @@ export interface ConnectionOptions {
   staleMs?: number;
   backoff?: BackoffOptions;
   random?: () => number;
+  /** Sent first on every connection (the safety layer's hello: who this tab is). */
+  hello?: ClientMessage | null;
 }
 
 export const PING_MS = 10_000;
@@ -54,6 +56,7 @@ export class LiveConnection {
       staleMs: STALE_MS,
       backoff: DEFAULT_BACKOFF,
       random: Math.random,
+      hello: null,
       ...options,
     };
   }
@@ -86,6 +89,7 @@ export class LiveConnection {
     socket.onopen = () => {
       this.attempt = 0;
       this.lastMessageAt = Date.now();
+      if (this.options.hello) socket.send(JSON.stringify(this.options.hello));
       this.store.setLink({ state: "open", attempt: 0, retryAt: null });
       this.pingTimer = setInterval(() => this.tick(), this.options.pingMs);
     };
@@ -97,6 +101,17 @@ export class LiveConnection {
     };
     socket.onclose = () => this.lost();
     socket.onerror = () => undefined; // a close event always follows; handled there
+  }
+
+  /** Send one message if the socket is open; false otherwise. */
+  send(message: ClientMessage): boolean {
+    if (!this.socket || this.store.getSnapshot().link.state !== "open") return false;
+    try {
+      this.socket.send(JSON.stringify(message));
+      return true;
+    } catch {
+      return false;
+    }
   }
 
   private tick(): void {

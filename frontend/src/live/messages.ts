@@ -2,6 +2,7 @@
 // OpenAPI schema, so they are described here and checked on arrival: a malformed message is
 // dropped instead of corrupting the store.
 import type { BusStatus, NmtStateName } from "../api/types";
+import type { ControllerInfo, DriveState, JogInfo } from "../pages/drive/types";
 
 export interface LiveNode {
   node: number;
@@ -24,7 +25,22 @@ export type ServerMessage =
   | { type: "nodes"; nodes: LiveNode[] }
   | { type: "event"; event: LiveEvent }
   | { type: "history"; events: LiveEvent[] }
-  | { type: "pong" };
+  | { type: "pong" }
+  | { type: "drive_state"; state: DriveState }
+  | { type: "controller"; controller: ControllerInfo }
+  | { type: "jog_stopped"; jog: JogInfo };
+
+/** What the browser sends (the server's safety layer watches the jog messages like the REST
+ * keep-alives: a missing one stops the axis). */
+export type ClientMessage =
+  | { type: "ping" }
+  | { type: "hello"; client_id: string; name: string }
+  | { type: "jog_keepalive"; jog_id: string }
+  | { type: "jog_stop"; jog_id: string }
+  | { type: "page_hidden" }
+  | { type: "quick_stop"; node: number | null }
+  | { type: "watch_drive"; node: number }
+  | { type: "unwatch_drive"; node: number };
 
 const NMT_STATES: ReadonlySet<string> = new Set<NmtStateName>([
   "initialising",
@@ -59,6 +75,31 @@ function parseEvent(value: unknown): LiveEvent | null {
   };
 }
 
+/** A drive state pushed for a watched node: under `state` or `drive`, or the message itself. */
+function parseDriveState(data: Record<string, unknown>): DriveState | null {
+  const candidates = [data.state, data.drive, data];
+  for (const candidate of candidates) {
+    if (
+      isRecord(candidate) &&
+      typeof candidate.node === "number" &&
+      typeof candidate.statusword === "number" &&
+      typeof candidate.state === "string"
+    ) {
+      return candidate as unknown as DriveState;
+    }
+  }
+  return null;
+}
+
+/** Who holds a node's control: under `controller`, or the message itself. */
+function parseController(data: Record<string, unknown>): ControllerInfo | null {
+  const candidate = isRecord(data.controller) ? data.controller : data;
+  if (typeof candidate.node !== "number" || !("holder" in candidate)) return null;
+  const holder = candidate.holder;
+  if (holder !== null && !isRecord(holder)) return null;
+  return candidate as unknown as ControllerInfo;
+}
+
 /** Parse one text frame; null for anything that is not a known, well-formed message. */
 export function parseMessage(text: string): ServerMessage | null {
   let data: unknown;
@@ -89,6 +130,18 @@ export function parseMessage(text: string): ServerMessage | null {
     }
     case "pong":
       return { type: "pong" };
+    case "drive_state": {
+      const state = parseDriveState(data);
+      return state ? { type: "drive_state", state } : null;
+    }
+    case "controller": {
+      const controller = parseController(data);
+      return controller ? { type: "controller", controller } : null;
+    }
+    case "jog_stopped":
+      return isRecord(data.jog) && typeof data.jog.jog_id === "string"
+        ? { type: "jog_stopped", jog: data.jog as unknown as JogInfo }
+        : null;
     default:
       return null;
   }

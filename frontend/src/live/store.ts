@@ -2,7 +2,8 @@
 // list from REST. It lives outside React state; components read slices of it through
 // useSyncExternalStore, so a 5 Hz node update re-renders only what shows node states.
 import type { BusStatus, NodeInfo } from "../api/types";
-import type { LiveEvent, LiveNode, ServerMessage } from "./messages";
+import type { ControllerInfo, DriveState, JogInfo } from "../pages/drive/types";
+import type { ClientMessage, LiveEvent, LiveNode, ServerMessage } from "./messages";
 
 export const EVENT_LIMIT = 200;
 
@@ -29,9 +30,22 @@ export interface LiveSnapshot {
   infosError: string | null;
   /** Oldest first, at most EVENT_LIMIT. */
   events: readonly LiveEvent[];
+  /** Drive states pushed for the nodes a page watches (watch_drive). */
+  drives: Readonly<Record<number, DriveState>>;
+  /** Epoch ms each node's drive state last arrived on the socket. */
+  drivesAt: Readonly<Record<number, number>>;
+  /** Who holds each node's motion control, as last pushed. */
+  controllers: Readonly<Record<number, ControllerInfo>>;
+  /** Epoch ms each node's controller message last arrived. */
+  controllersAt: Readonly<Record<number, number>>;
+  /** The last jog the server reported stopped (keep-alive missed, EMCY, page hidden …). */
+  jogStopped: JogInfo | null;
 }
 
 type Listener = () => void;
+
+/** Sends a message on the live socket; false when it is not open. */
+export type Sender = (message: ClientMessage) => boolean;
 
 const INITIAL: LiveSnapshot = {
   link: { state: "connecting", attempt: 0, retryAt: null },
@@ -41,6 +55,11 @@ const INITIAL: LiveSnapshot = {
   infos: [],
   infosError: null,
   events: [],
+  drives: {},
+  drivesAt: {},
+  controllers: {},
+  controllersAt: {},
+  jogStopped: null,
 };
 
 function sameNode(a: LiveNode, b: LiveNode): boolean {
@@ -58,6 +77,7 @@ function sameIds(a: readonly number[], b: readonly number[]): boolean {
 export class LiveStore {
   private snapshot: LiveSnapshot = INITIAL;
   private readonly listeners = new Set<Listener>();
+  private sender: Sender | null = null;
 
   // Arrow functions: React calls these detached from the instance.
   subscribe = (listener: Listener): (() => void) => {
@@ -85,7 +105,37 @@ export class LiveStore {
         return;
       case "pong":
         return;
+      case "drive_state": {
+        const { node } = message.state;
+        this.update({
+          drives: { ...this.snapshot.drives, [node]: message.state },
+          drivesAt: { ...this.snapshot.drivesAt, [node]: Date.now() },
+        });
+        return;
+      }
+      case "controller":
+        this.update({
+          controllers: {
+            ...this.snapshot.controllers,
+            [message.controller.node]: message.controller,
+          },
+          controllersAt: { ...this.snapshot.controllersAt, [message.controller.node]: Date.now() },
+        });
+        return;
+      case "jog_stopped":
+        this.update({ jogStopped: message.jog });
+        return;
     }
+  }
+
+  /** The connection hands in how to reach the server (null while it has none). */
+  setSender(sender: Sender | null): void {
+    this.sender = sender;
+  }
+
+  /** Send on the live socket; false when there is none open (the caller falls back to REST). */
+  send(message: ClientMessage): boolean {
+    return this.sender?.(message) ?? false;
   }
 
   setLink(link: LinkStatus): void {

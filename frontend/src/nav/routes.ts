@@ -2,6 +2,7 @@
 // these arrays, so a new page (Motion, PDO, Faults per node; a top-level Scope) is one entry.
 import type { ComponentType } from "react";
 
+import { DrivePage } from "../pages/drive/DrivePage";
 import { NetworkPage } from "../pages/network/NetworkPage";
 import { OdPage } from "../pages/od/OdPage";
 import { ParamsPage } from "../pages/params/ParamsPage";
@@ -33,6 +34,7 @@ export const NODE_TABS: readonly NodeTab[] = [
   { path: "parameters", label: "Parameters", Component: ParamsPage },
   { path: "od", label: "Object dictionary", Component: OdPage },
   { path: "pdos", label: "PDOs", Component: PdoPage },
+  { path: "drive", label: "Drive", Component: DrivePage },
 ];
 
 export function nodeUrl(node: number, tab: string = NODE_TABS[0]?.path ?? ""): string {

@@ -11,6 +11,7 @@ import { formatAge, hex } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
 import { nodeUrl } from "../../nav/routes";
+import { QuickStopAllButton, QuickStopButton } from "../drive/QuickStopButton";
 import { HeartbeatEditor } from "./HeartbeatEditor";
 import { NMT_COMMANDS, NmtMenu } from "./NmtMenu";
 
@@ -88,6 +89,9 @@ const NodeRow = memo(function NodeRow({ info }: { info: NodeInfo }): ReactNode {
         />
         {nmt.error && <ErrorText error={nmt.error} />}
       </td>
+      <td>
+        <QuickStopButton node={info.node} compact />
+      </td>
     </tr>
   );
 });
@@ -145,6 +149,7 @@ export function NodesCard({ scan, lastScan }: ScanProps): ReactNode {
           </span>
         )}
         <BroadcastNmt />
+        <QuickStopAllButton />
       </header>
       <ErrorText error={scan.error ?? infosError} />
       {infos.length === 0 ? (
@@ -163,6 +168,7 @@ export function NodesCard({ scan, lastScan }: ScanProps): ReactNode {
                 <th scope="col">Heartbeat age</th>
                 <th scope="col">Heartbeat producer</th>
                 <th scope="col">Actions</th>
+                <th scope="col">Motion</th>
               </tr>
             </thead>
             <tbody>

@@ -1,0 +1,206 @@
+"""What the service remembers about one axis between requests, and the pure assembly of the
+DriveState the API returns from a reading (`build_state`)."""
+
+from __future__ import annotations
+
+import asyncio
+from dataclasses import dataclass, field
+from typing import Literal
+
+from servodesk.motion.drive_io import Snapshot, Statics
+from servodesk.motion.homing import homing_phase
+from servodesk.motion.schemas import (
+    DriveState,
+    FaultInfo,
+    HomingProgress,
+    MotionLimits,
+    MoveProgress,
+)
+from servodesk.motion.units import DriveUnits
+from servodesk.motion.words import STATE_NAMES, mode_key, state_label, status_bits, transition
+from servodesk_data import DriveData
+from servodesk_protocol.cia402 import (
+    SW_MODE_BIT13,
+    SW_REFERENCE_FOUND,
+    SW_TARGET_REACHED,
+    Cia402State,
+    OperationMode,
+    decode_state,
+    supported_modes,
+)
+
+DEFAULT_POSITION_WINDOW = 100  # user units = 1/1000 rev, what the drives use without 6067h
+INPUT_BITS = {"negative_limit": 0, "positive_limit": 1, "home_switch": 2}  # 60FDh
+
+
+@dataclass
+class Axis:
+    node: int
+    limits: MotionLimits
+    statics: Statics | None = None
+    last: Snapshot | None = None
+    state: Cia402State | None = None
+    last_transition: str | None = None
+    homing_method: int | None = None
+    homed: bool = False
+    move: MoveProgress | None = None
+    target_user: int | None = None  # the last accepted PP target, for relative moves
+    jog: str | None = None  # "pv" / "pt" while a jog runs
+    queue_task: asyncio.Task[None] | None = None
+    queued: list[object] = field(default_factory=list)
+
+    def saw(self, state: Cia402State, taken: str | None = None) -> None:
+        """Record a reading's state; `taken` names the transition when the service caused it."""
+        if self.state is not None and state is not self.state:
+            self.last_transition = taken or transition(self.state, state)
+        self.state = state
+
+    def cancel_queue(self) -> None:
+        task, self.queue_task = self.queue_task, None
+        self.queued.clear()
+        if task is not None and not task.done() and task is not asyncio.current_task():
+            task.cancel()
+
+
+def units_of(statics: Statics | None, data: DriveData | None) -> DriveUnits:
+    if statics is None:
+        return DriveUnits.of(None, None, velocity_actual_rpm=True)
+    # the three profiles report 606Ch in rpm (docs/simulator.md "Units"); CiA 402 otherwise
+    return DriveUnits.of(statics.counts_per_rev, statics.gear, velocity_actual_rpm=data is not None)
+
+
+def fault_info(
+    code: int | None, faulted: bool, data: DriveData | None, source: str
+) -> FaultInfo | None:
+    """603Fh decoded from the profile's fault table (MDi: the alarm number; Kinco: the low 16
+    bits of its code)."""
+    if not faulted:
+        return None
+    if code is None or code == 0:
+        return FaultInfo(code=0, code_hex="0x0000", name=None, text=None, source=None)
+    entry = None
+    if data is not None:
+        entry = data.fault(code) or next((f for f in data.faults if f.code & 0xFFFF == code), None)
+    return FaultInfo(
+        code=code,
+        code_hex=f"0x{code:04X}",
+        name=entry.name_en if entry else None,
+        text=entry.what_to_check if entry else None,
+        source=source if entry else None,
+    )
+
+
+def position_window(statics: Statics | None) -> int:
+    if statics is None or not statics.position_window:
+        return DEFAULT_POSITION_WINDOW
+    return statics.position_window
+
+
+def build_state(
+    axis: Axis,
+    snap: Snapshot,
+    *,
+    nmt_state: str,
+    data: DriveData | None,
+    fault_source: str,
+) -> DriveState:
+    """The API's DriveState from one reading (pure; `axis` supplies what was remembered)."""
+    units = units_of(axis.statics, data)
+    sw = snap.statusword
+    try:
+        state = decode_state(sw)
+    except ValueError:
+        state = Cia402State.NOT_READY_TO_SWITCH_ON
+    position_user = snap.position or 0
+    position_inc = units.user_to_inc(position_user)
+    supported = (
+        supported_modes(axis.statics.supported_raw)
+        if axis.statics and axis.statics.supported_raw is not None
+        else frozenset(int(m) for m in data.quirks.supported_modes)
+        if data
+        else frozenset()
+    )
+    inputs = {
+        name: bool(snap.inputs >> bit & 1) if snap.inputs is not None else False
+        for name, bit in INPUT_BITS.items()
+    }
+    bit15 = data is not None and data.quirks.homing_reference_found_bit15
+    homing = _homing(axis, snap, position_inc)
+    if homing is not None and homing.phase == "attained":
+        axis.homed = True
+    homed: bool | None = bool(sw & SW_REFERENCE_FOUND) if bit15 else (axis.homed or None)
+    move = _move(axis, snap, state)
+    return DriveState(
+        node=axis.node,
+        state=STATE_NAMES[state],
+        state_label=state_label(state),
+        statusword=sw,
+        status_bits=status_bits(sw, snap.mode_display, reference_found_bit15=bit15),
+        controlword=snap.controlword or 0,
+        last_transition=axis.last_transition,
+        mode=mode_key(snap.mode),
+        mode_display=mode_key(snap.mode_display),
+        supported_modes=[k for m in sorted(supported) if (k := mode_key(m)) is not None],
+        position_inc=position_inc,
+        position_rev=units.inc_to_rev(position_inc),
+        velocity_rpm=units.actual_velocity_rpm(snap.velocity or 0),
+        torque_pct=None if snap.torque is None else units.torque_to_pct(snap.torque),
+        following_error_inc=(
+            None if snap.following_error is None else units.user_to_inc(snap.following_error)
+        ),
+        digital_inputs=snap.inputs,
+        inputs=inputs,
+        homed=homed,
+        homing=homing,
+        move=move,
+        target_reached=bool(sw & SW_TARGET_REACHED),
+        fault=fault_info(snap.error_code, state in _FAULTED, data, fault_source),
+        nmt_state=nmt_state,
+        counts_per_rev=units.counts_per_rev,
+        gear_ratio=axis.statics.gear if axis.statics else None,
+        limits=axis.limits,
+    )
+
+
+_FAULTED = (Cia402State.FAULT, Cia402State.FAULT_REACTION_ACTIVE)
+
+
+def _homing(axis: Axis, snap: Snapshot, position_inc: int) -> HomingProgress | None:
+    if axis.homing_method is None:
+        return None
+    if snap.mode_display != OperationMode.HOMING:
+        return HomingProgress(
+            method=axis.homing_method,
+            phase="interrupted",
+            message="the drive left homing mode",
+            position_inc=None,
+        )
+    phase, message = homing_phase(snap.statusword)
+    return HomingProgress(
+        method=axis.homing_method,
+        phase=phase,
+        message=message,
+        position_inc=position_inc if phase == "attained" else None,
+    )
+
+
+def _move(axis: Axis, snap: Snapshot, state: Cia402State) -> MoveProgress | None:
+    move = axis.move
+    if move is None or axis.target_user is None:
+        return move
+    queued = len(axis.queued)
+    if move.phase == "reached" and queued == 0 and axis.queue_task is None:
+        return move  # stays reached until the next move (a later disable is not its error)
+    phase: Literal["moving", "reached", "error"]
+    if state is not Cia402State.OPERATION_ENABLED or snap.statusword & SW_MODE_BIT13:
+        phase = "error"
+    elif (
+        snap.statusword & SW_TARGET_REACHED
+        and snap.position is not None
+        and abs(snap.position - axis.target_user) <= position_window(axis.statics)
+    ):
+        phase = "reached"
+    else:
+        phase = "moving"
+    axis.move = MoveProgress(target_inc=move.target_inc, phase=phase, queued=queued)
+    return axis.move

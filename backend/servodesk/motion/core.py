@@ -1,0 +1,252 @@
+"""The motion service's shared machinery: per-node axes, readings, controlword writes, waiting
+for the statusword, operating modes, and turning a transition that did not happen into the
+reasons from the drive's own objects (explain.py)."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from collections.abc import Callable
+from typing import TypeVar
+
+import canopen
+
+from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
+from servodesk.motion import drive_io as io
+from servodesk.motion.axis import Axis, build_state, units_of
+from servodesk.motion.drive_io import Snapshot, Statics
+from servodesk.motion.errors import EnableBlockedError
+from servodesk.motion.explain import Observed, explain
+from servodesk.motion.schemas import DriveState, EnableReason, MotionLimits
+from servodesk.motion.units import DriveUnits
+from servodesk.motion.words import mode_key
+from servodesk.nodes.access import NodeAccess
+from servodesk.settings import Settings
+from servodesk_protocol.cia402 import (
+    MODES_DISPLAY,
+    MODES_OF_OPERATION,
+    Cia402State,
+    OperationMode,
+    decode_state,
+    supported_modes,
+)
+
+T = TypeVar("T")
+VALUE_RANGE = 0x06090030  # SDO abort: value range of parameter exceeded (unsupported 6060h)
+FAULT_SOURCES = {
+    "mdi-s1c": "MDi-S1-C CANopen manual §4.1",
+    "kinco": "Kinco servo CANopen manual §8",
+    "cia402": "CiA 301 / CiA 402 emergency codes",
+}
+DEFAULT_MAX_RPM = 3000.0  # a drive with no overspeed object nor default
+DEFAULT_MAX_TORQUE_PCT = 300.0  # 6072h's usual default (3000 = 300 %)
+
+
+def state_of(statusword: int) -> Cia402State:
+    try:
+        return decode_state(statusword)
+    except ValueError:
+        return Cia402State.NOT_READY_TO_SWITCH_ON
+
+
+class MotionCore:
+    def __init__(self, registry: NodeAccess, settings: Settings) -> None:
+        self._registry = registry
+        self._settings = settings
+        self._axes: dict[int, Axis] = {}
+
+    # ------------------------------------------------------------------ axes and units
+
+    def _axis(self, node: int) -> Axis:
+        axis = self._axes.get(node)
+        if axis is None:
+            axis = Axis(node=node, limits=self._default_limits(node, None))
+            self._axes[node] = axis
+        return axis
+
+    def _units(self, node: int) -> DriveUnits:
+        return units_of(self._axis(node).statics, self._registry.profile_data(node))
+
+    def _profile(self, node: int) -> str:
+        return self._registry.info(node).profile
+
+    def _transition_timeout(self, node: int) -> float:
+        by_profile = self._settings.motion_transition_timeouts
+        return by_profile.get(self._profile(node), self._settings.motion_transition_timeout)
+
+    def _default_limits(self, node: int, statics: Statics | None) -> MotionLimits:
+        """The drive's overspeed object (MDi PA-103 2006h:08, else 6080h) and 6072h, as read or
+        as its dictionary's defaults, capped by the settings."""
+        data = self._registry.profile_data(node)
+        speed_ref = data.quirks.max_speed_object if data else (0x6080, 0)  # Max motor speed
+        read_rpm = statics.overspeed_rpm if statics and statics.overspeed_rpm else None
+        read_torque = statics.max_torque if statics and statics.max_torque else None
+        rpm = float(read_rpm or self._od_default(node, *speed_ref) or DEFAULT_MAX_RPM)
+        torque_raw = read_torque or self._od_default(node, io.MAX_TORQUE, 0)
+        torque_pct = float(torque_raw) / 10 if torque_raw else DEFAULT_MAX_TORQUE_PCT
+        if self._settings.motion_max_velocity_rpm:
+            rpm = min(rpm, self._settings.motion_max_velocity_rpm)
+        if self._settings.motion_max_torque_pct:
+            torque_pct = min(torque_pct, self._settings.motion_max_torque_pct)
+        return MotionLimits(
+            max_velocity_rpm=rpm,
+            max_torque_pct=torque_pct,
+            min_position_rev=None,
+            max_position_rev=None,
+        )
+
+    def _od_default(self, node: int, index: int, sub: int) -> float | None:
+        obj = self._registry.od(node).objects.get(index)
+        entry = obj.subs.get(sub) if obj else None
+        value = entry.default if entry else None
+        return float(value) if isinstance(value, int | float) and value > 0 else None
+
+    # ------------------------------------------------------------------ node access
+
+    async def _run(self, node: int, fn: Callable[[canopen.RemoteNode], T], what: str) -> T:
+        return await self._registry.session(node).run(fn, what=f"{what} (node {node})")
+
+    async def _write(
+        self, node: int, index: int, sub: int, value: int, kind: tuple[int, bool]
+    ) -> None:
+        await self._registry.session(node).run(
+            lambda remote: io.write(remote, index, sub, value, kind),
+            what=f"write {index:04X}h:{sub:02X}h",
+            index=index,
+            subindex=sub,
+        )
+
+    async def _controlword(self, node: int, word: int) -> None:
+        await self._write(node, 0x6040, 0, word, io.U16)  # Controlword
+
+    async def _statusword(self, node: int) -> int:
+        return await self._run(node, io.read_statusword, "read 6041h")
+
+    async def _snapshot(self, node: int) -> Snapshot:
+        axis = self._axis(node)
+        if axis.statics is None:
+            await self._refresh_statics(node)
+        snap = await self._run(node, io.read_snapshot, "read the drive state")
+        axis.last = snap
+        axis.saw(state_of(snap.statusword))
+        return snap
+
+    async def _refresh_statics(self, node: int) -> None:
+        data = self._registry.profile_data(node)
+        speed_ref = data.quirks.max_speed_object if data else (0x6080, 0)  # Max motor speed
+        statics = await self._run(node, lambda r: io.read_statics(r, speed_ref), "read drive facts")
+        axis = self._axis(node)
+        first = axis.statics is None
+        axis.statics = statics
+        if first:  # user-set limits stay; the first contact replaces dictionary defaults
+            axis.limits = self._default_limits(node, statics)
+
+    def _nmt(self, node: int) -> str:
+        return str(self._registry.info(node).nmt_state)
+
+    def _build(self, node: int, snap: Snapshot) -> DriveState:
+        data = self._registry.profile_data(node)
+        return build_state(
+            self._axis(node),
+            snap,
+            nmt_state=self._nmt(node),
+            data=data,
+            fault_source=FAULT_SOURCES.get(data.profile if data else "", "CiA 402"),
+        )
+
+    async def state(self, node: int) -> DriveState:
+        """The drive now: statusword bit by bit, state, mode, position, velocity, torque…"""
+        return self._build(node, await self._snapshot(node))
+
+    def _unreadable_state(self, node: int) -> DriveState:
+        """The last reading (or an empty one) when the drive does not answer."""
+        axis = self._axis(node)
+        snap = axis.last or Snapshot(0, None, None, None, None, None, None, None, None, None)
+        return self._build(node, snap)
+
+    # ------------------------------------------------------------------ waiting, explaining
+
+    async def _wait(
+        self, node: int, done: Callable[[int], bool], timeout: float
+    ) -> tuple[bool, int]:
+        """Poll 6041h until `done(statusword)`; (reached, last statusword)."""
+        deadline = time.monotonic() + timeout
+        while True:
+            sw = await self._statusword(node)
+            if done(sw) or time.monotonic() >= deadline:
+                self._axis(node).saw(state_of(sw))
+                return done(sw), sw
+            await asyncio.sleep(self._settings.motion_poll_interval)
+
+    async def _blocked(
+        self,
+        node: int,
+        *,
+        extra: list[EnableReason] | None = None,
+        target: Cia402State = Cia402State.OPERATION_ENABLED,
+    ) -> EnableBlockedError:
+        """The error for a transition that did not happen, with what the drive shows."""
+        nmt = self._nmt(node)
+        try:
+            snap: Snapshot | None = await self._snapshot(node)
+        except (CommTimeoutError, NodeStoppedError):
+            snap = None
+        axis = self._axis(node)
+        data = self._registry.profile_data(node)
+        supported = (
+            frozenset(int(m) for m in supported_modes(axis.statics.supported_raw))
+            if axis.statics and axis.statics.supported_raw is not None
+            else None
+        )
+        state = self._build(node, snap) if snap else self._unreadable_state(node)
+        seen = Observed(
+            statusword=snap.statusword if snap else None,
+            controlword=snap.controlword if snap else None,
+            nmt_state=nmt,
+            mode=snap.mode if snap else None,
+            mode_display=snap.mode_display if snap else None,
+            supported=supported
+            if supported is not None
+            else (data.quirks.supported_modes if data else None),
+            fault=state.fault,
+            target=target,
+        )
+        reasons = [*(extra or []), *explain(seen)]
+        if extra and len(reasons) > len(extra) and reasons[-1].code == "timeout":
+            reasons.pop()  # the extra reason already says why
+        return EnableBlockedError(node, reasons, state)
+
+    # ------------------------------------------------------------------ modes
+
+    async def _set_mode(self, node: int, mode: OperationMode) -> None:
+        """Write 6060h and wait until 6061h shows it; an unsupported mode raises
+        EnableBlockedError(mode_unsupported) — SDO abort on Kinco/CiA 402, 6061h = 0 on MDi."""
+        try:
+            await self._write(node, MODES_OF_OPERATION, 0, int(mode), io.I8)
+        except SdoAbortError as abort:
+            if abort.code != VALUE_RANGE:
+                raise
+            raise await self._blocked(
+                node, extra=[_unsupported(mode, "the drive refused it (SDO abort 06090030h)")]
+            ) from abort
+        deadline = time.monotonic() + self._transition_timeout(node)
+        while True:
+            shown = await self._run(
+                node, lambda r: io.read(r, MODES_DISPLAY, signed=True), "read 6061h"
+            )
+            if shown == mode:
+                return
+            if time.monotonic() >= deadline:
+                raise await self._blocked(
+                    node,
+                    extra=[_unsupported(mode, f"6061h shows {shown} after 6060h = {int(mode)}")],
+                )
+            await asyncio.sleep(self._settings.motion_poll_interval)
+
+
+def _unsupported(mode: OperationMode, detail: str) -> EnableReason:
+    return EnableReason(
+        code="mode_unsupported",
+        message=f"mode {mode_key(int(mode))} ({int(mode)}) is not supported by this drive: "
+        f"{detail}",
+    )

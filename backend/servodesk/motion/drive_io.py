@@ -1,0 +1,130 @@
+"""The objects motion reads and writes, as blocking steps for a node's worker thread.
+
+Every function here takes the canopen RemoteNode and runs inside `NodeSession.run` (or
+`priority`), never on the event loop (DESIGN rule 1). An object the drive does not have reads as
+None (its SDO abort is the answer, not an error); only the statusword must answer.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import canopen
+from canopen.sdo.exceptions import SdoAbortedError
+
+from servodesk_protocol.cia402 import CONTROLWORD, MODES_DISPLAY, MODES_OF_OPERATION, STATUSWORD
+
+ERROR_CODE = 0x603F  # Error code
+QUICK_STOP_OPTION = 0x605A  # Quick stop option code
+POSITION_ACTUAL = 0x6064  # Position actual value (user units)
+FOLLOWING_WINDOW = 0x6065  # Following error window
+POSITION_WINDOW = 0x6067  # Position window
+VELOCITY_ACTUAL = 0x606C  # Velocity actual value
+TARGET_TORQUE = 0x6071  # Target torque
+MAX_TORQUE = 0x6072  # Max torque
+TORQUE_ACTUAL = 0x6077  # Torque actual value
+TARGET_POSITION = 0x607A  # Target position
+HOME_OFFSET = 0x607C  # Home offset
+PROFILE_VELOCITY = 0x6081  # Profile velocity
+PROFILE_ACCELERATION = 0x6083  # Profile acceleration
+PROFILE_DECELERATION = 0x6084  # Profile deceleration
+TORQUE_SLOPE = 0x6087  # Torque slope
+ENCODER_RESOLUTION = 0x608F  # Position encoder resolution (:01 increments, :02 motor revs)
+GEAR_RATIO = 0x6091  # Gear ratio (:01 motor increments, :02 user units on these drives)
+HOMING_METHOD = 0x6098  # Homing method
+HOMING_SPEEDS = 0x6099  # Homing speeds (:01 fast, :02 slow)
+HOMING_ACCELERATION = 0x609A  # Homing acceleration
+IP_DATA = 0x60C1  # Interpolation data record (:01 position set-point)
+IP_PERIOD = 0x60C2  # Interpolation time period (:01 value, :02 exponent of 10 s)
+FOLLOWING_ERROR = 0x60F4  # Following error actual value
+DIGITAL_INPUTS = 0x60FD  # Digital inputs (bit 0 N-OT, 1 P-OT, 2 home switch)
+TARGET_VELOCITY = 0x60FF  # Target velocity
+SUPPORTED_MODES = 0x6502  # Supported drive modes
+
+# (size in bytes, signed) of what motion writes; reads take the answer's own length.
+I8, U8, I16, U16, I32, U32 = (1, True), (1, False), (2, True), (2, False), (4, True), (4, False)
+
+
+def read(remote: canopen.RemoteNode, index: int, sub: int = 0, *, signed: bool) -> int | None:
+    """One entry as an integer, or None when the drive has no such object."""
+    try:
+        data = bytes(remote.sdo.upload(index, sub))
+    except SdoAbortedError:
+        return None
+    return int.from_bytes(data, "little", signed=signed)
+
+
+def write(
+    remote: canopen.RemoteNode, index: int, sub: int, value: int, kind: tuple[int, bool]
+) -> None:
+    size, signed = kind
+    remote.sdo.download(index, sub, int(value).to_bytes(size, "little", signed=signed))
+
+
+def write_controlword(remote: canopen.RemoteNode, controlword: int) -> None:
+    write(remote, CONTROLWORD, 0, controlword, U16)
+
+
+def read_statusword(remote: canopen.RemoteNode) -> int:
+    """6041h; unlike other objects its absence is an error (the drive is no CiA 402 drive)."""
+    return int.from_bytes(bytes(remote.sdo.upload(STATUSWORD, 0))[:2], "little")
+
+
+@dataclass(frozen=True, slots=True)
+class Snapshot:
+    """One reading of the drive's live objects (raw drive units)."""
+
+    statusword: int
+    controlword: int | None
+    mode: int | None  # 6060h
+    mode_display: int | None  # 6061h
+    position: int | None  # 6064h, user units
+    velocity: int | None  # 606Ch
+    torque: int | None  # 6077h, 0.1 %
+    following_error: int | None  # 60F4h, user units
+    inputs: int | None  # 60FDh
+    error_code: int | None  # 603Fh
+
+
+@dataclass(frozen=True, slots=True)
+class Statics:
+    """What changes rarely: read on first contact and again at every enable."""
+
+    supported_raw: int | None  # 6502h
+    counts_per_rev: int | None  # 608Fh:01 / :02
+    gear: tuple[int, int] | None  # 6091h:01, :02
+    quick_stop_option: int | None  # 605Ah
+    overspeed_rpm: int | None  # the profile's max speed object
+    max_torque: int | None  # 6072h, 0.1 %
+    position_window: int | None  # 6067h, user units
+
+
+def read_snapshot(remote: canopen.RemoteNode) -> Snapshot:
+    return Snapshot(
+        statusword=read_statusword(remote),
+        controlword=read(remote, CONTROLWORD, signed=False),
+        mode=read(remote, MODES_OF_OPERATION, signed=True),
+        mode_display=read(remote, MODES_DISPLAY, signed=True),
+        position=read(remote, POSITION_ACTUAL, signed=True),
+        velocity=read(remote, VELOCITY_ACTUAL, signed=True),
+        torque=read(remote, TORQUE_ACTUAL, signed=True),
+        following_error=read(remote, FOLLOWING_ERROR, signed=True),
+        inputs=read(remote, DIGITAL_INPUTS, signed=False),
+        error_code=read(remote, ERROR_CODE, signed=False),
+    )
+
+
+def read_statics(remote: canopen.RemoteNode, max_speed: tuple[int, int] | None) -> Statics:
+    counts = read(remote, ENCODER_RESOLUTION, 1, signed=False)
+    revs = read(remote, ENCODER_RESOLUTION, 2, signed=False) if counts else None
+    motor = read(remote, GEAR_RATIO, 1, signed=False)
+    user = read(remote, GEAR_RATIO, 2, signed=False)
+    return Statics(
+        supported_raw=read(remote, SUPPORTED_MODES, signed=False),
+        counts_per_rev=counts // revs if counts and revs else counts,
+        gear=(motor, user) if motor and user else None,
+        quick_stop_option=read(remote, QUICK_STOP_OPTION, signed=True),
+        overspeed_rpm=read(remote, *max_speed, signed=False) if max_speed else None,
+        max_torque=read(remote, MAX_TORQUE, signed=False),
+        position_window=read(remote, POSITION_WINDOW, signed=False),
+    )

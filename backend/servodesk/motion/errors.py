@@ -1,0 +1,36 @@
+"""Motion's domain errors. The routes map them in api/errors.py: EnableBlockedError to 409
+{"error": "enable_blocked", "reasons": […], "state": …}, LimitError to 422."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from servodesk.errors import InvalidValueError, ServodeskError
+from servodesk.motion.schemas import DriveState, EnableReason
+
+
+class EnableBlockedError(ServodeskError):
+    """A requested state transition did not happen; `reasons` say what on the drive blocks it."""
+
+    def __init__(self, node: int, reasons: Sequence[EnableReason], state: DriveState) -> None:
+        self.node = node
+        self.reasons = list(reasons)
+        self.state = state
+        words = "; ".join(reason.message for reason in self.reasons) or "no reason found"
+        super().__init__(f"node {node} does not enable: {words}")
+
+
+class LimitError(InvalidValueError):
+    """A command outside the node's motion limits; nothing was sent."""
+
+    def __init__(self, node: int, message: str) -> None:
+        self.node = node
+        super().__init__(f"node {node}: {message}; nothing was sent")
+
+
+class MotionBusyError(ServodeskError):
+    """The axis is busy with something that a new command would conflict with."""
+
+    def __init__(self, node: int, message: str) -> None:
+        self.node = node
+        super().__init__(f"node {node}: {message}")

@@ -1,0 +1,284 @@
+"""Interpolated position (IP, 6060h = 7): a planned path streamed as 60C1h:01 set-points, one
+per SYNC, at the interpolation period 60C2h, with the SYNC sent by the tool itself.
+
+The drive takes 60C1h:01 at each SYNC and travels to it during the following period (MDi-S1-C
+CANopen manual §3.8), so point k is written just before SYNC k and names where the axis should
+be one period later. The stream runs on the node's worker thread in chunks of about 20 ms
+(set-point write, SYNC, every few periods a read of 6064h to measure the lag): a priority stop
+waits at most one chunk, and a stop cancels the rest. The tool's SYNC producer (SyncService) is
+paused meanwhile (two SYNC sources would double the drive's clock) and restarted afterwards.
+
+A stall (the tool not sending SYNC for more than 3 periods) shows as the drive's own SYNC-lost
+fault — MDi alarm 62, Kinco 6011h, CiA 402 8700h — which the result names.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+import time
+from collections import deque
+from dataclasses import dataclass, field
+
+import canopen
+
+from servodesk.errors import InvalidValueError
+from servodesk.motion import drive_io as io
+from servodesk.motion.core import state_of
+from servodesk.motion.errors import LimitError
+from servodesk.motion.moves import MoveOps
+from servodesk.motion.schemas import EnableReason, IpStreamResult
+from servodesk.motion.trajectory import Trajectory, peak_velocity, setpoints, sync_jitter
+from servodesk.network.sync import SyncService
+from servodesk.nodes.access import NodeAccess
+from servodesk.settings import Settings
+from servodesk_protocol.cia402 import (
+    SW_MODE_BIT12,
+    Cia402State,
+    OperationMode,
+    make_enable_operation,
+)
+
+CHUNK_S = 0.02  # the longest a priority stop waits behind the stream
+LAG_SAMPLE_S = 0.01  # read 6064h about this often (each read takes bus time)
+SETTLE_PERIODS = 25  # SYNCs holding the end point before interpolation is switched off
+IP_EXPONENT_MS = -3  # 60C2h:02: the period in 10^-3 s
+# SDO initiate download, expedited, 4 bytes, 60C1h:01 Interpolation data record (CiA 301)
+EXPEDITED_4 = bytes([0x23, 0xC1, 0x60, 0x01])
+
+
+@dataclass
+class _Stream:
+    """What the worker-thread chunks share: the plan, the clock, the measurements."""
+
+    points: list[int]
+    period: float
+    t0: float = 0.0
+    sent: int = 0
+    syncs: list[float] = field(default_factory=list)
+    lags: list[int] = field(default_factory=list)  # |planned − actual| in user units
+    cancelled: bool = False
+    stalled: bool = False  # more than 3 periods without SYNC: the drive has dropped out
+    unconfirmed: int = 0  # set-point writes sent whose confirmation was not read yet
+
+    def chunk(self, remote: canopen.RemoteNode, count: int, sample_every: int) -> None:
+        """Send the next `count` SYNCs, each at its absolute deadline, and after each the
+        set-point for the next one. Blocking; on the node's worker thread, the only user of
+        its SDO client, so the set-point writes can be pipelined: sent without waiting, their
+        confirmations collected before any other transfer (and at the chunk's end)."""
+        network = remote.network
+        end = min(self.sent + count, len(self.points))
+        try:
+            while self.sent < end and not self.cancelled:
+                k = self.sent
+                now = _sleep_until(self.t0 + k * self.period)
+                if self.syncs and now - self.syncs[-1] > 3 * self.period:
+                    self.stalled = True  # the drives count SYNC lost after 3 periods
+                    return
+                network.sync.transmit()  # the drive takes point k, written after SYNC k - 1
+                self.syncs.append(now)
+                self.sent += 1
+                if k + 1 < len(self.points):
+                    self._send_point(remote, self.points[k + 1])
+                if k % sample_every == 0 and k > 0:
+                    self._confirm(remote)
+                    actual = io.read(remote, io.POSITION_ACTUAL, signed=True)
+                    if actual is not None:  # at SYNC k the axis should be at point k - 1
+                        self.lags.append(abs(actual - self.points[k - 1]))
+        finally:
+            self._confirm(remote)
+
+    def _send_point(self, remote: canopen.RemoteNode, value: int) -> None:
+        """60C1h:01 by an expedited SDO download, not waiting for the confirmation."""
+        remote.sdo.send_request(EXPEDITED_4 + value.to_bytes(4, "little", signed=True))
+        self.unconfirmed += 1
+
+    def _confirm(self, remote: canopen.RemoteNode) -> None:
+        """Collect the confirmations of the pipelined writes (an abort raises)."""
+        while self.unconfirmed:
+            self.unconfirmed -= 1
+            remote.sdo.read_response()  # SdoAbortedError / SdoCommunicationError
+
+
+def _sleep_until(deadline: float) -> float:
+    """Sleep in short naps (each gives the interpreter lock to the other threads) until
+    `deadline`; returns the time it woke."""
+    while (left := deadline - time.perf_counter()) > 0:
+        time.sleep(left - 0.001 if left > 0.002 else min(left, 0.0002))
+    return time.perf_counter()
+
+
+class IpOps(MoveOps):
+    def __init__(
+        self, registry: NodeAccess, settings: Settings, *, sync: SyncService | None = None
+    ) -> None:
+        super().__init__(registry, settings)
+        self._sync = sync
+        self._streams: dict[int, _Stream] = {}
+
+    async def ip_stream(
+        self,
+        node: int,
+        trajectory: Trajectory,
+        *,
+        period_ms: int,
+        distance_rev: float,
+        duration_s: float,
+    ) -> IpStreamResult:
+        """Stream `trajectory` (a smooth point-to-point move of `distance_rev`, or a sine out
+        and back) over `duration_s` at `period_ms`; returns the worst lag, the final error and
+        the SYNC jitter. The drives interpolate one point ahead, so the axis runs one period
+        behind the plan: on the simulated drives the lag stays within one period of travel at
+        the path's peak speed + 0.01 rev (1 rev point-to-point in 1 s: ≤ 0.014 rev at 2 ms,
+        ≤ 0.029 rev at 10 ms) and the end within 0.002 rev (tests/backend/test_motion_ip.py).
+        Set-points go by SDO (one expedited write per period), so on a busy PC 2 ms is at the
+        edge: a stall ends the stream and the result names the drive's SYNC-lost fault."""
+        if not 1 <= period_ms <= 20:
+            raise InvalidValueError("the interpolation period must be 1–20 ms (60C2h)")
+        if not 0 < duration_s <= self._settings.motion_ip_max_duration:
+            raise InvalidValueError(
+                f"the stream lasts 0–{self._settings.motion_ip_max_duration:g} s, "
+                f"not {duration_s:g}"
+            )
+        units = self._units(node)
+        axis = self._axis(node)
+        peak_rpm = peak_velocity(trajectory, duration_s, distance_rev) * 60
+        if peak_rpm > axis.limits.max_velocity_rpm:
+            raise LimitError(
+                node,
+                f"the path peaks at {peak_rpm:.0f} rpm, "
+                f"beyond {axis.limits.max_velocity_rpm:g} rpm",
+            )
+        axis.cancel_queue()
+        axis.move = None
+        await self._require_enabled(node)
+        snap = axis.last
+        start = snap.position if snap and snap.position is not None else 0
+        for end_rev in (units.user_to_rev(start), units.user_to_rev(start) + distance_rev):
+            self._check_travel(node, end_rev)
+        period = period_ms / 1000
+        plan = setpoints(trajectory, start, units.rev_to_user(distance_rev), duration_s, period)
+        plan += [plan[-1]] * SETTLE_PERIODS
+        await self._set_mode(node, OperationMode.INTERPOLATED_POSITION)
+        await self._write(node, io.IP_PERIOD, 1, period_ms, io.U8)
+        await self._write(node, io.IP_PERIOD, 2, IP_EXPONENT_MS, io.I8)
+        await self._write(node, io.IP_DATA, 1, start, io.I32)
+        paused = await self._pause_sync()
+        stream = _Stream(plan, period)
+        self._streams[node] = stream
+        try:
+            await self._controlword(node, make_enable_operation(new_setpoint=True))
+            active, _ = await self._wait(
+                node, lambda w: bool(w & SW_MODE_BIT12), self._transition_timeout(node)
+            )
+            if not active:
+                raise await self._blocked(
+                    node,
+                    extra=[
+                        EnableReason(
+                            code="timeout",
+                            message="interpolation did not start (statusword bit 12)",
+                        )
+                    ],
+                )
+            await self._write(node, io.IP_DATA, 1, plan[0], io.I32)
+            await self._feed(node, stream)
+        finally:
+            self._streams.pop(node, None)
+            await self._end_stream(node, paused)
+        return await self._result(node, trajectory, period_ms, duration_s, stream, start, plan)
+
+    async def _feed(self, node: int, stream: _Stream) -> None:
+        """The chunks, two queued at a time so the worker never waits for the event loop
+        between them; a priority stop still runs between two chunks."""
+        per_chunk = max(1, math.floor(CHUNK_S / stream.period))
+        sample_every = max(1, math.ceil(LAG_SAMPLE_S / stream.period))
+        chunks = math.ceil(len(stream.points) / per_chunk)
+        stream.t0 = time.perf_counter() + stream.period
+        inflight: deque[asyncio.Future[None]] = deque()
+        try:
+            for _ in range(chunks):
+                if stream.cancelled or stream.stalled:
+                    break
+                inflight.append(
+                    asyncio.ensure_future(
+                        self._run(node, lambda r: stream.chunk(r, per_chunk, sample_every), "IP")
+                    )
+                )
+                if len(inflight) > 1:
+                    await inflight.popleft()
+            while inflight:
+                await inflight.popleft()
+        finally:
+            stream.cancelled = stream.cancelled or stream.sent < len(stream.points)
+            for pending in inflight:
+                pending.cancel()
+
+    async def _end_stream(self, node: int, paused: int | None) -> None:
+        try:
+            state = state_of(await self._statusword(node))
+            if state is Cia402State.OPERATION_ENABLED:
+                await self._controlword(node, make_enable_operation())  # interpolation off
+        finally:
+            if paused is not None and self._sync is not None:
+                await self._sync.set(paused)
+
+    async def _result(
+        self,
+        node: int,
+        trajectory: Trajectory,
+        period_ms: int,
+        duration_s: float,
+        stream: _Stream,
+        start: int,
+        plan: list[int],
+    ) -> IpStreamResult:
+        units = self._units(node)
+        state = await self.state(node)
+        actual = units.inc_to_user(state.position_inc)
+        final_error = units.user_to_inc(abs(actual - plan[-1]))
+        jitter, longest = sync_jitter(stream.syncs, stream.period)
+        max_lag = units.user_to_inc(max(stream.lags, default=0))
+        stalled = stream.stalled or state.fault is not None or longest > 3 * stream.period
+        words = [f"{stream.sent} set-points at {period_ms} ms"]
+        if state.fault is not None:
+            words.append(
+                f"the drive faulted: {state.fault.code_hex} {state.fault.name or ''}".strip()
+            )
+        elif stream.cancelled:
+            words.append("stopped before its end")
+        if stream.stalled:
+            words.append("the stream stalled (no SYNC for more than 3 periods)")
+        return IpStreamResult(
+            node=node,
+            trajectory=trajectory,
+            period_ms=period_ms,
+            points=stream.sent,
+            syncs=len(stream.syncs),
+            duration_s=duration_s,
+            max_lag_inc=max_lag,
+            max_lag_rev=units.inc_to_rev(max_lag),
+            final_error_inc=final_error,
+            sync_jitter_ms=jitter * 1000,
+            sync_interval_max_ms=longest * 1000,
+            stalled=stalled,
+            fault=state.fault,
+            message="; ".join(words),
+            state=state,
+        )
+
+    def cancel_stream(self, node: int) -> None:
+        """Stop feeding set-points (the stop paths call it; the drive then holds or faults)."""
+        stream = self._streams.get(node)
+        if stream is not None:
+            stream.cancelled = True
+
+    async def _pause_sync(self) -> int | None:
+        """Stop the tool's SYNC producer for the stream; the period to restart it with."""
+        if self._sync is None:
+            return None
+        config = self._sync.get()
+        if not config.producing or not config.period_us:
+            return None
+        await self._sync.set(None)
+        return config.period_us

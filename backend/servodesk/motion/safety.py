@@ -1,0 +1,225 @@
+"""The safety layer over MotionService (DESIGN: Motion safety): who controls each drive (lease),
+the drive's own stop if the tool dies (heartbeat consumer), hold-to-run jogs and every trigger
+that stops them: keep-alive missed, socket closed, page hidden, bus error, heartbeat lost, EMCY.
+
+Callbacks from python-can's notifier thread only hand the frame to the loop
+(`call_soon_threadsafe`); everything else runs on the event loop, which must never block (the
+jog timers live there).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections import Counter
+from collections.abc import Coroutine
+from typing import Any
+
+import can
+
+from servodesk.bus.connection import BusManager
+from servodesk.errors import InvalidValueError, ServodeskError
+from servodesk.models import BusState, BusStatus, LiveEvent
+from servodesk.motion.heartbeat import HeartbeatGuard
+from servodesk.motion.jog import JogWatchdog
+from servodesk.motion.lease import Client, ControllerLease
+from servodesk.motion.safety_models import ControllerInfo, JogInfo, JogRequest, QuickStopResult
+from servodesk.motion.schemas import DriveState
+from servodesk.motion.service import MotionService
+from servodesk.nodes.registry import NodeRegistry
+from servodesk.settings import Settings
+
+log = logging.getLogger(__name__)
+
+EMCY_BASE = 0x80
+ERROR_RESET = b"\x00\x00"  # EMCY "error reset / no error": not a reason to stop
+
+
+class _EmcyWatch(can.Listener):
+    """Notifier thread: EMCYs (80h + node) from nodes with a running jog go to the loop."""
+
+    def __init__(self, safety: MotionSafety) -> None:
+        self._safety = safety
+
+    def on_message_received(self, msg: can.Message) -> None:
+        node = msg.arbitration_id - EMCY_BASE
+        if msg.is_error_frame or msg.is_remote_frame or msg.is_extended_id or not 1 <= node <= 0x7F:
+            return
+        loop = self._safety.loop
+        if loop is None or node not in self._safety.jogs.running_nodes:
+            return
+        data = bytes(msg.data)
+        if data[:2] == ERROR_RESET:
+            return
+        loop.call_soon_threadsafe(self._safety.on_emcy, node, data)
+
+
+class MotionSafety:
+    def __init__(
+        self, motion: MotionService, bus: BusManager, registry: NodeRegistry, settings: Settings
+    ) -> None:
+        self.motion = motion
+        self.lease = ControllerLease()
+        self.jogs = JogWatchdog(motion)
+        self.heartbeat = HeartbeatGuard(
+            registry,
+            settings,
+            network=lambda: bus.network,
+            known_nodes=lambda: [info.node for info in registry.all()],
+        )
+        self._registry = registry
+        self._max_keepalive = settings.jog_keepalive_max_ms
+        self._sockets: Counter[str] = Counter()
+        self._tasks: set[asyncio.Task[None]] = set()
+        self.loop: asyncio.AbstractEventLoop | None = None
+        self._unsubscribe = [
+            bus.add_listener(self._on_bus),
+            registry.add_event_listener(self._on_event),
+            bus.add_frame_listener(_EmcyWatch(self)),
+        ]
+
+    def start(self) -> None:
+        self.loop = asyncio.get_running_loop()
+
+    async def close(self) -> None:
+        for unsubscribe in self._unsubscribe:
+            unsubscribe()
+        self.jogs.stop_all("ServoDesk is shutting down")
+        await self.jogs.settled()
+        for node in self.lease.nodes():
+            self.lease.release(node)
+        await self.heartbeat.close()
+
+    # ------------------------------------------------------------------ control (lease)
+
+    def controller(self, node: int, client: Client) -> ControllerInfo:
+        self._registry.info(node)  # NodeNotFoundError for an unknown node
+        return ControllerInfo(
+            node=node,
+            holder=self.lease.holder(node),
+            you=self.lease.holds(node, client),
+            protection=self.heartbeat.status(node),
+        )
+
+    async def authorize(self, node: int, client: Client) -> None:
+        """Let `client`'s motion command through, or raise HeldByOtherError. A named client
+        commanding a node nobody holds takes it."""
+        self._registry.info(node)
+        if self.lease.check(node, client):
+            await self.take(node, client, take_over=False)
+
+    async def take(self, node: int, client: Client, *, take_over: bool) -> ControllerInfo:
+        self._registry.info(node)
+        if client.anonymous:
+            raise InvalidValueError("taking control needs a client id (X-Client-Id header)")
+        previous = self.lease.take(node, client, take_over=take_over)
+        if previous is not None:
+            who = client.name or client.id
+            self.jogs.stop_node(node, f"control taken over by {who}")
+        await self.heartbeat.protect(node)
+        return self.controller(node, client)
+
+    async def release(self, node: int, client: Client) -> ControllerInfo:
+        self._registry.info(node)
+        if self.lease.holder(node) is not None:
+            self.lease.check(node, client)  # only the holder releases
+            await self._release(node, "control released")
+        return self.controller(node, client)
+
+    async def _release(self, node: int, reason: str) -> None:
+        self.jogs.stop_node(node, reason)
+        self.lease.release(node)
+        await self.heartbeat.unprotect(node)
+
+    # ------------------------------------------------------------------ jogs and stops
+
+    async def start_jog(self, node: int, request: JogRequest, client: Client) -> JogInfo:
+        value = request.velocity_rpm if request.mode == "pv" else request.torque_pct
+        other = request.torque_pct if request.mode == "pv" else request.velocity_rpm
+        unit = "velocity_rpm" if request.mode == "pv" else "torque_pct"
+        if value is None or other is not None:
+            raise InvalidValueError(f"a {request.mode} jog takes {unit} (and only that)")
+        if request.keepalive_ms > self._max_keepalive:
+            raise InvalidValueError(f"keepalive_ms above {self._max_keepalive}")
+        await self.authorize(node, client)
+        await self.motion.jog_start(node, request.mode, value)
+        return self.jogs.register(node, request.mode, value, request.keepalive_ms, client.id)
+
+    async def quick_stop(self, node: int) -> DriveState:
+        """Open to every client, whoever holds the node."""
+        self.jogs.stop_node(node, "quick stop")
+        return await self.motion.quick_stop(node)
+
+    async def quick_stop_all(self) -> QuickStopResult:
+        nodes = [info.node for info in self._registry.all()]
+        self.jogs.stop_all("quick stop (all drives)")
+        outcomes = await asyncio.gather(
+            *(self.motion.quick_stop(node) for node in nodes), return_exceptions=True
+        )
+        stopped: list[int] = []
+        failed: dict[str, str] = {}
+        for node, outcome in zip(nodes, outcomes, strict=True):
+            if isinstance(outcome, ServodeskError):
+                failed[str(node)] = str(outcome)
+            elif isinstance(outcome, BaseException):
+                raise outcome
+            else:
+                stopped.append(node)
+        return QuickStopResult(stopped=stopped, failed=failed)
+
+    # ------------------------------------------------------------------ triggers
+
+    def socket_opened(self, client_id: str) -> None:
+        self._sockets[client_id] += 1
+
+    def socket_closed(self, client_id: str) -> None:
+        """A page's socket closed: its jogs stop; the last socket of a client releases the
+        drives it holds (nobody is left to keep them, and the drive must not fault later)."""
+        self.jogs.stop_owner(client_id, "the page's connection closed")
+        self._sockets[client_id] -= 1
+        if self._sockets[client_id] <= 0:
+            del self._sockets[client_id]
+            for node in self.lease.held_by(client_id):
+                self._spawn(self._release(node, "the controlling page closed"))
+
+    def page_hidden(self, client_id: str) -> list[JogInfo]:
+        return self.jogs.stop_owner(client_id, "the page was hidden")
+
+    def on_emcy(self, node: int, data: bytes) -> None:
+        code = int.from_bytes(data[:2], "little")
+        self.jogs.stop_node(node, f"EMCY {code:04X}h from the drive")
+
+    def _on_bus(self, status: BusStatus) -> None:
+        if status.state is not BusState.CONNECTED:
+            why = f": {status.error}" if status.error else ""
+            self.jogs.stop_all(f"bus {status.state.value}{why}")
+            return
+        for node in list(self.jogs.unsent):  # the bus is back: send what could not be sent
+            self._spawn(self._stop_again(node))
+
+    async def _stop_again(self, node: int) -> None:
+        try:
+            await self.motion.stop(node, reason="stop sent again after the bus came back")
+            self.jogs.unsent.discard(node)
+        except ServodeskError as error:
+            log.warning("node %d: stop after reconnect failed: %s", node, error)
+
+    def _on_event(self, event: LiveEvent) -> None:
+        if event.node is None:
+            return
+        if event.kind == "node-lost":
+            self.jogs.stop_node(event.node, "heartbeat lost")
+        elif event.kind == "boot-up":
+            self.jogs.stop_node(event.node, "the drive restarted")
+            if self.lease.holder(event.node) is not None:
+                # a reset reloads 1016h: set it again for the holder
+                self._spawn(self._reprotect(event.node))
+
+    async def _reprotect(self, node: int) -> None:
+        self.heartbeat.forget(node)
+        await self.heartbeat.protect(node)
+
+    def _spawn(self, coro: Coroutine[Any, Any, None]) -> None:
+        task = asyncio.get_running_loop().create_task(coro)
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)

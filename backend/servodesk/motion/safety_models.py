@@ -1,0 +1,74 @@
+"""Bodies of the safety layer's routes and messages: who controls a drive, whether the drive
+stops by itself if the tool dies, and hold-to-run jogs."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, Field, StrictBool, StrictFloat
+
+from servodesk.model_base import JsonInt, RequestBody
+
+
+class ControllerHolder(BaseModel):
+    client_id: str
+    name: str | None = None  # what the client called itself (hello), for "held by …"
+    since: float  # wall-clock time it took control
+
+
+class HeartbeatProtection(BaseModel):
+    """Whether the drive watches the tool's heartbeat (1016h) and stops if it goes silent."""
+
+    active: bool
+    tool_node_id: int
+    consumer_ms: int
+    message: str
+
+
+class ControllerInfo(BaseModel):
+    node: int
+    holder: ControllerHolder | None
+    you: bool  # the asking client holds it
+    protection: HeartbeatProtection
+
+
+class TakeControlRequest(RequestBody):
+    take_over: StrictBool = False  # take it even though another client holds it
+    name: str | None = Field(default=None, max_length=64)
+
+
+class JogRequest(RequestBody):
+    mode: Literal["pv", "pt"]
+    velocity_rpm: StrictFloat | None = None  # pv (true/false is not a speed)
+    torque_pct: StrictFloat | None = None  # pt
+    keepalive_ms: JsonInt = Field(default=250, ge=20, le=500)
+
+
+JogStateName = Literal["running", "stopped"]
+
+
+class JogInfo(BaseModel):
+    jog_id: str
+    node: int
+    mode: Literal["pv", "pt"]
+    value: float  # rpm (pv) or % rated torque (pt)
+    keepalive_ms: int
+    state: JogStateName
+    stop_reason: str | None = None  # why it stopped: keep-alive missed, socket closed, EMCY …
+    owner: str | None = None  # the client id that started it
+
+
+class LimitsRequest(RequestBody):
+    """PUT …/drive/limits: MotionLimits, strict (true/false is not a number)."""
+
+    max_velocity_rpm: StrictFloat = Field(gt=0)
+    max_torque_pct: StrictFloat = Field(gt=0)
+    min_position_rev: StrictFloat | None = None
+    max_position_rev: StrictFloat | None = None
+
+
+class QuickStopResult(BaseModel):
+    """`POST /api/quick-stop`: which drives were told to stop, and which could not be."""
+
+    stopped: list[int]
+    failed: dict[str, str]  # node (as text: JSON keys) -> why

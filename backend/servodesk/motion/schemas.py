@@ -1,0 +1,178 @@
+"""The motion API's bodies (pydantic v2): what the motion service returns and the routes send.
+
+Field names are the public contract the routes and the browser page code against. Units are
+spelt in the names: `_inc` encoder increments (motor side), `_rev` revolutions, `_rpm`, `_pct`
+of rated torque, `_rpm_s` rpm per second.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, Field
+
+from servodesk.model_base import JsonInt, RequestBody
+
+DriveStateName = Literal[
+    "not_ready_to_switch_on",
+    "switch_on_disabled",
+    "ready_to_switch_on",
+    "switched_on",
+    "operation_enabled",
+    "quick_stop_active",
+    "fault_reaction_active",
+    "fault",
+]
+EnableReasonCode = Literal[
+    "nmt_stopped",
+    "nmt_not_operational",
+    "fault",
+    "voltage_disabled",
+    "quick_stop_active",
+    "mode_unsupported",
+    "halt_set",
+    "held_by_other",
+    "timeout",
+    "fault_reset_high",
+    "not_ready",
+    "not_enabled",
+]
+JogMode = Literal["pv", "pt"]
+IpTrajectory = Literal["point_to_point", "sine"]
+
+
+class StatusBit(BaseModel):
+    bit: int
+    name: str
+    on: bool
+
+
+class FaultInfo(BaseModel):
+    """The drive's active fault: 603Fh (and the code a profile names it by), decoded."""
+
+    code: int  # 603Fh Error code (MDi: the alarm number)
+    code_hex: str
+    name: str | None = None  # from the profile's fault table (or the CiA 402 class)
+    text: str | None = None  # what to check, where the table says
+    source: str | None = None  # e.g. "MDi-S1-C CANopen manual §4.1"
+
+
+class MotionLimits(BaseModel):
+    max_velocity_rpm: float = Field(gt=0)
+    max_torque_pct: float = Field(gt=0)
+    min_position_rev: float | None = None
+    max_position_rev: float | None = None
+
+
+class HomingProgress(BaseModel):
+    method: int
+    phase: Literal["running", "attained", "error", "interrupted"]
+    message: str
+    position_inc: int | None
+
+
+class MoveProgress(BaseModel):
+    target_inc: int
+    phase: Literal["moving", "reached", "error"]
+    queued: int
+
+
+class DriveState(BaseModel):
+    node: int
+    state: DriveStateName
+    state_label: str
+    statusword: int
+    status_bits: list[StatusBit]
+    controlword: int
+    last_transition: str | None  # e.g. "enable operation (4)": the transition just taken
+    mode: str | None  # 6060h as a short name ("pp", "pv", …)
+    mode_display: str | None  # 6061h as a short name
+    supported_modes: list[str]  # from 6502h
+    position_inc: int
+    position_rev: float
+    velocity_rpm: float
+    torque_pct: float | None
+    following_error_inc: int | None
+    digital_inputs: int | None
+    inputs: dict[str, bool]  # "negative_limit", "positive_limit", "home_switch" from 60FDh
+    homed: bool | None
+    homing: HomingProgress | None
+    move: MoveProgress | None
+    target_reached: bool
+    fault: FaultInfo | None
+    nmt_state: str
+    counts_per_rev: int
+    gear_ratio: tuple[int, int] | None  # 6091h:01 motor revolutions : 6091h:02 shaft
+    limits: MotionLimits
+
+
+class EnableReason(BaseModel):
+    code: EnableReasonCode
+    message: str
+
+
+class MoveRequest(RequestBody):
+    mode: Literal["pp"] = "pp"
+    position_rev: float
+    relative: bool = False
+    velocity_rpm: float = Field(gt=0)
+    acceleration_rpm_s: float | None = Field(default=None, gt=0)
+    immediately: bool = False
+
+
+class MoveQueueRequest(RequestBody):
+    moves: list[MoveRequest] = Field(min_length=1, max_length=64)
+
+
+class HomeRequest(RequestBody):
+    method: JsonInt
+    fast_rpm: float | None = Field(default=None, gt=0)
+    slow_rpm: float | None = Field(default=None, gt=0)
+    acceleration_rpm_s: float | None = Field(default=None, gt=0)
+    offset_inc: JsonInt | None = None
+
+
+class JogStartRequest(RequestBody):
+    mode: JogMode
+    value: float  # rpm (pv) or % rated torque (pt)
+
+
+class IpStreamRequest(RequestBody):
+    trajectory: IpTrajectory
+    period_ms: JsonInt = Field(ge=1, le=20)
+    distance_rev: float
+    duration_s: float = Field(gt=0, le=30)
+
+
+class PathStep(BaseModel):
+    direction: Literal["negative", "positive"]
+    speed: Literal["fast", "slow"]
+    until: str  # e.g. "negative limit switch rises"
+
+
+class HomingMethodInfo(BaseModel):
+    method: int
+    name: str
+    description: str
+    path: list[PathStep]
+
+
+class IpStreamResult(BaseModel):
+    """What an interpolated-position stream did: how closely the axis followed the plan and how
+    regular the tool's SYNC was."""
+
+    node: int
+    trajectory: IpTrajectory
+    period_ms: int
+    points: int  # set-points sent
+    syncs: int  # SYNC frames the tool sent during the stream
+    duration_s: float
+    max_lag_inc: int  # worst |planned − actual| sampled during the stream
+    max_lag_rev: float
+    final_error_inc: int  # |planned end − actual| after the settle
+    sync_jitter_ms: float  # worst deviation of a SYNC interval from the period
+    sync_interval_max_ms: float
+    stalled: bool  # the stream stopped before its end
+    fault: FaultInfo | None  # e.g. MDi alarm 62 (SYNC lost) when the stream stalled
+    message: str
+    state: DriveState

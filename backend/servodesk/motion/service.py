@@ -1,0 +1,212 @@
+"""MotionService: the CiA 402 drive panel over each node's session.
+
+Every drive access is a step on the node's worker thread (`NodeSession.run`); stopping uses the
+session's priority lane so it never waits behind queued SDO work or a transaction. The state
+machine follows MDi-S1-C CANopen manual §3.2 (figure 3.2) with the controlwords of
+`servodesk_protocol.cia402`; a transition that does not happen within the drive's time
+(settings.motion_transition_timeout[s]) raises EnableBlockedError naming what blocks it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import canopen
+
+from servodesk.errors import CommTimeoutError, NodeStoppedError
+from servodesk.motion import drive_io as io
+from servodesk.motion.core import state_of
+from servodesk.motion.errors import LimitError
+from servodesk.motion.ip import IpOps
+from servodesk.motion.schemas import DriveState, EnableReason, MotionLimits
+from servodesk.network.sync import SyncService
+from servodesk.nodes.access import NodeAccess
+from servodesk.pdo.service import PdoService
+from servodesk.settings import Settings
+from servodesk_protocol.cia402 import (
+    CW_FAULT_RESET,
+    CW_HALT,
+    CW_NEW_SETPOINT,
+    Cia402State,
+    enable_sequence,
+    make_disable_voltage,
+    make_fault_reset,
+    make_quick_stop,
+    make_shutdown,
+)
+
+S = Cia402State
+MAX_STEPS = 8  # the longest way to Operation enabled (from Fault) is 5 controlwords
+
+
+class MotionService(IpOps):
+    def __init__(
+        self,
+        registry: NodeAccess,
+        settings: Settings,
+        pdos: PdoService | None = None,
+        *,
+        sync: SyncService | None = None,
+    ) -> None:
+        super().__init__(registry, settings, sync=sync)
+        self._pdos = pdos  # for a later RPDO stop path; stops use the priority lane today
+
+    # ------------------------------------------------------------------ state machine
+
+    async def enable(self, node: int) -> DriveState:
+        """To Operation enabled from whatever state the drive is in (enable_sequence: fault
+        reset on a real 0 → 1 edge of bit 7, quick stop left through Switch on disabled)."""
+        snap = await self._reachable(node)
+        await self._refresh_statics(node)
+        self._axis(node).target_user = None
+        state = state_of(snap.statusword)
+        for _ in range(MAX_STEPS):
+            if state is S.OPERATION_ENABLED:
+                return await self.state(node)
+            left = _leaves(state)
+            if state in (S.NOT_READY_TO_SWITCH_ON, S.FAULT_REACTION_ACTIVE):
+                # the drive leaves these by itself (transitions 1 and 14)
+                ok, sw = await self._wait(node, left, self._transition_timeout(node))
+            else:
+                word = enable_sequence(state)[0]
+                if state is S.FAULT:
+                    await self._controlword(node, make_disable_voltage())  # bit 7 to 0 first
+                    word = make_fault_reset()
+                await self._controlword(node, word)
+                ok, sw = await self._wait(node, left, self._transition_timeout(node))
+                if state is S.FAULT and ok:
+                    await self._controlword(node, make_disable_voltage())  # bit 7 back to 0
+            if not ok:
+                raise await self._blocked(node)
+            state = state_of(sw)
+        raise await self._blocked(node)
+
+    async def disable(self, node: int) -> DriveState:
+        """Power stage off: shutdown (transitions 8, 6) to Ready to switch on; a quick stop
+        is left with disable voltage (12)."""
+        self._drop_tasks(node)
+        snap = await self._reachable(node)
+        state = state_of(snap.statusword)
+        if state in (S.OPERATION_ENABLED, S.SWITCHED_ON):
+            await self._controlword(node, make_shutdown())
+            ok, _ = await self._wait(
+                node, lambda w: state_of(w) is S.READY_TO_SWITCH_ON, self._transition_timeout(node)
+            )
+        elif state is S.QUICK_STOP_ACTIVE:
+            await self._controlword(node, make_disable_voltage())
+            ok, _ = await self._wait(
+                node, lambda w: state_of(w) is S.SWITCH_ON_DISABLED, self._transition_timeout(node)
+            )
+        else:
+            ok = True
+        if not ok:
+            raise await self._blocked(node, target=S.READY_TO_SWITCH_ON)
+        return await self.state(node)
+
+    async def quick_stop(self, node: int) -> DriveState:
+        """Quick stop (controlword 0002h, transition 11): the drive stops as 605Ah says and
+        stays in Quick stop active (5–8) or ends in Switch on disabled. Sent on the priority
+        lane; in any other state 0002h only disables voltage, so it is always safe."""
+        self._drop_tasks(node)
+        await self._registry.session(node).priority(
+            lambda r: io.write_controlword(r, make_quick_stop()), what=f"quick stop node {node}"
+        )
+        return await self.state(node)
+
+    async def fault_reset(self, node: int) -> DriveState:
+        """Fault → Switch on disabled (15) on a real 0 → 1 edge of bit 7: 0000h, then 0080h,
+        then 0000h again (a bit 7 left high blocks every later command)."""
+        snap = await self._reachable(node)
+        if state_of(snap.statusword) is not S.FAULT and not snap.statusword & 0x0008:
+            return self._build(node, snap)
+        await self._controlword(node, make_disable_voltage())
+        await self._controlword(node, make_fault_reset())
+        ok, _ = await self._wait(
+            node, lambda w: state_of(w) is not S.FAULT, self._transition_timeout(node)
+        )
+        await self._controlword(node, make_disable_voltage())
+        if not ok:
+            raise await self._blocked(node, target=S.SWITCH_ON_DISABLED)
+        return await self.state(node)
+
+    async def stop(self, node: int, *, reason: str, quick: bool = False) -> None:
+        """Bring the axis to a stop without waiting behind queued work (priority lane).
+
+        Default: the halt bit (8) in Operation enabled — the axis decelerates on its profile
+        deceleration and stays enabled, so a hold-to-run jog can be re-armed. `quick`, or a
+        drive not in Operation enabled: quick stop 0002h, which ramps as 605Ah says and never
+        enables anything. The read of 6041h and the write are one step on the node's thread.
+        """
+        self._drop_tasks(node)
+
+        def halt(remote: canopen.RemoteNode) -> None:
+            if quick:
+                io.write_controlword(remote, make_quick_stop())
+                return
+            sw = io.read_statusword(remote)
+            if state_of(sw) is not S.OPERATION_ENABLED:
+                return  # nothing moves outside Operation enabled
+            cw = io.read(remote, 0x6040, signed=False) or 0x000F  # Controlword
+            io.write_controlword(remote, (cw | CW_HALT) & ~CW_NEW_SETPOINT & ~CW_FAULT_RESET)
+
+        await self._registry.session(node).priority(halt, what=f"stop node {node}: {reason}")
+
+    async def set_mode(self, node: int, mode: str) -> DriveState:
+        """Write 6060h ("pp", "pv", "pt", "hm", "ip", …) and wait for 6061h to show it."""
+        await self._set_mode(node, self._mode_value(node, mode))
+        return await self.state(node)
+
+    # ------------------------------------------------------------------ limits
+
+    def limits(self, node: int) -> MotionLimits:
+        self._registry.info(node)  # NodeNotFoundError for an unknown node
+        return self._axis(node).limits
+
+    def set_limits(self, node: int, limits: MotionLimits) -> MotionLimits:
+        """Server-side limits for every later command of this node (never above the drive's
+        own overspeed object and 6072h)."""
+        drive = self._default_limits(node, self._axis(node).statics)
+        if limits.max_velocity_rpm > drive.max_velocity_rpm:
+            raise LimitError(
+                node,
+                f"{limits.max_velocity_rpm} rpm is above the drive's own limit "
+                f"{drive.max_velocity_rpm:g} rpm",
+            )
+        if limits.max_torque_pct > drive.max_torque_pct:
+            raise LimitError(
+                node,
+                f"{limits.max_torque_pct} % is above the drive's max torque "
+                f"{drive.max_torque_pct:g} % (6072h)",
+            )
+        low, high = limits.min_position_rev, limits.max_position_rev
+        if low is not None and high is not None and low >= high:
+            raise LimitError(node, f"travel limits {low} … {high} rev are empty")
+        self._axis(node).limits = limits
+        return limits
+
+    # ------------------------------------------------------------------ helpers
+
+    def _drop_tasks(self, node: int) -> None:
+        """Whatever the service was feeding the axis ends: queue, jog, IP stream."""
+        axis = self._axis(node)
+        axis.cancel_queue()
+        axis.jog = None
+        axis.target_user = None
+        self.cancel_stream(node)
+
+    async def _reachable(self, node: int) -> io.Snapshot:
+        """A reading, or EnableBlockedError naming NMT Stopped / no answer."""
+        try:
+            return await self._snapshot(node)
+        except (CommTimeoutError, NodeStoppedError) as error:
+            reasons = (
+                []
+                if self._nmt(node) == "stopped"
+                else [EnableReason(code="timeout", message=str(error))]
+            )
+            raise await self._blocked(node, extra=reasons) from error
+
+
+def _leaves(state: Cia402State) -> Callable[[int], bool]:
+    """A statusword test: the drive is no longer in `state`."""
+    return lambda statusword: state_of(statusword) is not state

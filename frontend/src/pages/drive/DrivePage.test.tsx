@@ -1,0 +1,211 @@
+import { fireEvent, screen, waitFor, within } from "@testing-library/react";
+import userEvent from "@testing-library/user-event";
+import { afterEach, describe, expect, it, vi } from "vitest";
+
+import { CLIENT_ID } from "../../live/clientId";
+import { LiveStore } from "../../live/store";
+import { json, stubFetch, type Handler } from "../../test/fetchStub";
+import { renderPage } from "../../test/render";
+import { DrivePage } from "./DrivePage";
+import { CONTROLLER, DRIVE, ENABLED, METHODS } from "./fixtures";
+
+afterEach(() => {
+  vi.unstubAllGlobals();
+});
+
+const BASE: Record<string, Handler | object> = {
+  "GET /api/nodes/1/drive": DRIVE,
+  "GET /api/nodes/1/drive/controller": CONTROLLER,
+  "GET /api/nodes/1/drive/homing-methods": METHODS,
+};
+
+function render(routes: Record<string, Handler | object> = {}, store = new LiveStore()) {
+  const fetch = stubFetch({ ...BASE, ...routes });
+  renderPage(<DrivePage node={1} />, "/nodes/1/drive", store);
+  return { fetch, store };
+}
+
+describe("DrivePage", () => {
+  it("shows the state on the diagram, the statusword lamps and the values", async () => {
+    render();
+    const diagram = await screen.findByRole("img", {
+      name: /CiA 402 state diagram: Switch on disabled/,
+    });
+    expect(
+      diagram.querySelector('[data-state="switch_on_disabled"]')?.getAttribute("class"),
+    ).toContain("current");
+    expect(screen.getByTestId("statusword").textContent).toBe("6041h = 0250h");
+    const bits = within(screen.getByRole("list", { name: "Statusword bits" }));
+    expect(bits.getByLabelText("Switch on disabled: on")).toBeTruthy();
+    expect(bits.getByLabelText("Operation enabled: off")).toBeTruthy();
+    expect(screen.getByLabelText("Home switch (HW): on")).toBeTruthy();
+    expect(screen.getByTestId("position").textContent).toContain("1.000 rev");
+    expect(screen.getByTestId("mode").textContent).toBe("Profile position (PP)");
+    expect(await screen.findByTestId("heartbeat-protection")).toBeTruthy();
+    expect(screen.getByTestId("controller").textContent).toBe("Nobody controls this drive");
+    // commands that take a transition from here are open, with their numbers
+    const shutdown = screen.getByRole("button", { name: "Shutdown" });
+    expect(shutdown).toHaveProperty("disabled", false);
+    expect(shutdown.title).toBe("Controlword 0006h: transition 2");
+    expect(screen.getByRole("button", { name: "Fault reset" })).toHaveProperty("disabled", true);
+  });
+
+  it("answers why it won't enable, with the way out", async () => {
+    const { fetch } = render({
+      "POST /api/nodes/1/drive/enable": json(
+        {
+          error: "enable_blocked",
+          message: "node 1 does not enable",
+          reasons: [
+            { code: "nmt_not_operational", message: "Node 1 is Pre-operational: PDOs are off" },
+            { code: "voltage_disabled", message: "Bit 4 voltage enabled is 0: no DC bus" },
+          ],
+          state: DRIVE,
+        },
+        409,
+      ),
+    });
+    await userEvent.click(await screen.findByRole("button", { name: "Enable" }));
+    const why = await screen.findByRole("alert", { name: "Why won't it enable?" });
+    expect(within(why).getByText("Node 1 is Pre-operational: PDOs are off")).toBeTruthy();
+    expect(within(why).getByText("Bit 4 voltage enabled is 0: no DC bus")).toBeTruthy();
+    expect(within(why).getByRole("button", { name: /Start node 1/ })).toBeTruthy();
+    const call = fetch.calls.find((c) => c.path === "/api/nodes/1/drive/enable");
+    expect(call).toBeDefined();
+  });
+
+  it("enables and highlights the transition just taken", async () => {
+    const { fetch } = render({ "POST /api/nodes/1/drive/enable": ENABLED });
+    await userEvent.click(await screen.findByRole("button", { name: "Enable" }));
+    await screen.findByRole("img", { name: /Operation enabled, after transition 4/ });
+    const arrow = document.querySelector('[data-transition="4"]');
+    expect(arrow?.getAttribute("class")).toContain("active");
+    expect(screen.getByTestId("drive-state").textContent).toBe("Operation enabled");
+    expect(fetch.calls.some((c) => c.path === "/api/nodes/1/drive/enable")).toBe(true);
+  });
+
+  it("sends the tab's client id with every call", async () => {
+    const headers: string[] = [];
+    render({
+      "GET /api/nodes/1/drive": (request: Request) => {
+        headers.push(request.headers.get("X-Client-Id") ?? "");
+        return DRIVE;
+      },
+    });
+    await screen.findByTestId("statusword");
+    expect(headers[0]).toBe(CLIENT_ID);
+  });
+
+  it("quick stops in one click", async () => {
+    const { fetch } = render({
+      "POST /api/nodes/1/drive/quick-stop": {
+        ...ENABLED,
+        state: "quick_stop_active",
+        statusword: 0x0217,
+      },
+    });
+    await userEvent.click(screen.getByRole("button", { name: "Quick stop node 1" }));
+    expect(await screen.findByText("Quick stop active", { selector: ".badge" })).toBeTruthy();
+    expect(fetch.calls.filter((c) => c.path === "/api/nodes/1/drive/quick-stop")).toHaveLength(1);
+  });
+
+  it("offers take over when another tab controls the drive", async () => {
+    const { fetch } = render({
+      "GET /api/nodes/1/drive/controller": {
+        ...CONTROLLER,
+        holder: { client_id: "other", name: "Firefox tab 9f3a", since: 1 },
+      },
+      "POST /api/nodes/1/drive/controller": {
+        ...CONTROLLER,
+        holder: { client_id: CLIENT_ID, since: 2 },
+        you: true,
+      },
+    });
+    expect(await screen.findByText("Controlled by Firefox tab 9f3a")).toBeTruthy();
+    expect(screen.getByRole("button", { name: "Enable" })).toHaveProperty("disabled", true);
+    await userEvent.click(screen.getByRole("button", { name: "Take over" }));
+    expect(await screen.findByText("You control this drive")).toBeTruthy();
+    const body = fetch.calls.find(
+      (c) => c.method === "POST" && c.path.endsWith("/controller"),
+    )?.body;
+    expect(JSON.parse(body ?? "{}")).toMatchObject({ take_over: true });
+  });
+
+  it("jogs PV only while the button is held", async () => {
+    let keepalives = 0;
+    const { fetch } = render({
+      "GET /api/nodes/1/drive": ENABLED,
+      "POST /api/nodes/1/jog": {
+        jog_id: "j1",
+        node: 1,
+        mode: "pv",
+        value: 60,
+        keepalive_ms: 300,
+        state: "running",
+      },
+      "POST /api/jog/j1/keepalive": () => {
+        keepalives += 1;
+        return { jog_id: "j1" };
+      },
+      "DELETE /api/jog/j1": { jog_id: "j1", state: "stopped" },
+    });
+    await userEvent.click(await screen.findByRole("tab", { name: "Profile velocity (PV)" }));
+    const plus = screen.getByRole("button", { name: /Hold \+60 rpm/ });
+    fireEvent.pointerDown(plus, { button: 0 });
+    await waitFor(() => expect(keepalives).toBeGreaterThanOrEqual(2), { timeout: 1500 });
+    expect(screen.getByTestId("jog-pv-status").textContent).toContain("Moving");
+    fireEvent.pointerUp(plus);
+    await waitFor(() => expect(fetch.calls.some((c) => c.method === "DELETE")).toBe(true));
+    const start = fetch.calls.find((c) => c.path === "/api/nodes/1/jog");
+    expect(JSON.parse(start?.body ?? "{}")).toEqual({
+      mode: "pv",
+      velocity_rpm: 60,
+      keepalive_ms: 300,
+    });
+    const after = keepalives;
+    await new Promise((resolve) => setTimeout(resolve, 250));
+    expect(keepalives).toBe(after);
+  });
+
+  it("draws each homing method and starts the picked one", async () => {
+    const { fetch } = render({
+      "GET /api/nodes/1/drive": ENABLED,
+      "POST /api/nodes/1/drive/home": {
+        ...ENABLED,
+        homing: { method: 35, phase: "attained", message: "", position_inc: 0 },
+      },
+    });
+    const diagram17 = await screen.findByTestId("homing-diagram-17");
+    expect(diagram17.getAttribute("aria-label")).toContain(
+      "fast negative until negative limit switch rises",
+    );
+    expect(screen.getByTestId("homing-diagram-35").getAttribute("aria-label")).toContain(
+      "no motion",
+    );
+    await userEvent.click(screen.getByRole("radio", { name: /35 Current position/ }));
+    await userEvent.click(screen.getByRole("button", { name: "Start homing (method 35)" }));
+    expect(await screen.findByText("Homing attained")).toBeTruthy();
+    const body: unknown = JSON.parse(
+      fetch.calls.find((c) => c.path.endsWith("/home"))?.body ?? "{}",
+    );
+    expect(body).toEqual({
+      method: 35,
+      fast_rpm: 100,
+      slow_rpm: 20,
+      acceleration_rpm_s: 500,
+      offset_inc: 0,
+    });
+  });
+
+  it("takes pushed drive states from the socket", async () => {
+    const store = new LiveStore();
+    const sent: unknown[] = [];
+    store.setLink({ state: "open", attempt: 0, retryAt: null });
+    store.setSender((m) => sent.push(m) > 0);
+    render({}, store);
+    await screen.findByTestId("statusword");
+    expect(sent).toContainEqual({ type: "watch_drive", node: 1 });
+    store.apply({ type: "drive_state", state: { ...ENABLED, statusword: 0x1637 } });
+    expect(await screen.findByText("6041h = 1637h")).toBeTruthy();
+  });
+});

@@ -1,0 +1,84 @@
+import { useState, type ReactNode } from "react";
+
+import { ErrorText } from "../../components/ErrorText";
+import { Spinner } from "../../components/Spinner";
+import { ControllerBar } from "./ControllerBar";
+import { DriveControls } from "./DriveControls";
+import { DriveValues } from "./DriveValues";
+import type { HeldByOtherError } from "./driveApi";
+import { HomingWizard } from "./HomingWizard";
+import { JogPanel } from "./JogPanel";
+import { LimitsCard } from "./LimitsCard";
+import { QuickStopButton } from "./QuickStopButton";
+import { StateDiagram } from "./StateDiagram";
+import { STATE_LABELS } from "./stateMachine";
+import { StatusLamps } from "./StatusLamps";
+import { useController, useDrive } from "./useDrive";
+
+/** The CiA 402 drive panel: state machine, statusword, actual values, limits, control lease,
+ * jog per mode and homing — with Quick stop always one click away. */
+export function DrivePage({ node }: { node: number }): ReactNode {
+  const { drive, error, show } = useDrive(node);
+  const controller = useController(node);
+  const [heldBy, setHeldBy] = useState<HeldByOtherError | null>(null);
+  const mayCommand = !(controller.controller?.holder && !controller.controller.you);
+
+  return (
+    <div className="drive-page">
+      <div className="drive-bar" role="toolbar" aria-label="Drive control">
+        <QuickStopButton node={node} onStopped={show} />
+        {drive && (
+          <span className={`badge drive-state state-${drive.state}`} data-testid="drive-state">
+            {STATE_LABELS[drive.state]}
+          </span>
+        )}
+        {drive && drive.nmt_state !== "operational" && (
+          <span className="badge drive-warn">NMT {drive.nmt_state}</span>
+        )}
+        <span className="spacer" />
+        <ControllerBar node={node} controller={controller.controller} show={controller.show} />
+      </div>
+      {heldBy && (
+        <p className="error-text" role="alert">
+          {heldBy.message}{" "}
+          <button type="button" className="small" onClick={() => setHeldBy(null)}>
+            Dismiss
+          </button>
+        </p>
+      )}
+      <ErrorText error={error ?? controller.error} />
+      {!drive ? (
+        !error && <Spinner label="Reading the drive" />
+      ) : (
+        <>
+          <div className="drive-grid">
+            <section className="card drive-machine" aria-labelledby="drive-machine-heading">
+              <header className="card-header">
+                <h2 id="drive-machine-heading">State machine</h2>
+                <span className="muted small">CiA 402 · MDi-S1-C CANopen manual §3.2.1</span>
+              </header>
+              <StateDiagram state={drive.state} lastTransition={drive.last_transition} />
+              {drive.last_transition && (
+                <p className="muted small">Last transition: {drive.last_transition}</p>
+              )}
+              <DriveControls
+                node={node}
+                drive={drive}
+                show={show}
+                mayCommand={mayCommand}
+                onHeldByOther={setHeldBy}
+              />
+            </section>
+            <div className="drive-side">
+              <StatusLamps drive={drive} />
+              <DriveValues drive={drive} />
+              <LimitsCard node={node} limits={drive.limits} mayCommand={mayCommand} />
+            </div>
+          </div>
+          <JogPanel node={node} drive={drive} show={show} mayCommand={mayCommand} />
+          <HomingWizard node={node} drive={drive} show={show} mayCommand={mayCommand} />
+        </>
+      )}
+    </div>
+  );
+}

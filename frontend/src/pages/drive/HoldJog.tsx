@@ -1,0 +1,134 @@
+import { useMemo, useState, type ReactNode } from "react";
+
+import { useLiveStore } from "../../live/context";
+import { HoldButton } from "./HoldButton";
+import { KEEPALIVE_TIMEOUT_MS, type HoldSnapshot, type HoldTransport } from "./holdToRun";
+import { jogKeepalive, startJog, stopJog } from "./driveApi";
+import type { DriveState, JogMode } from "./types";
+import { checkRange, formatPct, formatRpm } from "./units";
+
+/** Keep-alives go on the WebSocket while it is open (cheaper), else over REST; a jog the
+ * server reported stopped (keep-alive missed, EMCY, quick stop …) ends the hold. */
+function useJogTransport(node: number, mode: JogMode, value: () => number): HoldTransport {
+  const store = useLiveStore();
+  return useMemo(
+    () => ({
+      start: async () => (await startJog(node, mode, value(), KEEPALIVE_TIMEOUT_MS)).jog_id,
+      keepalive: (jogId: string) => {
+        const stopped = store.getSnapshot().jogStopped;
+        if (stopped?.jog_id === jogId) {
+          throw new Error(`Stopped by the server: ${stopped.stop_reason ?? "jog ended"}`);
+        }
+        if (store.send({ type: "jog_keepalive", jog_id: jogId })) return undefined;
+        return jogKeepalive(jogId);
+      },
+      stop: async (jogId: string) => {
+        store.send({ type: "jog_stop", jog_id: jogId });
+        await stopJog(jogId);
+      },
+    }),
+    [store, node, mode, value],
+  );
+}
+
+const TEXT: Record<JogMode, { what: string; unit: string; initial: string }> = {
+  pv: { what: "Speed", unit: "rpm", initial: "60" },
+  pt: { what: "Torque", unit: "%", initial: "10" },
+};
+
+/** PV or PT jog: two hold-to-run buttons at the chosen speed or torque. */
+export function HoldJog({
+  node,
+  mode,
+  drive,
+  mayCommand,
+}: {
+  node: number;
+  mode: JogMode;
+  drive: DriveState;
+  mayCommand: boolean;
+}): ReactNode {
+  const text = TEXT[mode];
+  const [amount, setAmount] = useState(text.initial);
+  const [hold, setHold] = useState<HoldSnapshot | null>(null);
+  const max = mode === "pv" ? drive.limits.max_velocity_rpm : drive.limits.max_torque_pct;
+  const check = checkRange(amount, { positive: true, max });
+  const size = check.value ?? 0;
+  const forward = useJogTransport(
+    node,
+    mode,
+    useMemo(() => () => size, [size]),
+  );
+  const backward = useJogTransport(
+    node,
+    mode,
+    useMemo(() => () => -size, [size]),
+  );
+  const enabled = drive.state === "operation_enabled";
+  const why = !mayCommand
+    ? "Another client controls this drive"
+    : !enabled
+      ? "Enable the drive first"
+      : check.error;
+  const id = `jog-${mode}-amount`;
+
+  return (
+    <div className="hold-jog">
+      <div className="drive-form">
+        <label htmlFor={id}>
+          <span>
+            {text.what} ({text.unit})
+          </span>
+          <input
+            id={id}
+            className="narrow"
+            inputMode="decimal"
+            aria-invalid={check.error !== null}
+            value={amount}
+            onChange={(e) => setAmount(e.target.value)}
+          />
+        </label>
+        <span className="muted small">
+          {mode === "pv"
+            ? `limit ${formatRpm(drive.limits.max_velocity_rpm)}`
+            : `limit ${formatPct(drive.limits.max_torque_pct)}, speed capped at ${formatRpm(drive.limits.max_velocity_rpm)}`}
+        </span>
+      </div>
+      <div className="hold-row">
+        <HoldButton
+          label={`◀ Hold −${size || ""} ${text.unit}`}
+          transport={backward}
+          disabled={why !== null}
+          onChange={setHold}
+        />
+        <HoldButton
+          label={`Hold +${size || ""} ${text.unit} ▶`}
+          transport={forward}
+          disabled={why !== null}
+          onChange={setHold}
+        />
+        <span className="hold-live" role="status" data-testid={`jog-${mode}-status`}>
+          {hold?.phase === "running"
+            ? "Moving — release to stop"
+            : hold?.phase === "starting"
+              ? "Starting…"
+              : "Stopped"}
+          {" · "}
+          {formatRpm(drive.velocity_rpm)}
+          {mode === "pt" && ` · ${formatPct(drive.torque_pct)}`}
+          {drive.target_reached && mode === "pv" && hold?.phase === "running" && " · at speed"}
+        </span>
+      </div>
+      {why && <p className="muted small">{why}</p>}
+      {hold?.error && (
+        <p className="error-text" role="alert">
+          {hold.error}
+        </p>
+      )}
+      <p className="muted small">
+        Hold-to-run: the axis moves only while the button is held (keep-alive every 100 ms; the
+        server stops it {KEEPALIVE_TIMEOUT_MS} ms after the last one).
+      </p>
+    </div>
+  );
+}

@@ -1,0 +1,177 @@
+import { useEffect, useRef, useState, type ReactNode } from "react";
+
+import { ErrorText } from "../../components/ErrorText";
+import { Spinner } from "../../components/Spinner";
+import { useAction, useApi } from "../../lib/useApi";
+import { home, homingMethods } from "./driveApi";
+import { HomingDiagram } from "./HomingDiagram";
+import { HomingTimeline } from "./HomingTimeline";
+import { NumberField } from "./NumberField";
+import { homingStatus } from "./statusBits";
+import { addSample, type Sample } from "./timeline";
+import type { DriveState, HomeRequest } from "./types";
+import { checkRange, formatInc, formatRev } from "./units";
+
+const PHASE_TEXT = {
+  running: "Homing…",
+  attained: "Homing attained",
+  error: "Homing error",
+  interrupted: "Homing interrupted",
+} as const;
+
+/** Records the statusword while a run is on, for the timeline. */
+function useRunSamples(drive: DriveState, runStart: number | null): Sample[] {
+  const [samples, setSamples] = useState<Sample[]>([]);
+  const lastRun = useRef<number | null>(null);
+  useEffect(() => {
+    if (runStart === null) return;
+    const fresh = lastRun.current !== runStart;
+    lastRun.current = runStart;
+    const sample = { t: Date.now() - runStart, statusword: drive.statusword };
+    setSamples((old) => addSample(fresh ? [] : old, sample));
+  }, [drive, runStart]);
+  return runStart === null ? [] : samples;
+}
+
+/** Pick a method the drive supports (each drawn as its path), set speeds, start, watch. */
+export function HomingWizard({
+  node,
+  drive,
+  show,
+  mayCommand,
+}: {
+  node: number;
+  drive: DriveState;
+  show: (state: DriveState) => void;
+  mayCommand: boolean;
+}): ReactNode {
+  const methods = useApi((signal) => homingMethods(node, signal), `homing:${node}`);
+  const [picked, setPicked] = useState<number | null>(null);
+  const [fast, setFast] = useState("100");
+  const [slow, setSlow] = useState("20");
+  const [accel, setAccel] = useState("500");
+  const [offset, setOffset] = useState("0");
+  const [runStart, setRunStart] = useState<number | null>(null);
+  const samples = useRunSamples(drive, runStart);
+  const start = useAction(async (request: HomeRequest) => {
+    setRunStart(Date.now());
+    show(await home(node, request));
+  });
+
+  const list = methods.data ?? [];
+  const method = list.find((m) => m.method === picked) ?? list[0];
+  const f = checkRange(fast, { positive: true, max: drive.limits.max_velocity_rpm });
+  const s = checkRange(slow, { positive: true, max: drive.limits.max_velocity_rpm });
+  const a = checkRange(accel, { positive: true });
+  const o = checkRange(offset, {});
+  const valid = [f, s, a, o].every((c) => c.error === null);
+  const enabled = drive.state === "operation_enabled";
+  const homing = drive.homing;
+  const running = homing?.phase === "running";
+  const status = homingStatus(drive.statusword);
+
+  return (
+    <section className="card drive-homing" aria-labelledby="drive-homing-heading">
+      <header className="card-header">
+        <h2 id="drive-homing-heading">Homing</h2>
+        <span className="muted small">
+          MDi-S1-C CANopen manual §3.7 · Kinco servo CANopen manual §5.4.6
+        </span>
+      </header>
+      <ErrorText error={methods.error} onRetry={methods.reload} />
+      {methods.loading && !methods.data && <Spinner label="Loading homing methods" />}
+      {list.length > 0 && (
+        <div className="homing-methods" role="radiogroup" aria-label="Homing method">
+          {list.map((m) => (
+            <label
+              key={m.method}
+              className={m.method === method?.method ? "homing-method picked" : "homing-method"}
+            >
+              <span className="homing-method-title">
+                <input
+                  type="radio"
+                  name={`homing-${node}`}
+                  checked={m.method === method?.method}
+                  onChange={() => setPicked(m.method)}
+                />
+                <strong>{m.method}</strong> {m.name}
+              </span>
+              <HomingDiagram method={m} />
+              <span className="muted small">{m.description}</span>
+            </label>
+          ))}
+        </div>
+      )}
+      <div className="drive-form">
+        <NumberField
+          label="Fast (rpm)"
+          value={fast}
+          onChange={setFast}
+          error={f.error}
+          title="6099h:01 speed searching for the switch"
+        />
+        <NumberField
+          label="Slow (rpm)"
+          value={slow}
+          onChange={setSlow}
+          error={s.error}
+          title="6099h:02 speed searching for zero"
+        />
+        <NumberField
+          label="Acceleration (rpm/s)"
+          value={accel}
+          onChange={setAccel}
+          error={a.error}
+          title="609Ah homing acceleration"
+        />
+        <NumberField
+          label="Offset (inc)"
+          value={offset}
+          onChange={setOffset}
+          error={o.error}
+          title="607Ch home offset"
+        />
+        <button
+          type="button"
+          className="primary"
+          disabled={!method || !valid || !enabled || !mayCommand || start.busy || running}
+          onClick={() =>
+            method &&
+            void start.run({
+              method: method.method,
+              fast_rpm: f.value ?? undefined,
+              slow_rpm: s.value ?? undefined,
+              acceleration_rpm_s: a.value ?? undefined,
+              offset_inc: Math.round(o.value ?? 0),
+            })
+          }
+        >
+          Start homing{method ? ` (method ${method.method})` : ""}
+        </button>
+      </div>
+      {!enabled && <p className="muted small">Enable the drive to home it.</p>}
+      <ErrorText error={start.error} />
+      {homing && (
+        <div
+          className={`homing-progress ${homing.phase}`}
+          role="status"
+          data-testid="homing-progress"
+        >
+          <strong>{PHASE_TEXT[homing.phase]}</strong> · method {homing.method}
+          {homing.message && <span> · {homing.message}</span>}
+          {homing.phase === "attained" && (
+            <span data-testid="homing-result">
+              {" "}
+              · home at {formatInc(homing.position_inc ?? drive.position_inc)} (now{" "}
+              {formatRev(drive.position_rev)})
+            </span>
+          )}
+          {homing.phase === "running" && (
+            <span className={`badge drive-${status.tone}`}>{status.text}</span>
+          )}
+        </div>
+      )}
+      {samples.length > 0 && <HomingTimeline samples={samples} />}
+    </section>
+  );
+}

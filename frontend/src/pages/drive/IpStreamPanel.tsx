@@ -1,0 +1,145 @@
+import { useState, type ReactNode } from "react";
+
+import { ErrorText } from "../../components/ErrorText";
+import { Spinner } from "../../components/Spinner";
+import { useAction } from "../../lib/useApi";
+import { ipStream } from "./driveApi";
+import type { DriveState, IpStreamResult, IpTrajectory } from "./types";
+import { checkRange, formatInc, formatMs, formatRev } from "./units";
+
+/** Interpolated position: stream a point-to-point or sine trajectory with SYNC at 2 or 10 ms,
+ * then show how closely the axis followed and how regular the SYNC was. */
+export function IpStreamPanel({
+  node,
+  drive,
+  show,
+  mayCommand,
+}: {
+  node: number;
+  drive: DriveState;
+  show: (state: DriveState) => void;
+  mayCommand: boolean;
+}): ReactNode {
+  const [trajectory, setTrajectory] = useState<IpTrajectory>("point_to_point");
+  const [period, setPeriod] = useState(10);
+  const [distance, setDistance] = useState("2");
+  const [duration, setDuration] = useState("2");
+  const [result, setResult] = useState<IpStreamResult | null>(null);
+  const dist = checkRange(distance, {});
+  const dur = checkRange(duration, { positive: true, max: 30 });
+  const run = useAction(async () => {
+    setResult(null);
+    const answer = await ipStream(node, {
+      trajectory,
+      period_ms: period,
+      distance_rev: dist.value ?? 0,
+      duration_s: dur.value ?? 1,
+    });
+    setResult(answer);
+    show(answer.state);
+  });
+  const enabled = drive.state === "operation_enabled";
+  const ok = dist.value !== null && dur.value !== null && enabled && mayCommand;
+
+  return (
+    <div className="ip-stream">
+      <div className="drive-form">
+        <label>
+          <span>Trajectory</span>
+          <select
+            value={trajectory}
+            onChange={(e) => setTrajectory(e.target.value as IpTrajectory)}
+          >
+            <option value="point_to_point">Point to point</option>
+            <option value="sine">Sine</option>
+          </select>
+        </label>
+        <fieldset className="inline">
+          <legend className="visually-hidden">SYNC period</legend>
+          {[2, 10].map((ms) => (
+            <label key={ms} className="check">
+              <input
+                type="radio"
+                name={`ip-period-${node}`}
+                checked={period === ms}
+                onChange={() => setPeriod(ms)}
+              />
+              {ms} ms
+            </label>
+          ))}
+        </fieldset>
+        <label>
+          <span>Distance (rev)</span>
+          <input
+            className="narrow"
+            inputMode="decimal"
+            aria-invalid={dist.error !== null}
+            value={distance}
+            onChange={(e) => setDistance(e.target.value)}
+          />
+        </label>
+        <label>
+          <span>Duration (s)</span>
+          <input
+            className="narrow"
+            inputMode="decimal"
+            aria-invalid={dur.error !== null}
+            value={duration}
+            onChange={(e) => setDuration(e.target.value)}
+          />
+        </label>
+        <button
+          type="button"
+          className="primary"
+          disabled={!ok || run.busy}
+          onClick={() => void run.run()}
+        >
+          Run stream
+        </button>
+        {run.busy && <Spinner label="Streaming" />}
+      </div>
+      {!enabled && <p className="muted small">Enable the drive to stream.</p>}
+      <ErrorText error={run.error} />
+      {result && (
+        <div className={result.stalled ? "ip-result bad" : "ip-result"} role="status">
+          <p>{result.message}</p>
+          <dl className="drive-facts">
+            <div>
+              <dt>Max lag</dt>
+              <dd className="num">
+                {formatInc(result.max_lag_inc)}
+                <span className="muted small block">{formatRev(result.max_lag_rev)}</span>
+              </dd>
+            </div>
+            <div>
+              <dt>Final error</dt>
+              <dd className="num">{formatInc(result.final_error_inc)}</dd>
+            </div>
+            <div>
+              <dt>SYNC jitter</dt>
+              <dd className="num" data-testid="sync-jitter">
+                {formatMs(result.sync_jitter_ms)}
+              </dd>
+            </div>
+            <div>
+              <dt>Longest SYNC interval</dt>
+              <dd className="num">{formatMs(result.sync_interval_max_ms)}</dd>
+            </div>
+            <div>
+              <dt>Set-points / SYNCs</dt>
+              <dd className="num">
+                {result.points} / {result.syncs}
+              </dd>
+            </div>
+          </dl>
+          {result.fault && (
+            <p className="error-text">
+              Fault {result.fault.code_hex}
+              {result.fault.name ? ` · ${result.fault.name}` : ""}
+            </p>
+          )}
+        </div>
+      )}
+    </div>
+  );
+}

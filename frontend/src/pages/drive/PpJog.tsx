@@ -1,0 +1,172 @@
+import { useState, type ReactNode } from "react";
+
+import { ErrorText } from "../../components/ErrorText";
+import { useAction } from "../../lib/useApi";
+import { move, moveQueue } from "./driveApi";
+import type { DriveState, MoveRequest } from "./types";
+import { checkRange, formatInc, formatRev } from "./units";
+
+function describeMove(m: MoveRequest): string {
+  const where = m.relative ? `by ${formatRev(m.position_rev)}` : `to ${formatRev(m.position_rev)}`;
+  return `${where} at ${m.velocity_rpm} rpm`;
+}
+
+/** Profile position: step ±, go to a position (absolute or relative), and a queued sequence. */
+export function PpJog({
+  node,
+  drive,
+  show,
+  mayCommand,
+}: {
+  node: number;
+  drive: DriveState;
+  show: (state: DriveState) => void;
+  mayCommand: boolean;
+}): ReactNode {
+  const [position, setPosition] = useState("1");
+  const [relative, setRelative] = useState(true);
+  const [velocity, setVelocity] = useState("120");
+  const [acceleration, setAcceleration] = useState("600");
+  const [immediately, setImmediately] = useState(false);
+  const [queue, setQueue] = useState<MoveRequest[]>([]);
+  const go = useAction(async (request: MoveRequest) => show(await move(node, request)));
+  const runQueue = useAction(async () => {
+    show(await moveQueue(node, queue));
+    setQueue([]);
+  });
+
+  const pos = checkRange(position, {});
+  const vel = checkRange(velocity, { positive: true, max: drive.limits.max_velocity_rpm });
+  const acc = checkRange(acceleration, { positive: true });
+  const valid = pos.value !== null && vel.value !== null && acc.value !== null;
+  const enabled = drive.state === "operation_enabled";
+  const allowed = valid && enabled && mayCommand && !go.busy;
+
+  const request = (positionRev: number, rel: boolean): MoveRequest => ({
+    mode: "pp",
+    position_rev: positionRev,
+    relative: rel,
+    velocity_rpm: vel.value ?? 0,
+    acceleration_rpm_s: acc.value ?? undefined,
+    immediately,
+  });
+  const step = Math.abs(pos.value ?? 0);
+
+  return (
+    <div className="pp-jog">
+      <div className="drive-form">
+        <label>
+          <span>Position (rev)</span>
+          <input
+            className="narrow"
+            inputMode="decimal"
+            aria-invalid={pos.error !== null}
+            value={position}
+            onChange={(e) => setPosition(e.target.value)}
+          />
+        </label>
+        <label className="check">
+          <input
+            type="checkbox"
+            checked={relative}
+            onChange={(e) => setRelative(e.target.checked)}
+          />
+          relative
+        </label>
+        <label>
+          <span>Velocity (rpm)</span>
+          <input
+            className="narrow"
+            inputMode="decimal"
+            aria-invalid={vel.error !== null}
+            title={vel.error ?? undefined}
+            value={velocity}
+            onChange={(e) => setVelocity(e.target.value)}
+          />
+        </label>
+        <label>
+          <span>Acceleration (rpm/s)</span>
+          <input
+            className="narrow"
+            inputMode="decimal"
+            aria-invalid={acc.error !== null}
+            value={acceleration}
+            onChange={(e) => setAcceleration(e.target.value)}
+          />
+        </label>
+        <label className="check">
+          <input
+            type="checkbox"
+            checked={immediately}
+            onChange={(e) => setImmediately(e.target.checked)}
+          />
+          change immediately
+        </label>
+      </div>
+      <div className="button-row">
+        <button type="button" disabled={!allowed} onClick={() => void go.run(request(-step, true))}>
+          ◀ Step −{step}
+        </button>
+        <button type="button" disabled={!allowed} onClick={() => void go.run(request(step, true))}>
+          Step +{step} ▶
+        </button>
+        <button
+          type="button"
+          className="primary"
+          disabled={!allowed}
+          onClick={() => void go.run(request(pos.value ?? 0, relative))}
+        >
+          {relative ? "Move by" : "Go to"} {formatRev(pos.value)}
+        </button>
+        <button
+          type="button"
+          disabled={!valid || queue.length >= 64}
+          onClick={() => setQueue([...queue, request(pos.value ?? 0, relative)])}
+        >
+          Add to sequence
+        </button>
+        <ErrorText error={go.error} inline />
+      </div>
+      {!enabled && <p className="muted small">Enable the drive to move it.</p>}
+      {drive.move && (
+        <p className="small" role="status">
+          Move to {formatInc(drive.move.target_inc)}: {drive.move.phase}
+          {drive.move.queued > 0 && ` · ${drive.move.queued} queued`}
+        </p>
+      )}
+      {queue.length > 0 && (
+        <div className="pp-queue">
+          <ol aria-label="Move sequence">
+            {queue.map((m, i) => (
+              <li key={i}>
+                {describeMove(m)}
+                <button
+                  type="button"
+                  className="link-button small"
+                  aria-label={`Remove move ${i + 1}`}
+                  onClick={() => setQueue(queue.filter((_, j) => j !== i))}
+                >
+                  remove
+                </button>
+              </li>
+            ))}
+          </ol>
+          <div className="button-row">
+            <button
+              type="button"
+              className="primary"
+              disabled={!enabled || !mayCommand || runQueue.busy}
+              onClick={() => void runQueue.run()}
+            >
+              Run sequence ({queue.length})
+            </button>
+            <button type="button" onClick={() => setQueue([])}>
+              Clear
+            </button>
+            <ErrorText error={runQueue.error} inline />
+          </div>
+        </div>
+      )}
+    </div>
+  );
+}

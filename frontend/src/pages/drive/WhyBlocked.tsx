@@ -1,0 +1,52 @@
+import type { ReactNode } from "react";
+
+import { api, call } from "../../api/client";
+import { ErrorText } from "../../components/ErrorText";
+import { useAction } from "../../lib/useApi";
+import type { EnableBlockedError } from "./driveApi";
+
+const NMT_CODES: ReadonlySet<string> = new Set(["nmt_stopped", "nmt_not_operational"]);
+
+/** The answer to "Why won't it enable?": each reason in words, and the way out where the tool
+ * has one (an NMT state the drive does not enable in → start the node). */
+export function WhyBlocked({
+  node,
+  blocked,
+  onRetry,
+}: {
+  node: number;
+  blocked: EnableBlockedError;
+  onRetry: () => void;
+}): ReactNode {
+  const start = useAction(async () => {
+    await call(
+      api.POST("/api/nodes/{node}/nmt", { params: { path: { node } }, body: { command: "start" } }),
+    );
+    onRetry();
+  });
+  const nmt = blocked.reasons.some((r) => NMT_CODES.has(r.code));
+  return (
+    <section className="why-blocked" role="alert" aria-labelledby="why-blocked-heading">
+      <h3 id="why-blocked-heading">Why won&apos;t it enable?</h3>
+      {blocked.reasons.length === 0 ? (
+        <p>{blocked.message}</p>
+      ) : (
+        <ul>
+          {blocked.reasons.map((reason) => (
+            <li key={`${reason.code}:${reason.message}`} data-code={reason.code}>
+              {reason.message}
+            </li>
+          ))}
+        </ul>
+      )}
+      {nmt && (
+        <div className="button-row">
+          <button type="button" disabled={start.busy} onClick={() => void start.run()}>
+            Start node {node} (NMT Operational) and enable
+          </button>
+          <ErrorText error={start.error} inline />
+        </div>
+      )}
+    </section>
+  );
+}

@@ -1,0 +1,84 @@
+"""NodeSession.priority(): a stop jumps the queue and a transaction's gate, proven by the order
+of the SDO requests that reach the simulated drive (never by time)."""
+
+from __future__ import annotations
+
+import asyncio
+
+import pytest
+
+from servodesk.sdo.jobs import JobManager
+from tests.backend.sim_nodes import SdoTap, SimNodes
+
+pytestmark = pytest.mark.anyio
+
+DEVICE_TYPE = (0x1000, 0)  # Device type
+VENDOR = (0x1018, 1)  # Identity object: Vendor-ID
+CONTROLWORD = (0x6040, 0)  # CiA 402 controlword
+
+
+def objects(tap: SdoTap) -> list[tuple[int, int]]:
+    """The (index, sub-index) of each SDO request seen, in order."""
+    return [(int.from_bytes(f.data[1:3], "little"), f.data[3]) for f in tap.frames]
+
+
+async def test_priority_runs_before_queued_reads(nodes: SimNodes) -> None:
+    session = nodes.session(1)
+    tap = SdoTap(nodes, 1)
+    reads = [asyncio.create_task(session.upload(*DEVICE_TYPE)) for _ in range(20)]
+    await asyncio.sleep(0)  # all twenty queued on the worker, the first one running
+    await session.priority(lambda remote: remote.sdo.upload(*CONTROLWORD), what="stop")
+    await asyncio.gather(*reads)
+    tap.remove()
+    seen = objects(tap)
+    assert len(seen) == 21
+    # at most the read in progress went first; the other 19 queued ones came after the stop
+    assert seen.index(CONTROLWORD) <= 1
+
+
+async def test_priority_passes_a_transaction(nodes: SimNodes) -> None:
+    session = nodes.session(2)
+    tap = SdoTap(nodes, 2)
+    inside = asyncio.Event()
+    release = asyncio.Event()
+
+    async def transaction() -> str | None:
+        async with session.exclusive(actor="dcf") as tx:
+            await tx.upload(*DEVICE_TYPE)
+            inside.set()
+            await release.wait()  # the stop arrives between two steps
+            await tx.upload(*VENDOR)
+            return tx.interrupted
+
+    running = asyncio.create_task(transaction())
+    await inside.wait()
+    queued = asyncio.create_task(session.upload(*DEVICE_TYPE))  # waits at the gate
+    await session.priority(lambda remote: remote.sdo.upload(*CONTROLWORD), what="quick stop")
+    release.set()
+    interrupted = await running
+    await queued
+    tap.remove()
+    assert objects(tap) == [DEVICE_TYPE, CONTROLWORD, VENDOR, DEVICE_TYPE]
+    assert interrupted == "quick stop"
+
+
+async def test_priority_passes_an_upload_all_and_queued_reads(nodes: SimNodes) -> None:
+    """An upload-all job running and reads queued behind it: the stop is next after the
+    chunk in progress, ahead of every queued read."""
+    session = nodes.session(3)
+    tap = SdoTap(nodes, 3)
+    jobs = JobManager(nodes)
+    job = jobs.start_upload_all(3)
+    while not tap.frames:  # the job is reading
+        await asyncio.sleep(0.001)
+    reads = [asyncio.create_task(session.upload(*VENDOR)) for _ in range(20)]
+    await asyncio.sleep(0)
+    await session.priority(lambda remote: remote.sdo.upload(*CONTROLWORD), what="stop")
+    await asyncio.gather(*reads)
+    await jobs.cancel(job.id)
+    tap.remove()
+    seen = objects(tap)
+    before = seen[: seen.index(CONTROLWORD)]
+    # the job reads 1018h:01 once itself; none of the twenty queued reads went first
+    assert before.count(VENDOR) <= 1
+    assert seen.count(VENDOR) >= 20
