@@ -85,7 +85,7 @@ def test_profile_velocity_moves_the_axis(node: BaseNode402) -> None:
     start = node.sdo[0x6064].raw
     assert wait_until(lambda: abs(node.sdo[0x606C].raw - 120) <= 2)  # 2 rev/s = 120 rpm
     assert node.sdo[0x6041].raw & 0x0400  # target velocity reached
-    assert node.sdo[0x6064].raw > start
+    assert wait_until(lambda: node.sdo[0x6064].raw > start)  # Position actual value moves
 
 
 def test_profile_position_reaches_the_target(node: BaseNode402) -> None:
