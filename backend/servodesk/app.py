@@ -13,16 +13,20 @@ from servodesk import __version__
 from servodesk.api import (
     bus,
     drive,
+    faults,
     health,
     jog,
+    logs,
     nodes,
     od,
     params,
     paramsets,
     pdos,
+    recording,
     sdo,
     ws,
 )
+from servodesk.api import events as events_api
 from servodesk.api.errors import install_error_handlers
 from servodesk.api.schema import install_schema
 from servodesk.api.security import HostGuard, SameOriginGuard
@@ -45,6 +49,8 @@ def api_router() -> APIRouter:
     router.include_router(bus.sync_router)
     router.include_router(pdos.bus_router)
     router.include_router(ws.router)
+    for diagnostics in (faults, events_api, logs, recording):
+        router.include_router(diagnostics.router)
     return router
 
 

@@ -119,3 +119,19 @@ class PdoApplyError(ServodeskError):
     @property
     def code_hex(self) -> str | None:
         return None if self.abort_code is None else f"0x{self.abort_code:08X}"
+
+
+class NotFoundError(ServodeskError):
+    """Something the URL names does not exist (a decoded log); `kind` is the API's error kind."""
+
+    def __init__(self, kind: str, message: str) -> None:
+        self.kind = kind
+        super().__init__(message)
+
+
+class StateConflictError(ServodeskError):
+    """The request does not fit the current state (stopping a recording when none runs)."""
+
+    def __init__(self, kind: str, message: str) -> None:
+        self.kind = kind
+        super().__init__(message)

@@ -1,5 +1,6 @@
-"""Live state for the browser over one WebSocket: bus status, node states, events, and for the
-drive panel the watched drives' state (~10 Hz), who controls them, and stopped jogs.
+"""Live state for the browser over one WebSocket: bus status, node states, events, the timeline
+(every event of the event bus) and each node's active fault, and for the drive panel the watched
+drives' state (~10 Hz), who controls them, and stopped jogs.
 
 Each client keeps only the newest snapshot per kind plus a short queue of events, so a slow
 browser skips stale states instead of building up a backlog (docs/api.md, WebSocket). Message
@@ -10,18 +11,24 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import json
 import logging
 from collections import deque
+from collections.abc import Callable
 from typing import Any
 
 from servodesk.bus.connection import BusManager
 from servodesk.errors import ServodeskError
+from servodesk.events.bus import BusEvent, EventBus
+from servodesk.faults.models import Fault, TimelineEvent
 from servodesk.live_messages import (
     BusMessage,
     ControllerMessage,
     DriveStateMessage,
     EventMessage,
+    FaultMessage,
     JogStoppedMessage,
+    TimelineMessage,
     dump,
 )
 from servodesk.models import BusStatus, LiveEvent
@@ -37,12 +44,18 @@ BUS_PERIOD = 2.0  # s: bus status (counters) even when nothing changed
 DRIVE_PERIOD = 0.1  # s: a watched drive's state at ~10 Hz
 EVENT_BACKLOG = 100  # per client; older events are dropped for a client that does not read
 RECENT_EVENTS = 200  # kept by the server for pages that connect later (a reload loses none)
+# timeline events per client, apart from the events above: an EMCY storm never pushes the
+# Network page's events (or the history) out; a page that misses some sees a gap in the ids
+TIMELINE_BACKLOG = 500
+
+EventId = Callable[[BusEvent], int | None]  # the timeline id the store gave an event
 
 
 class LiveClient:
     def __init__(self) -> None:
         self._latest: dict[str, dict[str, Any]] = {}
         self._events: deque[dict[str, Any]] = deque(maxlen=EVENT_BACKLOG)
+        self._timeline: deque[dict[str, Any]] = deque(maxlen=TIMELINE_BACKLOG)
         self._ready = asyncio.Event()
         # Set by the socket's `hello`; until then the socket is anonymous and owns no jogs.
         self.client = Client(id="", anonymous=True)
@@ -56,11 +69,17 @@ class LiveClient:
         self._events.append(message)
         self._ready.set()
 
+    def timeline(self, message: dict[str, Any]) -> None:
+        self._timeline.append(message)
+        self._ready.set()
+
     async def next_messages(self) -> list[dict[str, Any]]:
         await self._ready.wait()
         self._ready.clear()
         messages = list(self._events)
         self._events.clear()
+        messages += self._timeline
+        self._timeline.clear()
         messages += self._latest.values()
         self._latest.clear()
         return messages
@@ -81,6 +100,24 @@ class LiveHub:
         ]
         safety.lease.add_listener(self._on_controller)
         safety.jogs.add_listener(self._on_jog_stopped)
+        self._event_id: EventId = lambda _item: None
+        self._active_faults: Callable[[], list[Fault]] = list
+
+    def follow_diagnostics(
+        self,
+        events: EventBus,
+        event_id: EventId,
+        add_fault_listener: Callable[[Callable[[int, Fault | None], None]], Callable[[], None]],
+        active_faults: Callable[[], list[Fault]],
+    ) -> None:
+        """Push every event of `events` as a `timeline` message (with the id `event_id` tells:
+        subscribe after the store) and each change of a node's active fault as `fault`."""
+        self._event_id = event_id
+        self._active_faults = active_faults
+        self._unsubscribe += [
+            events.subscribe(self._on_timeline),
+            add_fault_listener(self._on_fault),
+        ]
 
     def start(self) -> None:
         if self._task is None:
@@ -105,6 +142,8 @@ class LiveHub:
         client.event({"type": "history", "events": list(self._recent)})
         client.offer("bus", self._bus_message(self._bus.status()))
         client.offer("nodes", self._nodes_message())
+        for fault in self._active_faults():  # the banner is right from the start
+            client.offer(f"fault:{fault.node}", dump(FaultMessage(node=fault.node, fault=fault)))
         return client
 
     def disconnect(self, client: LiveClient) -> None:
@@ -144,6 +183,29 @@ class LiveHub:
         message = dump(EventMessage(event=event))
         for client in self._clients:
             client.event(message)
+
+    def _on_timeline(self, item: BusEvent) -> None:
+        if not self._clients:
+            return
+        event_id = self._event_id(item)
+        if event_id is None:
+            return  # not stored (the store is not open yet): it has no id to page from
+        timeline = TimelineEvent(
+            id=event_id,
+            time=item.time,
+            kind=item.kind.value,
+            node=item.node,
+            message=item.message,
+            data=json.loads(json.dumps(item.data, default=str)),  # as the store keeps it
+        )
+        message = dump(TimelineMessage(event=timeline))
+        for client in self._clients:
+            client.timeline(message)
+
+    def _on_fault(self, node: int, fault: Fault | None) -> None:
+        message = dump(FaultMessage(node=node, fault=fault))
+        for client in self._clients:
+            client.offer(f"fault:{node}", message)
 
     def _on_controller(self, node: int) -> None:
         for client in self._clients:

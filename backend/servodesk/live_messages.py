@@ -10,6 +10,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, RootModel, TypeAdapter
 from pydantic.json_schema import models_json_schema
 
+from servodesk.faults.models import Fault, TimelineEvent
 from servodesk.model_base import JsonInt, RequestBody
 from servodesk.models import BusStatus, LiveEvent
 from servodesk.motion.safety_models import ControllerHolder, HeartbeatProtection, JogInfo
@@ -48,6 +49,24 @@ class EventMessage(_Sent):
 class HistoryMessage(_Sent):
     type: Literal["history"] = "history"
     events: list[LiveEvent]
+
+
+class TimelineMessage(_Sent):
+    """An event of the timeline as it is published (EMCYs, state changes, tool writes …), with
+    the id `GET /api/events` shows it under. Ids grow by one: a page that sees a gap missed
+    some (a slow page skips the oldest) and fetches them with `GET /api/events?since=`."""
+
+    type: Literal["timeline"] = "timeline"
+    event: TimelineEvent
+
+
+class FaultMessage(_Sent):
+    """A node's active fault changed: a new EMCY, an error-reset EMCY or a fault reset (null:
+    no active fault). Sent for every node with an active fault when a page connects."""
+
+    type: Literal["fault"] = "fault"
+    node: int
+    fault: Fault | None
 
 
 class PongMessage(_Sent):
@@ -92,6 +111,8 @@ ServerMessageUnion = Annotated[
     | NodesMessage
     | EventMessage
     | HistoryMessage
+    | TimelineMessage
+    | FaultMessage
     | PongMessage
     | DriveStateMessage
     | ControllerMessage

@@ -4,9 +4,17 @@ singletons for live state: tests build as many independent apps as they like).""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 from servodesk.bus.connection import BusFactory, BusManager
+from servodesk.events.bus import EventBus
+from servodesk.events.sources import PublishingSdoService, registry_events
+from servodesk.events.tool_writes import pdo_applied
+from servodesk.faults.collector import FrameTap, quiet_short_emcy
+from servodesk.faults.service import FaultService
 from servodesk.live import LiveHub
+from servodesk.logs.recording import Recorder
+from servodesk.logs.service import LogService
 from servodesk.motion.safety import MotionSafety
 from servodesk.motion.service import MotionService
 from servodesk.network.sync import SyncService
@@ -19,6 +27,7 @@ from servodesk.pdo.service import PdoService
 from servodesk.sdo.jobs import JobManager
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
+from servodesk.storage import Retention, Storage
 
 
 @dataclass
@@ -37,9 +46,17 @@ class Services:
     safety: MotionSafety
     live: LiveHub
     od_parser: OdParser
+    # faults and field diagnostics (events/, storage/, faults/, logs/)
+    events: EventBus
+    storage: Storage
+    faults: FaultService
+    logs: LogService
+    recorder: Recorder
 
     async def open(self) -> None:
-        """What must run before the bus connects (nothing is missed)."""
+        """The event bus and the timeline store, before the bus connects (nothing is missed)."""
+        self.events.attach_loop()
+        await self.storage.start()
 
     def start(self) -> None:
         self.safety.start()
@@ -47,6 +64,7 @@ class Services:
 
     async def close(self) -> None:
         self.od_parser.close()
+        await self.recorder.close()
         await self.live.close()
         # before the registry and bus go: running jogs are stopped, 1016h entries restored
         await self.safety.close()
@@ -55,6 +73,8 @@ class Services:
         self.sync.close()
         await self.registry.close()
         await self.bus.close()
+        self.faults.close()
+        await self.storage.close()  # last: what the others published on the way out is kept
 
 
 def build_services(settings: Settings, *, bus_factory: BusFactory | None = None) -> Services:
@@ -64,33 +84,65 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
     registry.add_od_listener(jobs.dictionary_changed)
     od_parser = OdParser()
     sync = SyncService(bus)
+    events, storage, faults = _diagnostics(settings, bus, registry)
     pdos = PdoService(
         registry,
         known_nodes=lambda: [info.node for info in registry.all()],
         network=lambda: bus.network,
         bitrate=lambda: bus.status().bitrate,
         sync=sync.get,
+        on_applied=lambda node, before, after: pdo_applied(events.publish, node, before, after),
     )
     # the cached PDOs go stale on a dictionary change, NMT command, boot-up, bus change or a raw
     # SDO write to a PDO parameter (SdoService on_write; a DCF load tells the service itself)
     registry.add_od_listener(pdos.forget)
     registry.add_event_listener(pdos.on_event)
     bus.add_listener(pdos.on_bus)
-    motion = MotionService(registry, settings, pdos, sync=sync)
+    motion = MotionService(
+        registry, settings, pdos, sync=sync, on_statusword=faults.observe_statusword
+    )
     safety = MotionSafety(motion, bus, registry, settings)
+    live = LiveHub(bus, registry, safety)
+    # the timeline and the active faults on the WebSocket (subscribed after the store: ids)
+    live.follow_diagnostics(events, storage.id_of, faults.add_listener, faults.all_active)
     return Services(
         settings=settings,
         bus=bus,
         registry=registry,
         sync=sync,
-        sdo=SdoService(registry, on_write=pdos.sdo_written),
+        sdo=PublishingSdoService(registry, bus=events, on_write=pdos.sdo_written),
         jobs=jobs,
-        params=ParamService(registry),
+        params=ParamService(registry, publish=events.publish),
         node_ids=NodeIdService(registry, settings),
-        paramsets=ParamSetService(registry, od_parser, pdos),
+        paramsets=ParamSetService(registry, od_parser, pdos, publish=events.publish),
         pdos=pdos,
         motion=motion,
         safety=safety,
-        live=LiveHub(bus, registry, safety),
+        live=live,
         od_parser=od_parser,
+        events=events,
+        storage=storage,
+        faults=faults,
+        logs=LogService(settings.data_dir, max_concurrent=settings.log_decodes_max),
+        # a recording holds the whole bus: the frames the tool sends as well as those it hears
+        recorder=Recorder(partial(bus.add_frame_listener, sent=True), settings.data_dir),
     )
+
+
+def _diagnostics(
+    settings: Settings, bus: BusManager, registry: NodeRegistry
+) -> tuple[EventBus, Storage, FaultService]:
+    """The event bus, its timeline store and the fault service, wired (docs/architecture.md,
+        "Faults and the timeline"). The live channel subscribes with `events.subscribe` after the
+    store (LiveHub.follow_diagnostics), so it can tell each event's timeline id."""
+    events = EventBus()
+    retention = Retention(
+        settings.events_max_rows, settings.events_max_days, settings.faults_max_rows
+    )
+    storage = Storage(settings.data_dir, retention)
+    faults = FaultService(registry, events, storage, settings)
+    events.subscribe(storage.add_event)
+    registry.add_event_listener(registry_events(events))
+    bus.add_frame_listener(FrameTap(events, faults.on_emcy))
+    quiet_short_emcy()  # canopen's own EMCY consumer chokes on 2-byte (MDi) EMCYs
+    return events, storage, faults

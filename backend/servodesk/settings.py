@@ -58,5 +58,13 @@ class Settings(BaseSettings):
     motion_max_torque_pct: float | None = None
     motion_ip_max_duration: float = 30.0  # the longest interpolated stream (s)
 
+    # Timeline and fault history (SQLite in data_dir), pruned by the writer beyond these bounds
+    events_max_rows: int = Field(default=200_000, ge=1000)
+    events_max_days: float = Field(default=30.0, gt=0)
+    faults_max_rows: int = Field(default=50_000, ge=1000)
+    # Offline log analysis: the largest upload and how many decodes run at once
+    log_upload_max_mb: int = Field(default=256, ge=1)
+    log_decodes_max: int = Field(default=2, ge=1)
+
     # Files: uploaded object dictionaries live here, per node
     data_dir: Path = Path.home() / ".local" / "share" / "servodesk"

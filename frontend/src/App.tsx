@@ -1,6 +1,7 @@
 import type { ReactNode } from "react";
 import { Link, Navigate, Route, Routes } from "react-router";
 
+import { FaultBanner } from "./components/FaultBanner";
 import { NodeLayout, NodeTabElement } from "./nav/NodeLayout";
 import { NODE_TABS, TOP_PAGES } from "./nav/routes";
 import { Sidebar } from "./nav/Sidebar";
@@ -22,6 +23,7 @@ export function App(): ReactNode {
     <div className="app">
       <Sidebar />
       <main className="main">
+        <FaultBanner />
         <Routes>
           {TOP_PAGES.map(({ path, Component }) => (
             <Route key={path} path={path} element={<Component />} />

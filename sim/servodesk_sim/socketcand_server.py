@@ -254,13 +254,18 @@ class SocketcandServer:
         log.info("%r connected", client)
 
     def _drain_wake(self) -> None:
-        with self._lock:
-            self._wake_pending = False
+        # Drain first, then clear the flag: cleared first, a tap waking in between had its byte
+        # drained here and left the flag set with an empty pipe, so every later tap skipped its
+        # byte and its frames waited for the next socket event (an EMCY after the last client
+        # fell silent waited seconds). Frames tapped before the clear go out in this round's
+        # _service_clients; later ones send a byte again.
         try:
             while self._wake_r.recv(4096):
                 pass
         except BlockingIOError:
-            return  # nothing more to drain
+            pass  # nothing more to drain
+        with self._lock:
+            self._wake_pending = False
 
     def _wake(self) -> None:
         with self._lock:

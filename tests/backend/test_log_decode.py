@@ -1,5 +1,5 @@
 """A commissioning session recorded from the simulated drives, written by python-can's own
-writers (candump, ASC, BLF, TRC), decoded back: the same events from every format."""
+writers (candump, ASC, BLF, TRC, MF4), decoded back: the same events from every format."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from servodesk.logs.decoder import LogDecoder
 from servodesk.logs.events import Event
 from tests.backend.log_session import Recorded, record, write_log
 
-FORMATS = (".log", ".asc", ".blf", ".trc")
+FORMATS = (".log", ".asc", ".blf", ".trc", ".mf4")
 
 
 @pytest.fixture(scope="module")

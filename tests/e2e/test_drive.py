@@ -109,3 +109,57 @@ def test_network_page_quick_stops(page: Page, server: str) -> None:
     expect(page.get_by_role("button", name="Quick stop node 1")).to_be_visible()
     page.get_by_role("button", name="■ Quick stop all").click()
     expect(page.get_by_role("status").filter(has_text="Stopped node")).to_be_visible()
+
+
+def sdo_value(server: str, node: int, index: int, sub: int = 0) -> int:
+    url = f"{server}/api/nodes/{node}/sdo/{index:04X}/{sub}"
+    with urllib.request.urlopen(url, timeout=5) as answer:
+        value: int = json.load(answer)["value"]
+        return value
+
+
+def test_jog_ramps_and_transition_buttons_node_3(page: Page, server: str) -> None:
+    page.goto(f"{server}/nodes/3/drive")
+    expect(page.get_by_test_id("state-diagram")).to_be_visible()
+    enable(page)
+    jog = page.get_by_role("region", name="Jog")
+
+    # PV at a chosen acceleration: 300 rpm/s to 120 rpm takes 0.4 s
+    jog.get_by_role("tab", name="Profile velocity (PV)").click()
+    jog.get_by_label("Speed (rpm)").fill("120")
+    jog.get_by_label("Acceleration (rpm/s)").fill("300")
+    shot(page, ".drive-jog", "drive_jog_pv.png")
+    button = jog.get_by_role("button", name=re.compile(r"^Hold \+120 rpm"))
+    box = button.bounding_box()
+    assert box is not None
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    page.mouse.down()
+    expect(page.get_by_test_id("jog-pv-status")).to_contain_text("Moving")
+    # 6083h/6084h as written: 300 rpm/s = 5 rev/s², 100 000 user units per rev, per ms
+    assert sdo_value(server, 3, 0x6083) == sdo_value(server, 3, 0x6084) == 500
+    page.wait_for_timeout(1000)
+    moving = velocity(server, 3)
+    page.mouse.up()
+    assert 100 < moving <= 121, f"at speed after the ramp (velocity {moving} rpm)"
+    expect(page.get_by_test_id("jog-pv-status")).to_contain_text("Stopped")
+
+    # PT: the slope field and what limits the speed
+    jog.get_by_role("tab", name="Profile torque (PT)").click()
+    jog.get_by_label("Torque slope (%/s)").fill("500")
+    limit = page.get_by_test_id("jog-pt-speed-limit")
+    expect(limit).to_contain_text("6080h Max motor speed")
+    expect(limit).to_contain_text(re.compile(r"holds the speed at \d+ rpm"))
+    shot(page, ".drive-jog", "drive_jog_pt.png")
+
+    # every transition button through /drive/command: the state and the controlword it wrote
+    buttons = page.get_by_role("group", name="State machine commands")
+    for label, state, word in (
+        ("Disable operation", "Switched on", 0x0007),
+        ("Shutdown", "Ready to switch on", 0x0006),
+        ("Switch on", "Switched on", 0x0007),
+        ("Enable operation", "Operation enabled", 0x000F),
+        ("Disable voltage", "Switch on disabled", 0x0000),
+    ):
+        buttons.get_by_role("button", name=label, exact=True).click()
+        expect(page.get_by_test_id("drive-state")).to_have_text(state, timeout=5_000)
+        assert drive_state(server, 3)["controlword"] == word, label

@@ -22,6 +22,7 @@ from servodesk.motion.safety_models import (
     TakeControlRequest,
 )
 from servodesk.motion.schemas import (
+    DriveCommandRequest,
     DriveState,
     HomeRequest,
     HomingMethodInfo,
@@ -71,6 +72,18 @@ async def disable(node: NodeId, client: ClientDep, services: ServicesDep) -> Dri
     await services.safety.authorize(node, client)
     services.safety.jogs.stop_node(node, "drive disabled")
     return await services.motion.disable(node)
+
+
+@router.post("/nodes/{node}/drive/command")
+async def command(
+    node: NodeId, request: DriveCommandRequest, client: ClientDep, services: ServicesDep
+) -> DriveState:
+    """One CiA 402 controlword command (shutdown 0006h, switch on 0007h, enable operation 000Fh,
+    disable operation 0007h, disable voltage 0000h, quick stop 0002h, fault reset 0000h → 0080h
+    → 0000h). Quick stop is open to everyone, the others pass the lease. A command that takes
+    no transition from the drive's state, or whose transition does not happen, answers 409
+    enable_blocked with the reasons."""
+    return await services.safety.command(node, request.command, client)
 
 
 @router.post("/nodes/{node}/drive/quick-stop")

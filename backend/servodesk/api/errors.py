@@ -26,11 +26,13 @@ from servodesk.errors import (
     InvalidValueError,
     NodeNotFoundError,
     NodeStoppedError,
+    NotFoundError,
     PdoApplyError,
     PdoInvalidError,
     RequestInterruptedError,
     SdoAbortError,
     ServodeskError,
+    StateConflictError,
 )
 from servodesk.models import ErrorBody
 from servodesk.motion.errors import EnableBlockedError, LimitError, MotionBusyError
@@ -117,6 +119,10 @@ def describe(error: ServodeskError) -> tuple[int, ErrorBody]:
         return 503, ErrorBody(error="interrupted", message=str(error), node=error.node_id)
     if isinstance(error, JobNotFoundError):
         return 404, ErrorBody(error="job_not_found", message=str(error))
+    if isinstance(error, NotFoundError):  # log_not_found
+        return 404, ErrorBody(error=error.kind, message=str(error))
+    if isinstance(error, StateConflictError):  # recording_not_running
+        return 409, ErrorBody(error=error.kind, message=str(error))
     if isinstance(error, NodeNotFoundError):
         return 404, ErrorBody(error="node_not_found", message=str(error), node=error.node_id)
     if isinstance(error, BusNotConnectedError):

@@ -83,6 +83,7 @@ class BusManager:
         self._sim: SimulatedDrives | None = None
         self._listeners: list[StatusListener] = []
         self._frame_listeners: list[can.Listener] = []
+        self._sent_listeners: list[can.Listener] = []  # shared with every link's bus
         self._lock = asyncio.Lock()
         self._reconnect_task: asyncio.Task[None] | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
@@ -174,16 +175,23 @@ class BusManager:
 
         return remove
 
-    def add_frame_listener(self, listener: can.Listener) -> Callable[[], None]:
+    def add_frame_listener(
+        self, listener: can.Listener, *, sent: bool = False
+    ) -> Callable[[], None]:
         """Feed every received frame to `listener` on the notifier thread, on this and every
-        later connection; returns its remover. The listener must not block or do I/O."""
+        later connection; with `sent`, also every frame the tool sends (on the sending thread).
+        Returns its remover. The listener must not block or do I/O."""
         self._frame_listeners.append(listener)
+        if sent:
+            self._sent_listeners.append(listener)
         if self._link is not None:
             self._link.notifier.add_listener(listener)
 
         def remove() -> None:
             with contextlib.suppress(ValueError):
                 self._frame_listeners.remove(listener)
+            with contextlib.suppress(ValueError):
+                self._sent_listeners.remove(listener)
             if self._link is not None:
                 with contextlib.suppress(ValueError):
                     self._link.notifier.remove_listener(listener)
@@ -195,6 +203,7 @@ class BusManager:
         await self.disconnect()
         self._listeners.clear()
         self._frame_listeners.clear()
+        self._sent_listeners.clear()
 
     # ------------------------------------------------------------------ opening and closing
 
@@ -237,7 +246,11 @@ class BusManager:
         token = object()  # failures of this link only; stale reports are ignored
         listeners = list(self._frame_listeners)
         link = open_link(
-            raw, self._counters, listeners, lambda message: self._failure(token, message)
+            raw,
+            self._counters,
+            listeners,
+            lambda message: self._failure(token, message),
+            self._sent_listeners,
         )
         self._link_token = token
         return link

@@ -40,9 +40,11 @@ def open_link(
     counters: BusCounters,
     listeners: Sequence[can.Listener],
     on_failure: Callable[[str], None],
+    sent_listeners: Sequence[can.Listener] = (),
 ) -> Link:
-    """Attach a canopen Network to an already open bus (takes ownership of `raw`)."""
-    bus = MonitoredBus(raw, counters, on_failure)
+    """Attach a canopen Network to an already open bus (takes ownership of `raw`).
+    `sent_listeners` also get every frame the tool sends (live: the sequence is read per send)."""
+    bus = MonitoredBus(raw, counters, on_failure, sent_listeners)
 
     def receive_failed(exc: Exception) -> None:
         on_failure(f"receiving failed: {exc}")

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Callable
+import time
+from collections.abc import Callable, Sequence
 
 import can
 
@@ -27,8 +28,13 @@ class MonitoredBus(can.BusABC):
         inner: can.BusABC,
         counters: BusCounters,
         on_failure: Callable[[str], None],
+        sent_listeners: Sequence[can.Listener] = (),
     ) -> None:
         self.inner = inner
+        # Frames the tool sends never come back through recv (no local echo on most adapters):
+        # listeners that must see the whole bus (a recording) get them here, on the sending
+        # thread, so they must not block either.
+        self.sent_listeners = sent_listeners
         self.channel_info = inner.channel_info
         self._counters = counters
         self._on_failure = on_failure
@@ -54,6 +60,7 @@ class MonitoredBus(can.BusABC):
         return msg, True  # the inner bus applied its own filters
 
     def send(self, msg: can.Message, timeout: float | None = None) -> None:
+        sent_at = time.time()  # before: the answer it provokes may be stamped while send returns
         try:
             self.inner.send(msg, timeout)
         except can.CanError as exc:
@@ -62,6 +69,8 @@ class MonitoredBus(can.BusABC):
             self._on_failure(f"sending failed: {exc}")
             raise
         self._counters.sent()
+        for listener in self.sent_listeners:
+            listener.on_message_received(_as_sent(msg, sent_at))
 
     def shutdown(self) -> None:
         self._closed.set()
@@ -71,3 +80,19 @@ class MonitoredBus(can.BusABC):
         except (can.CanError, OSError):
             # A lost adapter often fails to close too; the link is gone either way.
             log.warning("closing the CAN adapter failed", exc_info=True)
+
+
+def _as_sent(msg: can.Message, sent_at: float) -> can.Message:
+    """A copy stamped with the time it left, marked as transmitted (python-can's writers keep
+    the direction where the format has one)."""
+    return can.Message(
+        timestamp=sent_at,
+        arbitration_id=msg.arbitration_id,
+        is_extended_id=msg.is_extended_id,
+        is_remote_frame=msg.is_remote_frame,
+        is_error_frame=msg.is_error_frame,
+        dlc=msg.dlc,
+        data=msg.data,
+        channel=msg.channel,
+        is_rx=False,
+    )

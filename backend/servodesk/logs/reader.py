@@ -1,5 +1,6 @@
 """Frames from a CAN log file in any format python-can reads (candump .log, .asc, .blf, .trc,
-.csv; .mf4 when asammdf is installed), streamed: one frame in memory at a time.
+.csv, .mf4 through asammdf), streamed: one frame in memory at a time (an .mf4 is read by
+asammdf, which loads the file's CAN data group).
 
 Frames are (time s, CAN id, data). An extended (29-bit) id is returned with EXTENDED added, so
 it can never be mistaken for an 11-bit CANopen id; error frames are skipped and counted.
@@ -41,7 +42,7 @@ def read_frames(
         return
     try:
         reader: Any = can.LogReader(path)
-    except ImportError as error:  # MF4 without asammdf
+    except ImportError as error:  # MF4 without asammdf (a dependency: a broken install)
         raise LogFormatError(f"{path.name}: {error}") from error
     tell = _position_of(reader)
     count = 0

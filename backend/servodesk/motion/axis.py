@@ -15,6 +15,7 @@ from servodesk.motion.schemas import (
     HomingProgress,
     MotionLimits,
     MoveProgress,
+    SpeedLimit,
 )
 from servodesk.motion.units import DriveUnits
 from servodesk.motion.words import STATE_NAMES, mode_key, state_label, status_bits, transition
@@ -103,6 +104,7 @@ def build_state(
     nmt_state: str,
     data: DriveData | None,
     fault_source: str,
+    pt_speed_limit: SpeedLimit | None = None,
 ) -> DriveState:
     """The API's DriveState from one reading (pure; `axis` supplies what was remembered)."""
     units = units_of(axis.statics, data)
@@ -130,6 +132,7 @@ def build_state(
         axis.homed = True
     homed: bool | None = bool(sw & SW_REFERENCE_FOUND) if bit15 else (axis.homed or None)
     move = _move(axis, snap, state)
+    supported_keys = [k for m in sorted(supported) if (k := mode_key(m)) is not None]
     return DriveState(
         node=axis.node,
         state=STATE_NAMES[state],
@@ -140,7 +143,7 @@ def build_state(
         last_transition=axis.last_transition,
         mode=mode_key(snap.mode),
         mode_display=mode_key(snap.mode_display),
-        supported_modes=[k for m in sorted(supported) if (k := mode_key(m)) is not None],
+        supported_modes=supported_keys,
         position_inc=position_inc,
         position_rev=units.inc_to_rev(position_inc),
         velocity_rpm=units.actual_velocity_rpm(snap.velocity or 0),
@@ -159,6 +162,7 @@ def build_state(
         counts_per_rev=units.counts_per_rev,
         gear_ratio=axis.statics.gear if axis.statics else None,
         limits=axis.limits,
+        pt_speed_limit=pt_speed_limit if "pt" in supported_keys else None,
     )
 
 

@@ -5,6 +5,7 @@ reasons from the drive's own objects (explain.py)."""
 from __future__ import annotations
 
 import asyncio
+import logging
 import time
 from collections.abc import Callable
 from typing import TypeVar
@@ -17,7 +18,7 @@ from servodesk.motion.axis import Axis, build_state, units_of
 from servodesk.motion.drive_io import Snapshot, Statics
 from servodesk.motion.errors import EnableBlockedError
 from servodesk.motion.explain import Observed, explain
-from servodesk.motion.schemas import DriveState, EnableReason, MotionLimits
+from servodesk.motion.schemas import DriveState, EnableReason, MotionLimits, SpeedLimit
 from servodesk.motion.units import DriveUnits
 from servodesk.motion.words import mode_key
 from servodesk.nodes.access import NodeAccess
@@ -32,6 +33,7 @@ from servodesk_protocol.cia402 import (
 )
 
 T = TypeVar("T")
+log = logging.getLogger(__name__)
 VALUE_RANGE = 0x06090030  # SDO abort: value range of parameter exceeded (unsupported 6060h)
 FAULT_SOURCES = {
     "mdi-s1c": "MDi-S1-C CANopen manual §4.1",
@@ -50,10 +52,19 @@ def state_of(statusword: int) -> Cia402State:
 
 
 class MotionCore:
-    def __init__(self, registry: NodeAccess, settings: Settings) -> None:
+    def __init__(
+        self,
+        registry: NodeAccess,
+        settings: Settings,
+        *,
+        on_statusword: Callable[[int, int], None] | None = None,
+    ) -> None:
         self._registry = registry
         self._settings = settings
         self._axes: dict[int, Axis] = {}
+        # (node, statusword) after every read of 6041h, on the event loop (the fault service
+        # publishes CiA 402 state changes from it)
+        self._on_statusword = on_statusword
 
     # ------------------------------------------------------------------ axes and units
 
@@ -95,6 +106,19 @@ class MotionCore:
             max_position_rev=None,
         )
 
+    def pt_speed_limit(self, node: int) -> tuple[float | None, str]:
+        """What caps the speed in profile torque: (rpm or None when unknown, the object)."""
+        data = self._registry.profile_data(node)
+        index, sub = data.quirks.max_speed_object if data else (0x6080, 0)  # Max motor speed
+        obj = self._registry.od(node).objects.get(index)
+        entry = obj.subs.get(sub) if obj else None
+        name = entry.name if entry else (obj.name if obj else "max speed")
+        where = f"{index:04X}h:{sub:02X}" if sub else f"{index:04X}h"
+        statics = self._axis(node).statics
+        read = statics.overspeed_rpm if statics and statics.overspeed_rpm else None
+        rpm = read or self._od_default(node, index, sub)
+        return (float(rpm) if rpm else None), f"{where} {name}"
+
     def _od_default(self, node: int, index: int, sub: int) -> float | None:
         obj = self._registry.od(node).objects.get(index)
         entry = obj.subs.get(sub) if obj else None
@@ -120,13 +144,24 @@ class MotionCore:
         await self._write(node, 0x6040, 0, word, io.U16)  # Controlword
 
     async def _statusword(self, node: int) -> int:
-        return await self._run(node, io.read_statusword, "read 6041h")
+        statusword = await self._run(node, io.read_statusword, "read 6041h")
+        self._saw_statusword(node, statusword)
+        return statusword
+
+    def _saw_statusword(self, node: int, statusword: int) -> None:
+        if self._on_statusword is None:
+            return
+        try:
+            self._on_statusword(node, statusword)
+        except Exception:  # a listener's failure must never stop a motion command
+            log.exception("node %d: statusword listener failed", node)
 
     async def _snapshot(self, node: int) -> Snapshot:
         axis = self._axis(node)
         if axis.statics is None:
             await self._refresh_statics(node)
         snap = await self._run(node, io.read_snapshot, "read the drive state")
+        self._saw_statusword(node, snap.statusword)
         axis.last = snap
         axis.saw(state_of(snap.statusword))
         return snap
@@ -146,12 +181,14 @@ class MotionCore:
 
     def _build(self, node: int, snap: Snapshot) -> DriveState:
         data = self._registry.profile_data(node)
+        rpm, source = self.pt_speed_limit(node)
         return build_state(
             self._axis(node),
             snap,
             nmt_state=self._nmt(node),
             data=data,
             fault_source=FAULT_SOURCES.get(data.profile if data else "", "CiA 402"),
+            pt_speed_limit=SpeedLimit(rpm=rpm, source=source),
         )
 
     async def state(self, node: int) -> DriveState:
@@ -184,6 +221,7 @@ class MotionCore:
         *,
         extra: list[EnableReason] | None = None,
         target: Cia402State = Cia402State.OPERATION_ENABLED,
+        goal: str = "enable",
     ) -> EnableBlockedError:
         """The error for a transition that did not happen, with what the drive shows."""
         nmt = self._nmt(node)
@@ -214,7 +252,7 @@ class MotionCore:
         reasons = [*(extra or []), *explain(seen)]
         if extra and len(reasons) > len(extra) and reasons[-1].code == "timeout":
             reasons.pop()  # the extra reason already says why
-        return EnableBlockedError(node, reasons, state)
+        return EnableBlockedError(node, reasons, state, goal=goal)
 
     # ------------------------------------------------------------------ modes
 

@@ -12,12 +12,19 @@ from servodesk.motion.schemas import DriveState, EnableReason
 class EnableBlockedError(ServodeskError):
     """A requested state transition did not happen; `reasons` say what on the drive blocks it."""
 
-    def __init__(self, node: int, reasons: Sequence[EnableReason], state: DriveState) -> None:
+    def __init__(
+        self,
+        node: int,
+        reasons: Sequence[EnableReason],
+        state: DriveState,
+        *,
+        goal: str = "enable",
+    ) -> None:
         self.node = node
         self.reasons = list(reasons)
         self.state = state
         words = "; ".join(reason.message for reason in self.reasons) or "no reason found"
-        super().__init__(f"node {node} does not enable: {words}")
+        super().__init__(f"node {node} does not {goal}: {words}")
 
 
 class LimitError(InvalidValueError):

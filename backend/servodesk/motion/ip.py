@@ -18,6 +18,7 @@ import asyncio
 import math
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import canopen
@@ -110,9 +111,14 @@ def _sleep_until(deadline: float) -> float:
 
 class IpOps(MoveOps):
     def __init__(
-        self, registry: NodeAccess, settings: Settings, *, sync: SyncService | None = None
+        self,
+        registry: NodeAccess,
+        settings: Settings,
+        *,
+        sync: SyncService | None = None,
+        on_statusword: Callable[[int, int], None] | None = None,
     ) -> None:
-        super().__init__(registry, settings)
+        super().__init__(registry, settings, on_statusword=on_statusword)
         self._sync = sync
         self._streams: dict[int, _Stream] = {}
 

@@ -46,6 +46,16 @@ class Stopper(Protocol):
     async def stop(self, node: int, *, reason: str) -> None: ...
 
 
+@dataclass(frozen=True, slots=True)
+class JogRamp:
+    """How a jog ramps and what caps it, as MotionService.jog_start applied it."""
+
+    acceleration_rpm_s: float | None = None  # pv
+    torque_slope_pct_s: float | None = None  # pt
+    velocity_limit_rpm: float | None = None  # pt
+    velocity_limit_source: str | None = None  # pt: the object that caps the speed
+
+
 @dataclass
 class _Jog:
     info: JogInfo
@@ -71,10 +81,18 @@ class JogWatchdog:
         self._listeners.append(fn)
 
     def register(
-        self, node: int, mode: Literal["pv", "pt"], value: float, keepalive_ms: int, owner: str
+        self,
+        node: int,
+        mode: Literal["pv", "pt"],
+        value: float,
+        keepalive_ms: int,
+        owner: str,
+        *,
+        ramp: JogRamp | None = None,
     ) -> JogInfo:
         """A jog whose axis was just started; its timer runs from now. Another running jog of
         the node is retired without stopping the axis (this one took it over)."""
+        ramp = ramp or JogRamp()
         for jog in self._running():
             if jog.info.node == node:
                 self._end(jog, "replaced by a new jog")
@@ -86,6 +104,10 @@ class JogWatchdog:
             keepalive_ms=keepalive_ms,
             state="running",
             owner=owner,
+            acceleration_rpm_s=ramp.acceleration_rpm_s,
+            torque_slope_pct_s=ramp.torque_slope_pct_s,
+            velocity_limit_rpm=ramp.velocity_limit_rpm,
+            velocity_limit_source=ramp.velocity_limit_source,
         )
         jog = _Jog(info)
         self._jogs[info.jog_id] = jog

@@ -13,6 +13,7 @@ from servodesk.motion import drive_io as io
 from servodesk.motion.core import MotionCore, state_of
 from servodesk.motion.errors import EnableBlockedError, LimitError, MotionBusyError
 from servodesk.motion.homing import methods_for
+from servodesk.motion.jog import JogRamp
 from servodesk.motion.schemas import (
     DriveState,
     EnableReason,
@@ -32,6 +33,7 @@ from servodesk_protocol.cia402 import (
 
 log = logging.getLogger(__name__)
 M = OperationMode
+DEFAULT_TORQUE_SLOPE = 100.0  # % rated torque per second: 6087h = 1, the drive's finest step
 
 
 class MoveOps(MotionCore):
@@ -162,31 +164,49 @@ class MoveOps(MotionCore):
         torque_slope_pct_s: float | None = None,
     ) -> DriveState:
         """PV: 60FFh at `value` rpm over 6083h/6084h. PT: 6071h at `value` % rated torque over
-        the slope 6087h; the drive caps the speed at its overspeed object (the velocity limit
-        in force, limits.max_velocity_rpm). The halt bit is cleared: this re-arms a jog that
-        stop() halted."""
+        the slope 6087h; the drive caps the speed at its overspeed object (jog_ramp's
+        velocity_limit_rpm). The halt bit is cleared: this re-arms a jog that stop() halted."""
         axis = self._axis(node)
         axis.cancel_queue()
         self._check_jog(node, mode, value)
+        ramp = self.jog_ramp(node, mode, acceleration_rpm_s, torque_slope_pct_s)
         await self._require_enabled(node)
         units = self._units(node)
         axis.move = None
         if mode == "pv":
             await self._set_mode(node, M.PROFILE_VELOCITY)
-            accel = units.rpm_s_to_acceleration(
-                acceleration_rpm_s or self._settings.motion_default_acceleration_rpm_s
-            )
+            accel = units.rpm_s_to_acceleration(ramp.acceleration_rpm_s or 0.0)
             await self._write(node, io.PROFILE_ACCELERATION, 0, accel, io.U32)
             await self._write(node, io.PROFILE_DECELERATION, 0, accel, io.U32)
             await self._write(node, io.TARGET_VELOCITY, 0, units.rpm_to_velocity(value), io.I32)
         else:
             await self._set_mode(node, M.PROFILE_TORQUE)
-            slope = units.pct_per_s_to_slope(torque_slope_pct_s or 100.0)
+            slope = units.pct_per_s_to_slope(ramp.torque_slope_pct_s or DEFAULT_TORQUE_SLOPE)
             await self._write(node, io.TORQUE_SLOPE, 0, slope, io.U32)
             await self._write(node, io.TARGET_TORQUE, 0, units.pct_to_torque(value), io.I16)
         await self._controlword(node, make_enable_operation())  # halt off
         axis.jog = mode
         return await self.state(node)
+
+    def jog_ramp(
+        self,
+        node: int,
+        mode: Literal["pv", "pt"],
+        acceleration_rpm_s: float | None = None,
+        torque_slope_pct_s: float | None = None,
+    ) -> JogRamp:
+        """The ramp a jog runs with (the defaults filled in) and, in PT, the speed limit the
+        drive applies: its max speed object (MDi PA-103 2006h:08, else 6080h Max motor speed),
+        as read from the drive, else its dictionary's default."""
+        if mode == "pv":
+            accel = acceleration_rpm_s or self._settings.motion_default_acceleration_rpm_s
+            return JogRamp(acceleration_rpm_s=accel)
+        rpm, source = self.pt_speed_limit(node)
+        return JogRamp(
+            torque_slope_pct_s=torque_slope_pct_s or DEFAULT_TORQUE_SLOPE,
+            velocity_limit_rpm=rpm,
+            velocity_limit_source=source,
+        )
 
     async def jog_update(self, node: int, value: float) -> None:
         """A new speed (rpm) or torque (%) for the running jog; limits checked first."""

@@ -24,13 +24,14 @@ from servodesk.motion.heartbeat import HeartbeatGuard
 from servodesk.motion.jog import JogWatchdog
 from servodesk.motion.lease import Client, ControllerLease
 from servodesk.motion.safety_models import ControllerInfo, JogInfo, JogRequest, QuickStopResult
-from servodesk.motion.schemas import DriveState
+from servodesk.motion.schemas import DriveCommand, DriveState
 from servodesk.motion.service import MotionService
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.settings import Settings
 
 log = logging.getLogger(__name__)
 
+POWER_DOWN = frozenset({"shutdown", "disable_operation", "disable_voltage"})
 EMCY_BASE = 0x80
 ERROR_RESET = b"\x00\x00"  # EMCY "error reset / no error": not a reason to stop
 
@@ -134,16 +135,46 @@ class MotionSafety:
     # ------------------------------------------------------------------ jogs and stops
 
     async def start_jog(self, node: int, request: JogRequest, client: Client) -> JogInfo:
-        value = request.velocity_rpm if request.mode == "pv" else request.torque_pct
-        other = request.torque_pct if request.mode == "pv" else request.velocity_rpm
-        unit = "velocity_rpm" if request.mode == "pv" else "torque_pct"
+        pv = request.mode == "pv"
+        value = request.velocity_rpm if pv else request.torque_pct
+        other = request.torque_pct if pv else request.velocity_rpm
+        unit = "velocity_rpm" if pv else "torque_pct"
         if value is None or other is not None:
             raise InvalidValueError(f"a {request.mode} jog takes {unit} (and only that)")
+        if pv and request.torque_slope_pct_s is not None:
+            raise InvalidValueError(
+                "torque_slope_pct_s is for pt jogs; a pv jog takes an acceleration_rpm_s"
+            )
+        if not pv and request.acceleration_rpm_s is not None:
+            raise InvalidValueError(
+                "acceleration_rpm_s is for pv jogs; a pt jog takes a torque_slope_pct_s"
+            )
         if request.keepalive_ms > self._max_keepalive:
             raise InvalidValueError(f"keepalive_ms above {self._max_keepalive}")
         await self.authorize(node, client)
-        await self.motion.jog_start(node, request.mode, value)
-        return self.jogs.register(node, request.mode, value, request.keepalive_ms, client.id)
+        await self.motion.jog_start(
+            node,
+            request.mode,
+            value,
+            acceleration_rpm_s=request.acceleration_rpm_s,
+            torque_slope_pct_s=request.torque_slope_pct_s,
+        )
+        ramp = self.motion.jog_ramp(
+            node, request.mode, request.acceleration_rpm_s, request.torque_slope_pct_s
+        )
+        return self.jogs.register(
+            node, request.mode, value, request.keepalive_ms, client.id, ramp=ramp
+        )
+
+    async def command(self, node: int, command: DriveCommand, client: Client) -> DriveState:
+        """One controlword command (POST …/drive/command): quick stop is open to everyone, the
+        rest pass the lease; a command that powers the drive down ends its jogs first."""
+        if command == "quick_stop":
+            return await self.quick_stop(node)
+        await self.authorize(node, client)
+        if command in POWER_DOWN:
+            self.jogs.stop_node(node, f"drive command: {command.replace('_', ' ')}")
+        return await self.motion.command(node, command)
 
     async def quick_stop(self, node: int) -> DriveState:
         """Open to every client, whoever holds the node."""

@@ -8,6 +8,11 @@ from typing import Literal
 from pydantic import BaseModel, Field, StrictBool, StrictFloat
 
 from servodesk.model_base import JsonInt, RequestBody
+from servodesk.motion.schemas import (
+    MAX_ACCELERATION_RPM_S,
+    MAX_TORQUE_SLOPE_PCT_S,
+    MIN_TORQUE_SLOPE_PCT_S,
+)
 
 
 class ControllerHolder(BaseModel):
@@ -41,6 +46,12 @@ class JogRequest(RequestBody):
     mode: Literal["pv", "pt"]
     velocity_rpm: StrictFloat | None = None  # pv (true/false is not a speed)
     torque_pct: StrictFloat | None = None  # pt
+    # pv: 6083h/6084h, up to speed and back down (default: the settings' acceleration)
+    acceleration_rpm_s: StrictFloat | None = Field(default=None, gt=0, le=MAX_ACCELERATION_RPM_S)
+    # pt: 6087h torque slope (default 100 %/s, the drive's finest step)
+    torque_slope_pct_s: StrictFloat | None = Field(
+        default=None, ge=MIN_TORQUE_SLOPE_PCT_S, le=MAX_TORQUE_SLOPE_PCT_S
+    )
     keepalive_ms: JsonInt = Field(default=250, ge=20, le=500)
 
 
@@ -52,6 +63,11 @@ class JogInfo(BaseModel):
     node: int
     mode: Literal["pv", "pt"]
     value: float  # rpm (pv) or % rated torque (pt)
+    acceleration_rpm_s: float | None = None  # pv: the ramp written to 6083h/6084h
+    torque_slope_pct_s: float | None = None  # pt: the slope written to 6087h
+    # pt: the speed the drive will not exceed, and the object that sets it
+    velocity_limit_rpm: float | None = None
+    velocity_limit_source: str | None = None
     keepalive_ms: int
     state: JogStateName
     stop_reason: str | None = None  # why it stopped: keep-alive missed, socket closed, EMCY …

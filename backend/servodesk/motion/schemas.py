@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, StrictBool, StrictFloat
 
 from servodesk.model_base import JsonInt, RequestBody
 
@@ -36,9 +36,23 @@ EnableReasonCode = Literal[
     "fault_reset_high",
     "not_ready",
     "not_enabled",
+    "no_transition",
+]
+DriveCommand = Literal[
+    "shutdown",
+    "switch_on",
+    "disable_operation",
+    "enable_operation",
+    "disable_voltage",
+    "quick_stop",
+    "fault_reset",
 ]
 JogMode = Literal["pv", "pt"]
 IpTrajectory = Literal["point_to_point", "sine"]
+# What a request may ask for ramps: beyond these no servo follows, and 6083h/6087h stay in range.
+MAX_ACCELERATION_RPM_S = 1_000_000.0  # 6083h/6084h/609Ah
+MIN_TORQUE_SLOPE_PCT_S = 100.0  # 6087h counts 0.1 %/ms: one step is 100 %/s
+MAX_TORQUE_SLOPE_PCT_S = 100_000.0  # 6087h
 
 
 class StatusBit(BaseModel):
@@ -77,6 +91,14 @@ class MoveProgress(BaseModel):
     queued: int
 
 
+class SpeedLimit(BaseModel):
+    """What caps the speed in profile torque: the drive's max speed object (MDi-S1-C: PA-103
+    2006h:08, MDi-S1-C CANopen manual table 2.31; Kinco and CiA 402: 6080h Max motor speed)."""
+
+    rpm: float | None  # as read from the drive (its dictionary's default before first contact)
+    source: str  # e.g. "2006h:08 PA-103 Maximum speed"
+
+
 class DriveState(BaseModel):
     node: int
     state: DriveStateName
@@ -104,6 +126,7 @@ class DriveState(BaseModel):
     counts_per_rev: int
     gear_ratio: tuple[int, int] | None  # 6091h:01 motor revolutions : 6091h:02 shaft
     limits: MotionLimits
+    pt_speed_limit: SpeedLimit | None = None  # PT: the drive's own speed cap (pt supported)
 
 
 class EnableReason(BaseModel):
@@ -112,12 +135,14 @@ class EnableReason(BaseModel):
 
 
 class MoveRequest(RequestBody):
+    """Numbers are JSON numbers only ("12" and true are refused, not read as 12 and 1)."""
+
     mode: Literal["pp"] = "pp"
-    position_rev: float
-    relative: bool = False
-    velocity_rpm: float = Field(gt=0)
-    acceleration_rpm_s: float | None = Field(default=None, gt=0)
-    immediately: bool = False
+    position_rev: StrictFloat
+    relative: StrictBool = False
+    velocity_rpm: StrictFloat = Field(gt=0)
+    acceleration_rpm_s: StrictFloat | None = Field(default=None, gt=0, le=MAX_ACCELERATION_RPM_S)
+    immediately: StrictBool = False
 
 
 class MoveQueueRequest(RequestBody):
@@ -126,22 +151,23 @@ class MoveQueueRequest(RequestBody):
 
 class HomeRequest(RequestBody):
     method: JsonInt
-    fast_rpm: float | None = Field(default=None, gt=0)
-    slow_rpm: float | None = Field(default=None, gt=0)
-    acceleration_rpm_s: float | None = Field(default=None, gt=0)
+    fast_rpm: StrictFloat | None = Field(default=None, gt=0)
+    slow_rpm: StrictFloat | None = Field(default=None, gt=0)
+    acceleration_rpm_s: StrictFloat | None = Field(default=None, gt=0, le=MAX_ACCELERATION_RPM_S)
     offset_inc: JsonInt | None = None
 
 
-class JogStartRequest(RequestBody):
-    mode: JogMode
-    value: float  # rpm (pv) or % rated torque (pt)
+class DriveCommandRequest(RequestBody):
+    """One CiA 402 controlword command (MDi-S1-C CANopen manual §3.2.2, figure 3.2)."""
+
+    command: DriveCommand
 
 
 class IpStreamRequest(RequestBody):
     trajectory: IpTrajectory
     period_ms: JsonInt = Field(ge=1, le=20)
-    distance_rev: float
-    duration_s: float = Field(gt=0, le=30)
+    distance_rev: StrictFloat
+    duration_s: StrictFloat = Field(gt=0, le=30)
 
 
 class PathStep(BaseModel):

@@ -18,7 +18,8 @@ from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
 from servodesk.motion.errors import LimitError
 from servodesk.motion.ip import IpOps
-from servodesk.motion.schemas import DriveState, EnableReason, MotionLimits
+from servodesk.motion.schemas import DriveCommand, DriveState, EnableReason, MotionLimits
+from servodesk.motion.words import state_label
 from servodesk.network.sync import SyncService
 from servodesk.nodes.access import NodeAccess
 from servodesk.pdo.service import PdoService
@@ -29,10 +30,13 @@ from servodesk_protocol.cia402 import (
     CW_NEW_SETPOINT,
     Cia402State,
     enable_sequence,
+    make_disable_operation,
     make_disable_voltage,
+    make_enable_operation,
     make_fault_reset,
     make_quick_stop,
     make_shutdown,
+    make_switch_on,
 )
 
 S = Cia402State
@@ -47,8 +51,11 @@ class MotionService(IpOps):
         pdos: PdoService | None = None,
         *,
         sync: SyncService | None = None,
+        on_statusword: Callable[[int, int], None] | None = None,
     ) -> None:
-        super().__init__(registry, settings, sync=sync)
+        """`on_statusword(node, statusword)` is called on the event loop after every read of
+        6041h (services.py hands it to the fault service, which publishes state changes)."""
+        super().__init__(registry, settings, sync=sync, on_statusword=on_statusword)
         self._pdos = pdos  # for a later RPDO stop path; stops use the priority lane today
 
     # ------------------------------------------------------------------ state machine
@@ -129,6 +136,42 @@ class MotionService(IpOps):
             raise await self._blocked(node, target=S.SWITCH_ON_DISABLED)
         return await self.state(node)
 
+    async def command(self, node: int, command: DriveCommand) -> DriveState:
+        """One controlword command of the state machine (MDi-S1-C CANopen manual §3.2.2,
+        figure 3.2): shutdown 0006h, switch on 0007h, enable operation 000Fh, disable operation
+        0007h, disable voltage 0000h; quick stop and fault reset as quick_stop()/fault_reset().
+        A command with no transition from the drive's state sends nothing; a transition that
+        does not happen in the drive's time raises EnableBlockedError with what blocks it."""
+        if command == "quick_stop":
+            return await self.quick_stop(node)
+        if command == "fault_reset":
+            return await self.fault_reset(node)
+        word, target, starts = COMMANDS[command]
+        name = command.replace("_", " ")
+        snap = await self._reachable(node)
+        state = state_of(snap.statusword)
+        number = starts.get(state)
+        if number is None:
+            raise await self._blocked(
+                node,
+                extra=[_no_transition(name, state, starts)],
+                target=target,
+                goal=f"take {name}",
+            )
+        if target is not S.OPERATION_ENABLED:
+            self._drop_tasks(node)
+        else:
+            await self._refresh_statics(node)
+            self._axis(node).target_user = None
+        await self._controlword(node, word)
+        ok, _ = await self._wait(
+            node, lambda w: state_of(w) is target, self._transition_timeout(node)
+        )
+        if not ok:
+            raise await self._blocked(node, target=target, goal=f"take {name} ({number})")
+        self._axis(node).last_transition = f"{name} ({number})"
+        return await self.state(node)
+
     async def stop(self, node: int, *, reason: str, quick: bool = False) -> None:
         """Bring the axis to a stop without waiting behind queued work (priority lane).
 
@@ -139,17 +182,20 @@ class MotionService(IpOps):
         """
         self._drop_tasks(node)
 
-        def halt(remote: canopen.RemoteNode) -> None:
+        def halt(remote: canopen.RemoteNode) -> int | None:
             if quick:
                 io.write_controlword(remote, make_quick_stop())
-                return
+                return None
             sw = io.read_statusword(remote)
             if state_of(sw) is not S.OPERATION_ENABLED:
-                return  # nothing moves outside Operation enabled
+                return sw  # nothing moves outside Operation enabled
             cw = io.read(remote, 0x6040, signed=False) or 0x000F  # Controlword
             io.write_controlword(remote, (cw | CW_HALT) & ~CW_NEW_SETPOINT & ~CW_FAULT_RESET)
+            return sw
 
-        await self._registry.session(node).priority(halt, what=f"stop node {node}: {reason}")
+        read = await self._registry.session(node).priority(halt, what=f"stop node {node}: {reason}")
+        if read is not None:
+            self._saw_statusword(node, read)
 
     async def set_mode(self, node: int, mode: str) -> DriveState:
         """Write 6060h ("pp", "pv", "pt", "hm", "ip", …) and wait for 6061h to show it."""
@@ -205,6 +251,42 @@ class MotionService(IpOps):
                 else [EnableReason(code="timeout", message=str(error))]
             )
             raise await self._blocked(node, extra=reasons) from error
+
+
+# command -> (controlword, the state it leads to, {state it starts from: transition number})
+COMMANDS: dict[str, tuple[int, Cia402State, dict[Cia402State, int]]] = {
+    "shutdown": (
+        make_shutdown(),
+        S.READY_TO_SWITCH_ON,
+        {S.SWITCH_ON_DISABLED: 2, S.SWITCHED_ON: 6, S.OPERATION_ENABLED: 8},
+    ),
+    "switch_on": (make_switch_on(), S.SWITCHED_ON, {S.READY_TO_SWITCH_ON: 3}),
+    "enable_operation": (
+        make_enable_operation(),
+        S.OPERATION_ENABLED,
+        {S.SWITCHED_ON: 4, S.QUICK_STOP_ACTIVE: 16},
+    ),
+    "disable_operation": (make_disable_operation(), S.SWITCHED_ON, {S.OPERATION_ENABLED: 5}),
+    "disable_voltage": (
+        make_disable_voltage(),
+        S.SWITCH_ON_DISABLED,
+        {
+            S.READY_TO_SWITCH_ON: 7,
+            S.OPERATION_ENABLED: 9,
+            S.SWITCHED_ON: 10,
+            S.QUICK_STOP_ACTIVE: 12,
+        },
+    ),
+}
+
+
+def _no_transition(name: str, state: Cia402State, starts: dict[Cia402State, int]) -> EnableReason:
+    froms = ", ".join(f"{state_label(s)} ({n})" for s, n in starts.items())
+    return EnableReason(
+        code="no_transition",
+        message=f"{name} takes no transition from {state_label(state)}: it works from "
+        f"{froms}; nothing was sent",
+    )
 
 
 def _leaves(state: Cia402State) -> Callable[[int], bool]:

@@ -119,6 +119,8 @@ class OdParser:
         if self._pool is None:
             # forkserver: workers fork from a small clean process, not from this threaded one
             context = multiprocessing.get_context("forkserver")
+            # the forkserver imports these first (ignored if it already runs): small workers
+            context.set_forkserver_preload(["servodesk.od.parse_worker", "servodesk.od.parser"])
             self._pool = ProcessPoolExecutor(
                 max_workers=self._parallel,
                 mp_context=context,

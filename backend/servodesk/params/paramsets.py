@@ -12,6 +12,7 @@ from servodesk.errors import (
     IdentityMismatchError,
     SdoAbortError,
 )
+from servodesk.events.tool_writes import Publish, tool_write, where
 from servodesk.models import (
     CompareResult,
     CompareRow,
@@ -111,8 +112,11 @@ class ParamSetService:
         access: NodeAccess,
         parser: OdParser | None = None,
         pdos: PdoService | None = None,
+        *,
+        publish: Publish | None = None,
     ) -> None:
         self._access = access
+        self._publish = publish  # "tool-write" events: each entry written, then the load
         self._parser = parser or OdParser()
         # PDO parameters go through the PDO service's transactional apply; without one (tests
         # of the plain write order) they are written in dcf_order's order
@@ -208,6 +212,7 @@ class ParamSetService:
                     failed[key] = self._failure(target, key, None, NOT_WRITTEN)
             else:
                 differences = await self._differences(node, session, target, values, written)
+        self._published(node, filename, target, values, written, skipped, len(failed))
         return DcfLoadResult(
             identity=identity,
             written=len(written),
@@ -270,6 +275,49 @@ class ParamSetService:
         return CompareResult(rows=rows, read_only=read_only, identity=identity)
 
     # ------------------------------------------------------------------------------ helpers
+
+    def _published(
+        self,
+        node: int,
+        filename: str,
+        target: ObjectDictionaryModel,
+        values: dict[Key, Value],
+        written: set[Key],
+        skipped: int,
+        failed: int,
+    ) -> None:
+        """The timeline: one event per entry written, then one for the load with the counts."""
+        if self._publish is None:
+            return
+        for key in sorted(written):
+            sub = target.get(*key)
+            value = codec.api_value(values[key])
+            name = codec.entry_name(target, sub) if sub is not None else ""
+            self._publish(
+                tool_write(
+                    node,
+                    f"{filename}: wrote {where(*key)} {name} = {value}".replace("  ", " "),
+                    "dcf-entry",
+                    file=filename,
+                    index=key[0],
+                    subindex=key[1],
+                    value=value,
+                )
+            )
+        text = f"parameter set {filename} loaded into node {node}: {len(written)} entries written"
+        if failed:
+            text += f", {failed} failed"
+        self._publish(
+            tool_write(
+                node,
+                text,
+                "dcf-load",
+                file=filename,
+                written=len(written),
+                skipped=skipped,
+                failed=failed,
+            )
+        )
 
     async def _write_plan(
         self,

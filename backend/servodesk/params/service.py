@@ -11,7 +11,13 @@ from __future__ import annotations
 import builtins
 import re
 
-from servodesk.errors import ConfirmationRequiredError, InvalidValueError, SdoAbortError
+from servodesk.errors import (
+    ConfirmationRequiredError,
+    InvalidValueError,
+    SdoAbortError,
+    ServodeskError,
+)
+from servodesk.events.tool_writes import Publish, tool_write, where
 from servodesk.models import MessageResult, Param, ParamWriteResult
 from servodesk.nodes.access import NodeAccess
 from servodesk.sdo import codec
@@ -78,9 +84,10 @@ def resolve_value(parameter: Parameter, value: int | str) -> int:
 
 
 class ParamService:
-    def __init__(self, access: NodeAccess) -> None:
+    def __init__(self, access: NodeAccess, *, publish: Publish | None = None) -> None:
         self._access = access
         self._sdo = SdoService(access)
+        self._publish = publish  # "tool-write" events on the timeline
 
     def catalogue(self, node: int) -> tuple[Parameter, ...]:
         data = self._access.profile_data(node)
@@ -98,7 +105,23 @@ class ParamService:
         parameter = self._parameter(node, name)
         number = resolve_value(parameter, value)
         index, subindex = parameter.object
+        old = await self._old_value(node, parameter) if self._publish is not None else None
         written = await self._sdo.write(node, index, subindex, number)
+        if self._publish is not None:
+            was = f"{old} → " if old is not None else ""
+            self._publish(
+                tool_write(
+                    node,
+                    f"set {parameter.name} ({where(index, subindex)}) of node {node}: "
+                    f"{was}{written.value}",
+                    "param",
+                    name=parameter.name,
+                    index=index,
+                    subindex=subindex,
+                    old=old,
+                    value=written.value,
+                )
+            )
         changed = parameter.takes_effect is not TakesEffect.IMMEDIATELY
         return ParamWriteResult(
             param=self._param(parameter, written.value if isinstance(written.value, int) else None),
@@ -114,6 +137,7 @@ class ParamService:
             )
         data = SAVE_SIGNATURE.to_bytes(4, "little")
         await self._access.session(node).download(STORE_PARAMETERS, SAVE_ALL, data)
+        self._command(node, "store", STORE_PARAMETERS, "parameters stored (1010h:01h)")
         return MessageResult(
             message='parameters stored (1010h:01 = "save"): the drive keeps them over a reset '
             "or power cycle"
@@ -126,10 +150,26 @@ class ParamService:
             )
         data = LOAD_SIGNATURE.to_bytes(4, "little")
         await self._access.session(node).download(RESTORE_DEFAULTS, SAVE_ALL, data)
+        self._command(
+            node, "restore-defaults", RESTORE_DEFAULTS, "default parameters restored (1011h:01h)"
+        )
         return MessageResult(
             message='default parameters restored (1011h:01 = "load"); takes effect after reset: '
             "reset the node"
         )
+
+    def _command(self, node: int, action: str, index: int, text: str) -> None:
+        if self._publish is not None:
+            self._publish(
+                tool_write(node, f"node {node}: {text}", action, index=index, subindex=SAVE_ALL)
+            )
+
+    async def _old_value(self, node: int, parameter: Parameter) -> int | None:
+        """The value before a write, for the timeline (best effort: None when unreadable)."""
+        try:
+            return (await self._read(node, parameter)).value
+        except ServodeskError:
+            return None
 
     def _parameter(self, node: int, name: str) -> Parameter:
         data: DriveData | None = self._access.profile_data(node)

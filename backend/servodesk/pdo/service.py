@@ -36,6 +36,8 @@ PDO_AREA = range(RPDO_COMM, TPDO_MAP + MAP_OFFSET)  # 1400h–1BFFh: communicati
 DEFAULT_BITRATE = 500_000  # bit/s, when the bus does not say (virtual bus)
 DEFAULT_THRESHOLD = 70.0  # percent
 ExportFormat = Literal["dcf", "python"]
+# after an apply: (node, the PDOs cached before or None, the PDOs read back) — the timeline
+Applied = Callable[[int, Sequence[PdoConfig] | None, Sequence[PdoConfig]], None]
 
 
 class PdoService:
@@ -47,8 +49,10 @@ class PdoService:
         network: Callable[[], canopen.Network],
         bitrate: Callable[[], int | None],
         sync: Callable[[], SyncConfig],
+        on_applied: Applied | None = None,
     ) -> None:
         self.access = access
+        self._on_applied = on_applied
         self._known_nodes = known_nodes
         self._network = network
         self._bitrate = bitrate
@@ -114,6 +118,7 @@ class PdoService:
         if problems:
             raise PdoInvalidError(node, problems)
         access = self.access
+        before = self._cache.get(node)
         async with access.session(node).exclusive(actor) as tx:
             try:
                 await apply_pdos(
@@ -128,6 +133,8 @@ class PdoService:
                 self.forget(node)
             result = await _read_all(tx, facts)
         self._cache[node] = result
+        if self._on_applied is not None:
+            self._on_applied(node, before, result)
         if self._live.active(node):  # decode with the new mapping
             self._live.start(node, self._network(), result, facts.od)
         return result

@@ -106,6 +106,40 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/events": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Events */
+        get: operations["events_api_events_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/faults/active": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Active Faults */
+        get: operations["active_faults_api_faults_active_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/health": {
         parameters: {
             query?: never;
@@ -176,6 +210,57 @@ export interface paths {
          * @description Keep the jog moving; 409 jog_stopped once it was stopped (re-arming is explicit).
          */
         post: operations["keepalive_api_jog__jog_id__keepalive_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/logs/decode": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Decode Log */
+        post: operations["decode_log_api_logs_decode_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/logs/{log_id}/events": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Log Events */
+        get: operations["log_events_api_logs__log_id__events_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/logs/{log_id}/export": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Export Log */
+        get: operations["export_log_api_logs__log_id__export_get"];
+        put?: never;
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -330,6 +415,30 @@ export interface paths {
         get: operations["drive_state_api_nodes__node__drive_get"];
         put?: never;
         post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/command": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Command
+         * @description One CiA 402 controlword command (shutdown 0006h, switch on 0007h, enable operation 000Fh,
+         *     disable operation 0007h, disable voltage 0000h, quick stop 0002h, fault reset 0000h → 0080h
+         *     → 0000h). Quick stop is open to everyone, the others pass the lease. A command that takes
+         *     no transition from the drive's state, or whose transition does not happen, answers 409
+         *     enable_blocked with the reasons.
+         */
+        post: operations["command_api_nodes__node__drive_command_post"];
         delete?: never;
         options?: never;
         head?: never;
@@ -545,6 +654,62 @@ export interface paths {
          * @description Open to every client, whoever controls the drive.
          */
         post: operations["quick_stop_api_nodes__node__drive_quick_stop_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/faults": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Node Faults */
+        get: operations["node_faults_api_nodes__node__faults_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/faults/device-history": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Device History */
+        get: operations["device_history_api_nodes__node__faults_device_history_get"];
+        put?: never;
+        post?: never;
+        /** Clear Device History */
+        delete: operations["clear_device_history_api_nodes__node__faults_device_history_delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/faults/reset": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Fault Reset
+         * @description Like `/drive/fault-reset`, it passes the controller lease: another client's reset of a
+         *     drive someone controls answers 409 held_by_other (name yourself with X-Client-Id).
+         */
+        post: operations["fault_reset_api_nodes__node__faults_reset_post"];
         delete?: never;
         options?: never;
         head?: never;
@@ -872,6 +1037,31 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/recording": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Recording Status */
+        get: operations["recording_status_api_recording_get"];
+        put?: never;
+        /**
+         * Start Recording
+         * @description Start recording every frame received (a running recording goes on, in its format).
+         */
+        post: operations["start_recording_api_recording_post"];
+        /**
+         * Stop Recording
+         * @description Stop, close the file and download it (it stays in `<data_dir>/recordings`).
+         */
+        delete: operations["stop_recording_api_recording_delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/scan": {
         parameters: {
             query?: never;
@@ -911,6 +1101,11 @@ export interface paths {
 export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
+        /** ActiveFaults */
+        ActiveFaults: {
+            /** Faults */
+            faults: components["schemas"]["Fault"][];
+        };
         /** BitrateChange */
         BitrateChange: {
             /** Bitrate */
@@ -958,6 +1153,19 @@ export interface components {
         /** Body_compare_api_nodes__node__compare_post */
         Body_compare_api_nodes__node__compare_post: {
             /** File */
+            file?: string | null;
+        };
+        /** Body_decode_log_api_logs_decode_post */
+        Body_decode_log_api_logs_decode_post: {
+            /**
+             * Dcf
+             * @description optional DCF: PDO mappings, identity
+             */
+            dcf?: string | null;
+            /**
+             * File
+             * @description the file (a file part or a form field)
+             */
             file?: string | null;
         };
         /** Body_load_dcf_api_nodes__node__dcf_post */
@@ -1129,6 +1337,14 @@ export interface components {
              */
             confirm: boolean;
         };
+        /** ConfirmBody */
+        ConfirmBody: {
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+        };
         /** ControllerHolder */
         ControllerHolder: {
             /** Client Id */
@@ -1202,6 +1418,71 @@ export interface components {
             /** Written */
             written: number;
         };
+        /** DecodedLog */
+        DecodedLog: {
+            /** Events */
+            events: components["schemas"]["LogEvent"][];
+            /** Id */
+            id: string;
+            /** Name */
+            name: string;
+            /**
+             * Next
+             * @description pass as `since` for the next page; null at the end
+             */
+            next: number | null;
+            /** Stats */
+            stats: {
+                [key: string]: unknown;
+            };
+            /** Summary */
+            summary: string[];
+        };
+        /** DeviceHistory */
+        DeviceHistory: {
+            /** Count */
+            count: number;
+            /** Entries */
+            entries: components["schemas"]["DeviceHistoryEntry"][];
+            /** @description 603Fh, the drive's last error code (0: none) */
+            error_code: components["schemas"]["Fault"] | null;
+            /** Node */
+            node: number;
+            /** Note */
+            note?: string | null;
+            /**
+             * Supported
+             * @description false: the drive has no 1003h at all
+             * @default true
+             */
+            supported: boolean;
+        };
+        /** DeviceHistoryCleared */
+        DeviceHistoryCleared: {
+            /** Message */
+            message: string;
+            /** Node */
+            node: number;
+        };
+        /** DeviceHistoryEntry */
+        DeviceHistoryEntry: {
+            fault: components["schemas"]["Fault"];
+            /** Number */
+            number: number;
+            /** Value Hex */
+            value_hex: string;
+        };
+        /**
+         * DriveCommandRequest
+         * @description One CiA 402 controlword command (MDi-S1-C CANopen manual §3.2.2, figure 3.2).
+         */
+        DriveCommandRequest: {
+            /**
+             * Command
+             * @enum {string}
+             */
+            command: "shutdown" | "switch_on" | "disable_operation" | "enable_operation" | "disable_voltage" | "quick_stop" | "fault_reset";
+        };
         /** DriveState */
         DriveState: {
             /** Controlword */
@@ -1241,6 +1522,7 @@ export interface components {
             position_inc: number;
             /** Position Rev */
             position_rev: number;
+            pt_speed_limit?: components["schemas"]["SpeedLimit"] | null;
             /**
              * State
              * @enum {string}
@@ -1281,7 +1563,7 @@ export interface components {
              * Code
              * @enum {string}
              */
-            code: "nmt_stopped" | "nmt_not_operational" | "fault" | "voltage_disabled" | "quick_stop_active" | "mode_unsupported" | "halt_set" | "held_by_other" | "timeout" | "fault_reset_high" | "not_ready" | "not_enabled";
+            code: "nmt_stopped" | "nmt_not_operational" | "fault" | "voltage_disabled" | "quick_stop_active" | "mode_unsupported" | "halt_set" | "held_by_other" | "timeout" | "fault_reset_high" | "not_ready" | "not_enabled" | "no_transition";
             /** Message */
             message: string;
         };
@@ -1321,6 +1603,11 @@ export interface components {
              */
             type: "error";
         };
+        /**
+         * EventKind
+         * @enum {string}
+         */
+        EventKind: "boot-up" | "node-lost" | "node-back" | "nmt" | "bus" | "emcy" | "fault-cleared" | "fault-reset" | "sdo-abort" | "cia402-state" | "tool-write" | "recording" | "dropped";
         /** EventMessage */
         EventMessage: {
             event: components["schemas"]["LiveEvent"];
@@ -1329,6 +1616,53 @@ export interface components {
              * @enum {string}
              */
             type: "event";
+        };
+        /** EventPage */
+        EventPage: {
+            /** Events */
+            events: components["schemas"]["TimelineEvent"][];
+            /**
+             * Next
+             * @description cursor for the next page: pass it as `before` (newest-first pages) or as `since` (since pages); null when there is nothing more yet
+             */
+            next: number | null;
+        };
+        /**
+         * ExportFormat
+         * @enum {string}
+         */
+        ExportFormat: "text" | "csv" | "json" | "parquet";
+        /**
+         * Fault
+         * @description One decoded EMCY (servodesk.faults.decode.FaultRecord) and the CiA 402 state around it.
+         */
+        Fault: {
+            /** Check */
+            check?: string | null;
+            /** Code */
+            code: number;
+            /** Code Hex */
+            code_hex: string;
+            /** Error Register */
+            error_register?: number | null;
+            /** Manufacturer Hex */
+            manufacturer_hex?: string | null;
+            /** Name En */
+            name_en: string;
+            /** Name Zh */
+            name_zh?: string | null;
+            /** Node */
+            node: number;
+            /** Raw Hex */
+            raw_hex: string;
+            /** Source */
+            source: string;
+            /** State After */
+            state_after?: string | null;
+            /** State Before */
+            state_before?: string | null;
+            /** Time */
+            time: number;
         };
         /**
          * FaultInfo
@@ -1345,6 +1679,37 @@ export interface components {
             source?: string | null;
             /** Text */
             text?: string | null;
+        };
+        /**
+         * FaultMessage
+         * @description A node's active fault changed: a new EMCY, an error-reset EMCY or a fault reset (null:
+         *     no active fault). Sent for every node with an active fault when a page connects.
+         */
+        FaultMessage: {
+            fault: components["schemas"]["Fault"] | null;
+            /** Node */
+            node: number;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "fault";
+        };
+        /** FaultResetResult */
+        FaultResetResult: {
+            active: components["schemas"]["Fault"] | null;
+            /** Message */
+            message: string;
+            /** Node */
+            node: number;
+            /** Ok */
+            ok: boolean;
+            /** State After */
+            state_after: string;
+            /** State Before */
+            state_before: string;
+            /** Statusword Hex */
+            statusword_hex: string;
         };
         /** Health */
         Health: {
@@ -1581,6 +1946,8 @@ export interface components {
         };
         /** JogInfo */
         JogInfo: {
+            /** Acceleration Rpm S */
+            acceleration_rpm_s?: number | null;
             /** Jog Id */
             jog_id: string;
             /** Keepalive Ms */
@@ -1601,8 +1968,14 @@ export interface components {
             state: "running" | "stopped";
             /** Stop Reason */
             stop_reason?: string | null;
+            /** Torque Slope Pct S */
+            torque_slope_pct_s?: number | null;
             /** Value */
             value: number;
+            /** Velocity Limit Rpm */
+            velocity_limit_rpm?: number | null;
+            /** Velocity Limit Source */
+            velocity_limit_source?: string | null;
         };
         /** JogKeepaliveMessage */
         JogKeepaliveMessage: {
@@ -1616,6 +1989,8 @@ export interface components {
         };
         /** JogRequest */
         JogRequest: {
+            /** Acceleration Rpm S */
+            acceleration_rpm_s?: number | null;
             /**
              * Keepalive Ms
              * @default 250
@@ -1628,6 +2003,8 @@ export interface components {
             mode: "pv" | "pt";
             /** Torque Pct */
             torque_pct?: number | null;
+            /** Torque Slope Pct S */
+            torque_slope_pct_s?: number | null;
             /** Velocity Rpm */
             velocity_rpm?: number | null;
         };
@@ -1769,6 +2146,42 @@ export interface components {
             /** Value */
             value?: number | string | null;
         };
+        /** LogEvent */
+        LogEvent: {
+            /** Code */
+            code: number | null;
+            /**
+             * Data
+             * @description detail: a Fault for emcy, values by IIII:SS for pdo, …
+             */
+            data: unknown;
+            /** Frame */
+            frame: number;
+            /** Index */
+            index: number | null;
+            /** Kind */
+            kind: string;
+            /** Node */
+            node: number | null;
+            /** Seq */
+            seq: number;
+            /** Subindex */
+            subindex: number | null;
+            /** Text */
+            text: string;
+            /** Time */
+            time: number;
+        };
+        /** LogEventPage */
+        LogEventPage: {
+            /** Events */
+            events: components["schemas"]["LogEvent"][];
+            /**
+             * Next
+             * @description pass as `since` for the next page; null at the end
+             */
+            next: number | null;
+        };
         /** MessageResult */
         MessageResult: {
             /** Message */
@@ -1832,7 +2245,10 @@ export interface components {
             /** Moves */
             moves: components["schemas"]["MoveRequest"][];
         };
-        /** MoveRequest */
+        /**
+         * MoveRequest
+         * @description Numbers are JSON numbers only ("12" and true are refused, not read as 12 and 1).
+         */
         MoveRequest: {
             /** Acceleration Rpm S */
             acceleration_rpm_s?: number | null;
@@ -1875,6 +2291,17 @@ export interface components {
          * @enum {string}
          */
         NmtStateName: "initialising" | "pre-operational" | "operational" | "stopped" | "unknown";
+        /** NodeFaults */
+        NodeFaults: {
+            active: components["schemas"]["Fault"] | null;
+            /** History */
+            history: components["schemas"]["Fault"][];
+            /**
+             * Total
+             * @description faults of this node in the history (the list is the newest)
+             */
+            total: number;
+        };
         /** NodeIdChange */
         NodeIdChange: {
             /**
@@ -2337,6 +2764,30 @@ export interface components {
             /** Stopped */
             stopped: number[];
         };
+        /**
+         * RecordingFormat
+         * @enum {string}
+         */
+        RecordingFormat: "blf" | "asc" | "log" | "mf4";
+        /** RecordingInfo */
+        RecordingInfo: {
+            /** Active */
+            active: boolean;
+            /** Dropped */
+            dropped: number;
+            /** File */
+            file: string | null;
+            format: components["schemas"]["RecordingFormat"] | null;
+            /** Frames */
+            frames: number;
+            /** Since */
+            since: number | null;
+        };
+        /** RecordingStart */
+        RecordingStart: {
+            /** @default blf */
+            format: components["schemas"]["RecordingFormat"];
+        };
         /** ScanRequest */
         ScanRequest: {
             /**
@@ -2387,7 +2838,18 @@ export interface components {
          * ServerMessage
          * @description Any message the server sends on /api/ws.
          */
-        ServerMessage: components["schemas"]["BusMessage"] | components["schemas"]["NodesMessage"] | components["schemas"]["EventMessage"] | components["schemas"]["HistoryMessage"] | components["schemas"]["PongMessage"] | components["schemas"]["DriveStateMessage"] | components["schemas"]["ControllerMessage"] | components["schemas"]["JogStoppedMessage"] | components["schemas"]["ErrorMessage"];
+        ServerMessage: components["schemas"]["BusMessage"] | components["schemas"]["NodesMessage"] | components["schemas"]["EventMessage"] | components["schemas"]["HistoryMessage"] | components["schemas"]["TimelineMessage"] | components["schemas"]["FaultMessage"] | components["schemas"]["PongMessage"] | components["schemas"]["DriveStateMessage"] | components["schemas"]["ControllerMessage"] | components["schemas"]["JogStoppedMessage"] | components["schemas"]["ErrorMessage"];
+        /**
+         * SpeedLimit
+         * @description What caps the speed in profile torque: the drive's max speed object (MDi-S1-C: PA-103
+         *     2006h:08, MDi-S1-C CANopen manual table 2.31; Kinco and CiA 402: 6080h Max motor speed).
+         */
+        SpeedLimit: {
+            /** Rpm */
+            rpm: number | null;
+            /** Source */
+            source: string;
+        };
         /** StatusBit */
         StatusBit: {
             /** Bit */
@@ -2416,6 +2878,37 @@ export interface components {
              * @default false
              */
             take_over: boolean;
+        };
+        /** TimelineEvent */
+        TimelineEvent: {
+            /** Data */
+            data: {
+                [key: string]: unknown;
+            };
+            /** Id */
+            id: number;
+            /** Kind */
+            kind: string;
+            /** Message */
+            message: string;
+            /** Node */
+            node: number | null;
+            /** Time */
+            time: number;
+        };
+        /**
+         * TimelineMessage
+         * @description An event of the timeline as it is published (EMCYs, state changes, tool writes …), with
+         *     the id `GET /api/events` shows it under. Ids grow by one: a page that sees a gap missed
+         *     some (a slow page skips the oldest) and fetches them with `GET /api/events?since=`.
+         */
+        TimelineMessage: {
+            event: components["schemas"]["TimelineEvent"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "timeline";
         };
         /** UnwatchDriveMessage */
         UnwatchDriveMessage: {
@@ -2679,6 +3172,63 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    events_api_events_get: {
+        parameters: {
+            query?: {
+                node?: number | null;
+                kind?: components["schemas"]["EventKind"] | null;
+                /** @description events after this id, oldest first (polling) */
+                since?: number | null;
+                /** @description older events than this id, newest first */
+                before?: number | null;
+                limit?: number;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["EventPage"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    active_faults_api_faults_active_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ActiveFaults"];
                 };
             };
         };
@@ -3001,6 +3551,145 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    decode_log_api_logs_decode_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_decode_log_api_logs_decode_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DecodedLog"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    log_events_api_logs__log_id__events_get: {
+        parameters: {
+            query?: {
+                /** @description first event seq */
+                since?: number;
+                limit?: number;
+            };
+            header?: never;
+            path: {
+                log_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LogEventPage"];
+                };
+            };
+            /** @description No decoded log with this id */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    export_log_api_logs__log_id__export_get: {
+        parameters: {
+            query?: {
+                format?: components["schemas"]["ExportFormat"];
+            };
+            header?: never;
+            path: {
+                log_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description every event of the log as CSV, JSON lines or Parquet */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/vnd.apache.parquet": string;
+                    "application/x-ndjson": string;
+                    "text/csv": string;
+                };
+            };
+            /** @description No decoded log with this id */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Invalid request: what is wrong, per field */
@@ -3785,6 +4474,101 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    command_api_nodes__node__drive_command_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["DriveCommandRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
                 };
             };
             /** @description Invalid request: what is wrong, per field */
@@ -4942,6 +5726,290 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    node_faults_api_nodes__node__faults_get: {
+        parameters: {
+            query?: {
+                /** @description newest history entries */
+                limit?: number;
+            };
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeFaults"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    device_history_api_nodes__node__faults_device_history_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DeviceHistory"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    clear_device_history_api_nodes__node__faults_device_history_delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "application/json": components["schemas"]["ConfirmBody"] | null;
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DeviceHistoryCleared"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    fault_reset_api_nodes__node__faults_reset_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["FaultResetResult"];
                 };
             };
             /** @description Refused: the request came from another site */
@@ -7084,6 +8152,116 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    recording_status_api_recording_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RecordingInfo"];
+                };
+            };
+        };
+    };
+    start_recording_api_recording_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["RecordingStart"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RecordingInfo"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    stop_recording_api_recording_delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the recorded file */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/octet-stream": string;
+                    "text/plain": string;
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No recording is running (recording_not_running) */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -3,6 +3,8 @@
 import type { ComponentType } from "react";
 
 import { DrivePage } from "../pages/drive/DrivePage";
+import { FaultsPage } from "../pages/faults/FaultsPage";
+import { LogsPage } from "../pages/logs/LogsPage";
 import { NetworkPage } from "../pages/network/NetworkPage";
 import { OdPage } from "../pages/od/OdPage";
 import { ParamsPage } from "../pages/params/ParamsPage";
@@ -27,6 +29,7 @@ export interface NodeTab {
 
 export const TOP_PAGES: readonly TopPage[] = [
   { path: "/", label: "Network", placement: "before-nodes", Component: NetworkPage },
+  { path: "/logs", label: "Logs", placement: "after-nodes", Component: LogsPage },
   { path: "/tools", label: "Tools", placement: "after-nodes", Component: ToolsPage },
 ];
 
@@ -35,6 +38,7 @@ export const NODE_TABS: readonly NodeTab[] = [
   { path: "od", label: "Object dictionary", Component: OdPage },
   { path: "pdos", label: "PDOs", Component: PdoPage },
   { path: "drive", label: "Drive", Component: DrivePage },
+  { path: "faults", label: "Faults", Component: FaultsPage },
 ];
 
 export function nodeUrl(node: number, tab: string = NODE_TABS[0]?.path ?? ""): string {

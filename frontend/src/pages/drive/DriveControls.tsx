@@ -6,22 +6,14 @@ import { Spinner } from "../../components/Spinner";
 import { asApiError } from "../../api/errors";
 import {
   driveAction,
+  driveCommand,
   EnableBlockedError,
   HeldByOtherError,
-  writeControlword,
   type DriveAction,
 } from "./driveApi";
 import { COMMANDS, STATE_LABELS, transitionsFor, type CommandInfo } from "./stateMachine";
 import type { DriveState } from "./types";
 import { WhyBlocked } from "./WhyBlocked";
-
-/** How each transition button reaches the drive: a motion route where one exists (it checks
- * the controller and explains a refusal), else the controlword alone. */
-const ROUTES: Partial<Record<CommandInfo["name"], DriveAction>> = {
-  enable_operation: "enable",
-  quick_stop: "quick-stop",
-  fault_reset: "fault-reset",
-};
 
 interface Props {
   node: number;
@@ -37,17 +29,19 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
   const [busy, setBusy] = useState<string | null>(null);
   const [error, setError] = useState<ApiError | null>(null);
   const [blocked, setBlocked] = useState<EnableBlockedError | null>(null);
+  // what the last refused request was, so "why" names it and the way out retries it
+  const [refused, setRefused] = useState<{ label: string; retry: () => void } | null>(null);
 
-  async function run(label: string, work: () => Promise<DriveState | undefined>): Promise<void> {
+  async function run(label: string, work: () => Promise<DriveState>): Promise<void> {
     setBusy(label);
     setError(null);
     setBlocked(null);
     try {
-      const state = await work();
-      if (state) show(state);
+      show(await work());
     } catch (caught) {
       if (caught instanceof EnableBlockedError) {
         setBlocked(caught);
+        setRefused({ label, retry: () => void run(label, work) });
         if (caught.state) show(caught.state);
       } else if (caught instanceof HeldByOtherError) {
         onHeldByOther(caught);
@@ -60,12 +54,9 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
   }
 
   const action = (name: DriveAction) => () => driveAction(node, name);
-  const command = (info: CommandInfo) => async (): Promise<DriveState | undefined> => {
-    const route = ROUTES[info.name];
-    if (route) return driveAction(node, route);
-    await writeControlword(node, info.controlword);
-    return undefined;
-  };
+  /** Every transition button: the server writes the command's controlword behind the lease
+   * and explains a transition that does not happen. */
+  const command = (info: CommandInfo) => () => driveCommand(node, info.name);
   const enabled = drive.state === "operation_enabled";
 
   return (
@@ -94,7 +85,13 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
         <WhyBlocked
           node={node}
           blocked={blocked}
-          onRetry={() => void run("enable", action("enable"))}
+          title={
+            refused && refused.label !== "enable"
+              ? `Why didn't ${refused.label} happen?`
+              : "Why won't it enable?"
+          }
+          retry={refused && refused.label !== "enable" ? `send ${refused.label} again` : "enable"}
+          onRetry={refused ? refused.retry : () => void run("enable", action("enable"))}
         />
       )}
       <ErrorText error={error} />

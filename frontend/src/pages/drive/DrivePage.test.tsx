@@ -161,10 +161,123 @@ describe("DrivePage", () => {
       mode: "pv",
       velocity_rpm: 60,
       keepalive_ms: 300,
+      acceleration_rpm_s: 1000,
     });
     const after = keepalives;
     await new Promise((resolve) => setTimeout(resolve, 250));
     expect(keepalives).toBe(after);
+  });
+
+  it("jogs PV at the chosen acceleration", async () => {
+    const { fetch } = render({
+      "GET /api/nodes/1/drive": ENABLED,
+      "POST /api/nodes/1/jog": {
+        jog_id: "j2",
+        node: 1,
+        mode: "pv",
+        value: 60,
+        keepalive_ms: 300,
+        state: "running",
+      },
+      "POST /api/jog/j2/keepalive": { jog_id: "j2" },
+      "DELETE /api/jog/j2": { jog_id: "j2", state: "stopped" },
+    });
+    await userEvent.click(await screen.findByRole("tab", { name: "Profile velocity (PV)" }));
+    const jog = within(screen.getByRole("region", { name: "Jog" }));
+    const accel = jog.getByLabelText("Acceleration (rpm/s)");
+    await userEvent.clear(accel);
+    await userEvent.type(accel, "250");
+    const minus = screen.getByRole("button", { name: /Hold −60 rpm/ });
+    fireEvent.pointerDown(minus, { button: 0 });
+    await waitFor(() => expect(fetch.calls.some((c) => c.path === "/api/nodes/1/jog")).toBe(true));
+    fireEvent.pointerUp(minus);
+    const start = fetch.calls.find((c) => c.path === "/api/nodes/1/jog");
+    expect(JSON.parse(start?.body ?? "{}")).toMatchObject({
+      mode: "pv",
+      velocity_rpm: -60,
+      acceleration_rpm_s: 250,
+    });
+    await userEvent.clear(accel);
+    await userEvent.type(accel, "0");
+    expect(screen.getByText("Acceleration (rpm/s): Must be above 0")).toBeTruthy();
+    expect(minus).toHaveProperty("disabled", true);
+  });
+
+  it("jogs PT with a torque slope and says what limits the speed", async () => {
+    const { fetch } = render({
+      "GET /api/nodes/1/drive": ENABLED,
+      "POST /api/nodes/1/jog": {
+        jog_id: "j3",
+        node: 1,
+        mode: "pt",
+        value: 10,
+        keepalive_ms: 300,
+        state: "running",
+      },
+      "POST /api/jog/j3/keepalive": { jog_id: "j3" },
+      "DELETE /api/jog/j3": { jog_id: "j3", state: "stopped" },
+    });
+    await userEvent.click(await screen.findByRole("tab", { name: "Profile torque (PT)" }));
+    expect(screen.getByTestId("jog-pt-speed-limit").textContent).toContain(
+      "the drive holds the speed at 6000 rpm (2006h:08 PA-103 Maximum speed)",
+    );
+    const slope = within(screen.getByRole("region", { name: "Jog" })).getByLabelText(
+      "Torque slope (%/s)",
+    );
+    await userEvent.clear(slope);
+    await userEvent.type(slope, "50");
+    expect(screen.getByText("Torque slope (%/s): At least 100")).toBeTruthy();
+    await userEvent.clear(slope);
+    await userEvent.type(slope, "500");
+    const plus = screen.getByRole("button", { name: /Hold \+10 %/ });
+    fireEvent.pointerDown(plus, { button: 0 });
+    await waitFor(() => expect(fetch.calls.some((c) => c.path === "/api/nodes/1/jog")).toBe(true));
+    fireEvent.pointerUp(plus);
+    const start = fetch.calls.find((c) => c.path === "/api/nodes/1/jog");
+    expect(JSON.parse(start?.body ?? "{}")).toMatchObject({
+      mode: "pt",
+      torque_pct: 10,
+      torque_slope_pct_s: 500,
+    });
+  });
+
+  it("sends every transition button through the drive command route", async () => {
+    let commands = 0;
+    const { fetch } = render({
+      "GET /api/nodes/1/drive": ENABLED,
+      // the first command (disable operation) takes transition 5, the second is refused
+      "POST /api/nodes/1/drive/command": () =>
+        (commands += 1) === 1
+          ? {
+              ...ENABLED,
+              state: "switched_on",
+              state_label: "Switched on",
+              statusword: 0x0233,
+              controlword: 0x0007,
+              last_transition: "disable operation (5)",
+            }
+          : json(
+              {
+                error: "enable_blocked",
+                message: "node 1 does not take shutdown",
+                reasons: [
+                  { code: "fault_reset_high", message: "controlword bit 7 (fault reset) is 1" },
+                ],
+                state: { ...ENABLED, state: "switched_on", statusword: 0x0233 },
+              },
+              409,
+            ),
+    });
+    await userEvent.click(await screen.findByRole("button", { name: "Disable operation" }));
+    expect(await screen.findByText("Switched on", { selector: ".badge" })).toBeTruthy();
+    const sent = fetch.calls.filter((c) => c.path === "/api/nodes/1/drive/command");
+    expect(sent.map((c) => JSON.parse(c.body) as unknown)).toEqual([
+      { command: "disable_operation" },
+    ]);
+    expect(fetch.calls.some((c) => c.path.includes("/sdo/"))).toBe(false);
+    await userEvent.click(await screen.findByRole("button", { name: "Shutdown" }));
+    const why = await screen.findByRole("alert", { name: "Why didn't Shutdown happen?" });
+    expect(within(why).getByText("controlword bit 7 (fault reset) is 1")).toBeTruthy();
   });
 
   it("draws each homing method and starts the picked one", async () => {

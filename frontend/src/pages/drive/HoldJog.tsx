@@ -3,17 +3,23 @@ import { useMemo, useState, type ReactNode } from "react";
 import { useLiveStore } from "../../live/context";
 import { HoldButton } from "./HoldButton";
 import { KEEPALIVE_TIMEOUT_MS, type HoldSnapshot, type HoldTransport } from "./holdToRun";
-import { jogKeepalive, startJog, stopJog } from "./driveApi";
+import { jogKeepalive, startJog, stopJog, type JogRamp } from "./driveApi";
+import { NumberField } from "./NumberField";
 import type { DriveState, JogMode } from "./types";
 import { checkRange, formatPct, formatRpm } from "./units";
 
 /** Keep-alives go on the WebSocket while it is open (cheaper), else over REST; a jog the
  * server reported stopped (keep-alive missed, EMCY, quick stop …) ends the hold. */
-function useJogTransport(node: number, mode: JogMode, value: () => number): HoldTransport {
+function useJogTransport(
+  node: number,
+  mode: JogMode,
+  value: () => number,
+  ramp: JogRamp,
+): HoldTransport {
   const store = useLiveStore();
   return useMemo(
     () => ({
-      start: async () => (await startJog(node, mode, value(), KEEPALIVE_TIMEOUT_MS)).jog_id,
+      start: async () => (await startJog(node, mode, value(), KEEPALIVE_TIMEOUT_MS, ramp)).jog_id,
       keepalive: (jogId: string) => {
         const stopped = store.getSnapshot().jogStopped;
         if (stopped?.jog_id === jogId) {
@@ -27,13 +33,35 @@ function useJogTransport(node: number, mode: JogMode, value: () => number): Hold
         await stopJog(jogId);
       },
     }),
-    [store, node, mode, value],
+    [store, node, mode, value, ramp],
   );
 }
 
 const TEXT: Record<JogMode, { what: string; unit: string; initial: string }> = {
   pv: { what: "Speed", unit: "rpm", initial: "60" },
   pt: { what: "Torque", unit: "%", initial: "10" },
+};
+
+/** The ramp field of each mode: PV's acceleration (6083h/6084h), PT's torque slope (6087h,
+ * counted in 0.1 %/ms: 100 %/s is its finest step). */
+const RAMP: Record<
+  JogMode,
+  { label: string; initial: string; min: number; max: number; title: string }
+> = {
+  pv: {
+    label: "Acceleration (rpm/s)",
+    initial: "1000",
+    min: 0,
+    max: 1_000_000,
+    title: "Profile acceleration and deceleration 6083h/6084h: up to speed and back down",
+  },
+  pt: {
+    label: "Torque slope (%/s)",
+    initial: "100",
+    min: 100,
+    max: 100_000,
+    title: "Torque slope 6087h (0.1 %/ms: 100 %/s is one step)",
+  },
 };
 
 /** PV or PT jog: two hold-to-run buttons at the chosen speed or torque. */
@@ -49,28 +77,43 @@ export function HoldJog({
   mayCommand: boolean;
 }): ReactNode {
   const text = TEXT[mode];
+  const rampText = RAMP[mode];
   const [amount, setAmount] = useState(text.initial);
+  const [rampInput, setRampInput] = useState(rampText.initial);
   const [hold, setHold] = useState<HoldSnapshot | null>(null);
   const max = mode === "pv" ? drive.limits.max_velocity_rpm : drive.limits.max_torque_pct;
   const check = checkRange(amount, { positive: true, max });
+  const rampCheck = checkRange(rampInput, {
+    positive: true,
+    min: mode === "pt" ? rampText.min : null,
+    max: rampText.max,
+  });
   const size = check.value ?? 0;
+  const rampValue = rampCheck.value;
+  const ramp = useMemo<JogRamp>(
+    () => (mode === "pv" ? { accelerationRpmS: rampValue } : { torqueSlopePctS: rampValue }),
+    [mode, rampValue],
+  );
   const forward = useJogTransport(
     node,
     mode,
     useMemo(() => () => size, [size]),
+    ramp,
   );
   const backward = useJogTransport(
     node,
     mode,
     useMemo(() => () => -size, [size]),
+    ramp,
   );
   const enabled = drive.state === "operation_enabled";
   const why = !mayCommand
     ? "Another client controls this drive"
     : !enabled
       ? "Enable the drive first"
-      : check.error;
+      : (check.error ?? (rampCheck.error ? `${rampText.label}: ${rampCheck.error}` : null));
   const id = `jog-${mode}-amount`;
+  const cap = drive.pt_speed_limit;
 
   return (
     <div className="hold-jog">
@@ -88,12 +131,28 @@ export function HoldJog({
             onChange={(e) => setAmount(e.target.value)}
           />
         </label>
+        <NumberField
+          id={`jog-${mode}-ramp`}
+          label={rampText.label}
+          value={rampInput}
+          onChange={setRampInput}
+          error={rampCheck.error}
+          title={rampText.title}
+        />
         <span className="muted small">
           {mode === "pv"
             ? `limit ${formatRpm(drive.limits.max_velocity_rpm)}`
-            : `limit ${formatPct(drive.limits.max_torque_pct)}, speed capped at ${formatRpm(drive.limits.max_velocity_rpm)}`}
+            : `limit ${formatPct(drive.limits.max_torque_pct)}`}
         </span>
       </div>
+      {mode === "pt" && (
+        <p className="muted small" data-testid="jog-pt-speed-limit">
+          {cap?.rpm != null
+            ? `Speed limit: the drive holds the speed at ${cap.rpm.toFixed(0)} rpm (${cap.source}); `
+            : `Speed limit: the drive's ${cap?.source ?? "max speed object"}; `}
+          with no load the axis runs up to it. Lower that object to jog slower.
+        </p>
+      )}
       <div className="hold-row">
         <HoldButton
           label={`◀ Hold −${size || ""} ${text.unit}`}

@@ -13,10 +13,16 @@ export function WhyBlocked({
   node,
   blocked,
   onRetry,
+  title = "Why won't it enable?",
+  retry = "enable",
 }: {
   node: number;
   blocked: EnableBlockedError;
   onRetry: () => void;
+  /** The question answered: "Why won't it enable?", "Why didn't Shutdown happen?" … */
+  title?: string;
+  /** What the NMT way out does after starting the node ("enable", "send Shutdown again"). */
+  retry?: string;
 }): ReactNode {
   const start = useAction(async () => {
     await call(
@@ -27,7 +33,7 @@ export function WhyBlocked({
   const nmt = blocked.reasons.some((r) => NMT_CODES.has(r.code));
   return (
     <section className="why-blocked" role="alert" aria-labelledby="why-blocked-heading">
-      <h3 id="why-blocked-heading">Why won&apos;t it enable?</h3>
+      <h3 id="why-blocked-heading">{title}</h3>
       {blocked.reasons.length === 0 ? (
         <p>{blocked.message}</p>
       ) : (
@@ -42,7 +48,7 @@ export function WhyBlocked({
       {nmt && (
         <div className="button-row">
           <button type="button" disabled={start.busy} onClick={() => void start.run()}>
-            Start node {node} (NMT Operational) and enable
+            Start node {node} (NMT Operational) and {retry}
           </button>
           <ErrorText error={start.error} inline />
         </div>

@@ -8,6 +8,7 @@ import { clientHeaders, clientName } from "../../live/clientId";
 import type {
   ControllerHolder,
   ControllerInfo,
+  DriveCommand,
   DriveState,
   EnableReason,
   HomeRequest,
@@ -121,15 +122,15 @@ export function quickStopAll(): Promise<QuickStopResult> {
 }
 
 /**
- * A single controlword command for the transitions the motion routes have no route of their
- * own for (shutdown, switch on, disable operation): written to 6040h like the service writes
- * it. Only ever towards less power or to Switched on, where the axis cannot move.
+ * One state-machine command (shutdown, switch on, enable operation, disable operation, disable
+ * voltage, quick stop, fault reset): the server writes its controlword, waits for the
+ * transition and, when it does not happen, answers why (EnableBlockedError).
  */
-export async function writeControlword(node: number, controlword: number): Promise<void> {
-  await motionCall(
-    api.PUT("/api/nodes/{node}/sdo/{index}/{subindex}", {
-      params: { path: { node, index: "6040", subindex: "00" } },
-      body: { value: controlword, size: 2 },
+export function driveCommand(node: number, command: DriveCommand): Promise<DriveState> {
+  return motionCall(
+    api.POST("/api/nodes/{node}/drive/command", {
+      params: on(node),
+      body: { command },
       headers: clientHeaders(),
     }),
   );
@@ -203,16 +204,33 @@ export function takeControl(node: number, takeOver: boolean): Promise<Controller
   );
 }
 
+/** How a jog ramps: PV's acceleration (6083h/6084h), PT's torque slope (6087h). */
+export interface JogRamp {
+  accelerationRpmS?: number | null;
+  torqueSlopePctS?: number | null;
+}
+
 export function startJog(
   node: number,
   mode: JogMode,
   value: number,
   keepaliveMs: number,
+  ramp: JogRamp = {},
 ): Promise<JogInfo> {
   const body =
     mode === "pv"
-      ? { mode, velocity_rpm: value, keepalive_ms: keepaliveMs }
-      : { mode, torque_pct: value, keepalive_ms: keepaliveMs };
+      ? {
+          mode,
+          velocity_rpm: value,
+          keepalive_ms: keepaliveMs,
+          acceleration_rpm_s: ramp.accelerationRpmS ?? null,
+        }
+      : {
+          mode,
+          torque_pct: value,
+          keepalive_ms: keepaliveMs,
+          torque_slope_pct_s: ramp.torqueSlopePctS ?? null,
+        };
   return motionCall(
     api.POST("/api/nodes/{node}/jog", { params: on(node), body, headers: clientHeaders() }),
   );

@@ -33,6 +33,7 @@ export const DRIVE: DriveState = {
     min_position_rev: -10,
     max_position_rev: 10,
   },
+  pt_speed_limit: { rpm: 6000, source: "2006h:08 PA-103 Maximum speed" },
 };
 
 export const ENABLED: DriveState = {

@@ -28,5 +28,6 @@ export type IpTrajectory = IpStreamRequest["trajectory"];
 export type IpStreamResult = Omit<Schemas["IpStreamResult"], "state"> & { state: DriveState };
 export type JogInfo = Schemas["JogInfo"];
 export type JogMode = Schemas["JogRequest"]["mode"];
+export type DriveCommand = Schemas["DriveCommandRequest"]["command"];
 export type QuickStopResult = Schemas["QuickStopResult"];
 export type MotionErrorBody = Schemas["MotionErrorBody"];

@@ -38,6 +38,7 @@ describe("NetworkPage", () => {
       },
       "GET /api/nodes/1/heartbeat": { producer_ms: 100 },
       "GET /api/nodes/3/heartbeat": { producer_ms: 0 },
+      "GET /api/events": { events: [], next: null },
     });
     const { store } = renderPage(<NetworkPage />);
     expect(screen.getByText(/No nodes known yet/)).toBeTruthy();
@@ -68,7 +69,7 @@ describe("NetworkPage", () => {
   });
 
   it("shows the bus state and counters from the live store", async () => {
-    stubFetch({ "GET /api/bus/interfaces": [] });
+    stubFetch({ "GET /api/bus/interfaces": [], "GET /api/events": { events: [], next: null } });
     const { store } = renderPage(<NetworkPage />);
     store.apply({
       type: "bus",

@@ -1,0 +1,88 @@
+"""API models of the fault routes (docs/api.md, "Faults and events")."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import BaseModel, Field, StrictBool
+
+from servodesk.model_base import RequestBody
+
+
+class Fault(BaseModel):
+    """One decoded EMCY (servodesk.faults.decode.FaultRecord) and the CiA 402 state around it."""
+
+    time: float
+    node: int
+    code: int
+    code_hex: str
+    source: str  # vendor | cia402 | cia301 | unknown
+    name_en: str
+    name_zh: str | None = None
+    check: str | None = None
+    error_register: int | None = None
+    manufacturer_hex: str | None = None
+    raw_hex: str
+    state_before: str | None = None  # the CiA 402 state last seen before the EMCY
+    state_after: str | None = None  # 6041h read after the EMCY (best effort)
+
+
+class NodeFaults(BaseModel):
+    active: Fault | None
+    history: list[Fault]
+    total: int = Field(description="faults of this node in the history (the list is the newest)")
+
+
+class ActiveFaults(BaseModel):
+    faults: list[Fault]
+
+
+class FaultResetResult(BaseModel):
+    node: int
+    ok: bool
+    message: str
+    state_before: str
+    state_after: str
+    statusword_hex: str
+    active: Fault | None
+
+
+class DeviceHistoryEntry(BaseModel):
+    number: int  # 1003h sub-index: 1 = newest
+    value_hex: str  # the 32-bit entry: bits 0–15 the error code, 16–31 manufacturer-specific
+    fault: Fault
+
+
+class DeviceHistory(BaseModel):
+    node: int
+    count: int
+    entries: list[DeviceHistoryEntry]
+    error_code: Fault | None = Field(description="603Fh, the drive's last error code (0: none)")
+    note: str | None = None
+    supported: bool = Field(default=True, description="false: the drive has no 1003h at all")
+
+
+class DeviceHistoryCleared(BaseModel):
+    node: int
+    message: str
+
+
+class ConfirmBody(RequestBody):
+    confirm: StrictBool = False
+
+
+class TimelineEvent(BaseModel):
+    id: int
+    time: float
+    kind: str
+    node: int | None
+    message: str
+    data: dict[str, Any]
+
+
+class EventPage(BaseModel):
+    events: list[TimelineEvent]
+    next: int | None = Field(
+        description="cursor for the next page: pass it as `before` (newest-first pages) or as "
+        "`since` (since pages); null when there is nothing more yet"
+    )

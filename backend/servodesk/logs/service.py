@@ -1,0 +1,135 @@
+"""What the log routes use: an uploaded log decoded in a worker thread (a bounded number at a
+time), paged, exported; the stored results are LogStore's (store.py)."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import logging
+import os
+import re
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import ParamSpec, TypeVar
+
+from servodesk.errors import InvalidValueError, NotFoundError
+from servodesk.logs.events import Event
+from servodesk.logs.export import ExportFormat, ParquetWriter, text_writer
+from servodesk.logs.reader import SUFFIXES
+from servodesk.logs.store import MAX_PAGE, LogNotFoundError, LogResult, LogStore
+
+log = logging.getLogger(__name__)
+P = ParamSpec("P")
+T = TypeVar("T")
+
+_SAFE = re.compile(r"[^A-Za-z0-9._-]+")
+EXPORT_TYPES = {
+    ExportFormat.CSV: "text/csv",
+    ExportFormat.JSON: "application/x-ndjson",
+    ExportFormat.PARQUET: "application/vnd.apache.parquet",
+}
+
+
+def _safe_name(name: str, fallback: str) -> str:
+    """The upload's own name, reduced to a harmless file name (its suffix picks the reader)."""
+    cleaned = _SAFE.sub("_", Path(name).name).strip("._") or fallback
+    return cleaned[-100:]
+
+
+class LogService:
+    def __init__(self, data_dir: Path, *, max_concurrent: int) -> None:
+        self.store = LogStore(data_dir)
+        self._spool = data_dir / "uploads"
+        self._max = max_concurrent
+        self._slots: asyncio.Semaphore | None = None
+
+    async def decode(
+        self, name: str, data: bytes, dcf: tuple[str, bytes] | None = None
+    ) -> LogResult:
+        """Decode an uploaded log (its suffix names the format) off the event loop; at most
+        `max_concurrent` decodes run at once, the others wait their turn."""
+        name = _safe_name(name, "upload.log")
+        if not name.lower().endswith(SUFFIXES):
+            raise InvalidValueError(
+                f"{name}: not a CAN log this tool reads (it reads {', '.join(SUFFIXES)})"
+            )
+        if self._slots is None:
+            self._slots = asyncio.Semaphore(self._max)
+        async with self._slots:
+            return await asyncio.to_thread(self._decode, name, data, dcf)
+
+    def _decode(self, name: str, data: bytes, dcf: tuple[str, bytes] | None) -> LogResult:
+        self._spool.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryDirectory(dir=self._spool) as tmp:
+            path = Path(tmp) / name
+            path.write_bytes(data)
+            dcf_path: Path | None = None
+            if dcf is not None:
+                dcf_path = Path(tmp) / ("dcf-" + _safe_name(dcf[0], "upload.dcf"))
+                dcf_path.write_bytes(dcf[1])
+            try:
+                return self.store.decode_file(path, dcf=dcf_path)
+            except Exception as error:  # any reader's complaint about a user's file
+                log.info("decoding %s failed: %r", name, error)
+                raise InvalidValueError(
+                    f"{name}: could not be read as a CAN log: {error}"
+                ) from None
+
+    async def result(self, log_id: str) -> LogResult:
+        return await asyncio.to_thread(self._guard, self.store.result, log_id)
+
+    async def events(self, log_id: str, since: int, limit: int) -> list[Event]:
+        return await asyncio.to_thread(self._guard, self.store.events, log_id, since, limit)
+
+    async def export(self, log_id: str, fmt: ExportFormat) -> Path:
+        """Every event of the log in a temporary file (the caller deletes it)."""
+        return await asyncio.to_thread(self._guard, self._export, log_id, fmt)
+
+    def _export(self, log_id: str, fmt: ExportFormat) -> Path:
+        self.store.result(log_id)  # LogNotFoundError before a file is made
+        self._spool.mkdir(parents=True, exist_ok=True)
+        fd, name = tempfile.mkstemp(dir=self._spool, suffix=f".{fmt.value}")
+        os.close(fd)
+        path = Path(name)
+        try:
+            if fmt is ExportFormat.PARQUET:
+                writer = ParquetWriter(path)
+                self._write_pages(log_id, writer.write)
+                writer.close()
+            else:
+                with path.open("w", encoding="utf-8", newline="") as out:
+                    text = text_writer(fmt, out)
+                    self._write_pages(log_id, text.write)
+                    text.close()
+        except BaseException:
+            path.unlink(missing_ok=True)
+            raise
+        return path
+
+    def _write_pages(self, log_id: str, write: Callable[[Event], None]) -> None:
+        since = 0
+        while True:
+            page = self.store.events(log_id, since, MAX_PAGE)
+            for item in page:
+                write(item)
+            if len(page) < MAX_PAGE:
+                return
+            since = page[-1].seq + 1
+
+    @staticmethod
+    def _guard(fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
+        try:
+            return fn(*args, **kwargs)
+        except LogNotFoundError:
+            raise NotFoundError("log_not_found", "no decoded log with this id") from None
+
+
+def event_data(item: Event) -> object:
+    """The event's JSON detail as JSON (a fault record, PDO values) or its text as is."""
+    if item.data is None:
+        return None
+    try:
+        return json.loads(item.data)
+    except ValueError:
+        return item.data

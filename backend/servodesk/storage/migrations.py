@@ -1,0 +1,60 @@
+"""The schema, versioned: `schema_version` holds the version reached; each migration runs once,
+in order, in its own transaction. Add new tables (the audit log of the Trust issue) as the next
+migration; never edit one that shipped."""
+
+from __future__ import annotations
+
+import sqlite3
+
+MIGRATIONS: tuple[tuple[int, str], ...] = (
+    (
+        1,
+        """
+        CREATE TABLE events (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            time REAL NOT NULL,
+            kind TEXT NOT NULL,
+            node INTEGER,
+            message TEXT NOT NULL,
+            data TEXT NOT NULL DEFAULT '{}'
+        );
+        CREATE INDEX events_node ON events (node, id);
+        CREATE INDEX events_kind ON events (kind, id);
+        CREATE INDEX events_time ON events (time);
+        CREATE TABLE faults (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            time REAL NOT NULL,
+            node INTEGER NOT NULL,
+            code INTEGER NOT NULL,
+            code_hex TEXT NOT NULL,
+            source TEXT NOT NULL,
+            name_en TEXT NOT NULL,
+            name_zh TEXT,
+            "check" TEXT,
+            error_register INTEGER,
+            manufacturer_hex TEXT,
+            raw_hex TEXT NOT NULL,
+            state_before TEXT,
+            state_after TEXT
+        );
+        CREATE INDEX faults_node ON faults (node, id);
+        CREATE INDEX faults_time ON faults (time);
+        """,
+    ),
+)
+LATEST = MIGRATIONS[-1][0]
+
+
+def migrate(db: sqlite3.Connection) -> int:
+    """Bring `db` to the latest schema; returns the version it had before."""
+    db.execute("CREATE TABLE IF NOT EXISTS schema_version (version INTEGER NOT NULL)")
+    row = db.execute("SELECT MAX(version) FROM schema_version").fetchone()
+    before = int(row[0]) if row and row[0] is not None else 0
+    for version, sql in MIGRATIONS:
+        if version <= before:
+            continue
+        # executescript commits first; the BEGIN makes each migration all-or-nothing
+        db.executescript(
+            f"BEGIN; {sql}; INSERT INTO schema_version (version) VALUES ({version}); COMMIT;"
+        )
+    return before

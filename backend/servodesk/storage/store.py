@@ -1,0 +1,282 @@
+"""The timeline and fault history in SQLite (`<data_dir>/servodesk.sqlite`, WAL).
+
+One writer task takes everything queued since its last batch and writes it with executemany in
+one transaction, in a worker thread (never on the event loop); it also prunes to the retention
+(settings `events_max_rows`, `events_max_days`, `faults_max_rows`). Reads use a second
+connection, also in a worker thread, so a read never waits for a batch being written (WAL).
+`flush()` waits for what was queued before the call: routes call it so an answer includes every
+event published before the request (read-your-writes).
+
+An event's id is given when it is queued (one more than the last, never reused), so the live
+channel can push it with the id the timeline routes will show (`id_of`), and a page that sees a
+gap in the ids knows it missed some and fetches them with `since`.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import json
+import logging
+import sqlite3
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from servodesk.events.bus import BusEvent
+from servodesk.storage.migrations import migrate
+
+log = logging.getLogger(__name__)
+
+FILENAME = "servodesk.sqlite"
+PENDING_LIMIT = 1_000_000  # rows waiting for the writer; beyond that they are counted and lost
+AGE_PRUNE_EVERY = 60.0  # s between pruning by age
+FAULT_COLUMNS = (
+    "time",
+    "node",
+    "code",
+    "code_hex",
+    "source",
+    "name_en",
+    "name_zh",
+    "check",
+    "error_register",
+    "manufacturer_hex",
+    "raw_hex",
+    "state_before",
+    "state_after",
+)
+_QUOTED = ", ".join(f'"{c}"' for c in FAULT_COLUMNS)  # "check" is an SQL keyword
+_FAULT_INSERT = f"INSERT INTO faults ({_QUOTED}) VALUES ({', '.join('?' * len(FAULT_COLUMNS))})"
+_EVENT_INSERT = "INSERT INTO events (id, time, kind, node, message, data) VALUES (?, ?, ?, ?, ?, ?)"
+
+
+@dataclass(frozen=True)
+class Retention:
+    max_events: int = 200_000
+    max_days: float = 30.0
+    max_faults: int = 50_000
+
+
+@dataclass(frozen=True)
+class StoredEvent:
+    id: int
+    time: float
+    kind: str
+    node: int | None
+    message: str
+    data: dict[str, Any]
+
+
+def _connect(path: Path) -> sqlite3.Connection:
+    db = sqlite3.connect(path, check_same_thread=False, isolation_level=None)
+    db.execute("PRAGMA journal_mode = WAL")
+    db.execute("PRAGMA synchronous = NORMAL")  # WAL: durable at checkpoints, never corrupt
+    db.execute("PRAGMA busy_timeout = 5000")
+    return db
+
+
+class Storage:
+    def __init__(self, data_dir: Path, retention: Retention | None = None) -> None:
+        self.path = data_dir / FILENAME
+        self.retention = retention or Retention()
+        self._writer: sqlite3.Connection | None = None
+        self._reader: sqlite3.Connection | None = None
+        self._read_lock = threading.Lock()  # one read at a time on the read connection
+        self._events: list[tuple[Any, ...]] = []
+        self._faults: list[tuple[Any, ...]] = []
+        self._queued = 0  # rows queued since start
+        self._written = 0  # rows written (or dropped by a failed batch)
+        self._progress: asyncio.Condition | None = None
+        self._wake: asyncio.Event | None = None
+        self._task: asyncio.Task[None] | None = None
+        self._pruned_at = 0.0
+        self.dropped = 0
+        self._next_id: int | None = None  # known once the database is open
+        self._last: tuple[BusEvent, int] | None = None  # the event queued last and its id
+
+    # ------------------------------------------------------------------ lifecycle
+
+    async def start(self) -> None:
+        next_id = await asyncio.to_thread(self._open)
+        # events queued before the database was open get their ids now, in order
+        for i, row in enumerate(self._events):
+            self._events[i] = (next_id, *row[1:])
+            next_id += 1
+        self._next_id = next_id
+        self._progress = asyncio.Condition()
+        self._wake = asyncio.Event()
+        self._task = asyncio.get_running_loop().create_task(self._run(), name="storage-writer")
+
+    def _open(self) -> int:
+        """Open both connections; returns the id the next event gets."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._writer = _connect(self.path)
+        migrate(self._writer)
+        self._reader = _connect(self.path)
+        # AUTOINCREMENT's counter: ids of pruned events are never given again
+        row = self._writer.execute(
+            "SELECT MAX(n) FROM (SELECT seq AS n FROM sqlite_sequence WHERE name = 'events'"
+            " UNION ALL SELECT MAX(id) FROM events)"
+        ).fetchone()
+        return int(row[0] or 0) + 1
+
+    async def close(self) -> None:
+        task, self._task = self._task, None
+        if task is not None:
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+            await self._write_pending()  # what was queued last is not lost at shutdown
+        for db in (self._writer, self._reader):
+            if db is not None:
+                await asyncio.to_thread(db.close)
+        self._writer = self._reader = None
+
+    # ------------------------------------------------------------------ writing (on the loop)
+
+    def add_event(self, item: BusEvent) -> None:
+        """Queue an event for the timeline (a bus subscriber: no I/O here) and give it its id
+        (`id_of`)."""
+        data = json.dumps(item.data, ensure_ascii=False, default=str)
+        event_id = self._next_id
+        if event_id is not None:
+            self._next_id = event_id + 1
+            self._last = (item, event_id)
+        self._queue(
+            self._events, (event_id, item.time, item.kind.value, item.node, item.message, data)
+        )
+
+    def id_of(self, item: BusEvent) -> int | None:
+        """The id `add_event` gave `item`, asked by a later subscriber of the same publish (the
+        live channel); None before the database is open."""
+        last = self._last
+        return last[1] if last is not None and last[0] is item else None
+
+    def add_fault(self, fault: dict[str, Any]) -> None:
+        """Queue a fault record (the API's Fault fields plus state_before/state_after)."""
+        self._queue(self._faults, tuple(fault.get(c) for c in FAULT_COLUMNS))
+
+    def _queue(self, rows: list[tuple[Any, ...]], row: tuple[Any, ...]) -> None:
+        if len(self._events) + len(self._faults) >= PENDING_LIMIT:
+            self.dropped += 1
+            return
+        rows.append(row)
+        self._queued += 1
+        if self._wake is not None:
+            self._wake.set()
+
+    async def flush(self) -> None:
+        """Wait until everything queued before this call is written."""
+        target, progress = self._queued, self._progress
+        if progress is None or self._task is None:
+            return
+        async with progress:
+            await progress.wait_for(lambda: self._written >= target or self._task is None)
+
+    async def _run(self) -> None:
+        assert self._wake is not None
+        while True:
+            await self._wake.wait()
+            self._wake.clear()
+            await self._write_pending()
+
+    async def _write_pending(self) -> None:
+        events, self._events = self._events, []
+        faults, self._faults = self._faults, []
+        if events or faults:
+            try:
+                await asyncio.to_thread(self._write, events, faults)
+            except sqlite3.Error:
+                log.exception("writing %d events, %d faults failed", len(events), len(faults))
+            self._written += len(events) + len(faults)
+        if self._progress is not None:
+            async with self._progress:
+                self._progress.notify_all()
+
+    def _write(self, events: list[tuple[Any, ...]], faults: list[tuple[Any, ...]]) -> None:
+        db = self._writer
+        if db is None:
+            return
+        db.execute("BEGIN")
+        try:
+            if events:
+                db.executemany(_EVENT_INSERT, events)
+            if faults:
+                db.executemany(_FAULT_INSERT, faults)
+            self._prune(db)
+            db.execute("COMMIT")
+        except BaseException:
+            db.execute("ROLLBACK")
+            raise
+
+    def _prune(self, db: sqlite3.Connection) -> None:
+        keep = self.retention
+        for table, limit in (("events", keep.max_events), ("faults", keep.max_faults)):
+            # ids grow by one per row: everything below (newest id - limit) is beyond the bound
+            db.execute(
+                f"DELETE FROM {table} WHERE id <= (SELECT MAX(id) FROM {table}) - ?", (limit,)
+            )
+        now = time.time()
+        if now - self._pruned_at >= AGE_PRUNE_EVERY:
+            self._pruned_at = now
+            oldest = now - keep.max_days * 86400
+            db.execute("DELETE FROM events WHERE time < ?", (oldest,))
+            db.execute("DELETE FROM faults WHERE time < ?", (oldest,))
+
+    # ------------------------------------------------------------------ reading (off the loop)
+
+    async def events(
+        self,
+        *,
+        node: int | None = None,
+        kind: str | None = None,
+        since: int | None = None,
+        before: int | None = None,
+        limit: int = 100,
+    ) -> list[StoredEvent]:
+        """With `since`: events with id > since, oldest first. Otherwise the newest first,
+        below `before` when given."""
+        where: list[str] = []
+        args: list[Any] = []
+        for clause, value in (
+            ("node = ?", node),
+            ("kind = ?", kind),
+            ("id > ?", since),
+            ("id < ?", before),
+        ):
+            if value is not None:
+                where.append(clause)
+                args.append(value)
+        order = "ASC" if since is not None else "DESC"
+        sql = "SELECT id, time, kind, node, message, data FROM events"
+        if where:
+            sql += " WHERE " + " AND ".join(where)
+        sql += f" ORDER BY id {order} LIMIT ?"
+        rows = await self._read(sql, (*args, limit))
+        return [StoredEvent(r[0], r[1], r[2], r[3], r[4], json.loads(r[5])) for r in rows]
+
+    async def faults(self, node: int | None, limit: int) -> tuple[list[dict[str, Any]], int]:
+        """The newest `limit` faults (of `node`, or all), newest first, and how many exist."""
+        cols = _QUOTED
+        if node is None:
+            rows = await self._read(f"SELECT {cols} FROM faults ORDER BY id DESC LIMIT ?", (limit,))
+            total = await self._read("SELECT COUNT(*) FROM faults", ())
+        else:
+            rows = await self._read(
+                f"SELECT {cols} FROM faults WHERE node = ? ORDER BY id DESC LIMIT ?", (node, limit)
+            )
+            total = await self._read("SELECT COUNT(*) FROM faults WHERE node = ?", (node,))
+        return [dict(zip(FAULT_COLUMNS, row, strict=True)) for row in rows], int(total[0][0])
+
+    async def _read(self, sql: str, args: tuple[Any, ...]) -> list[tuple[Any, ...]]:
+        def run() -> list[tuple[Any, ...]]:
+            db = self._reader
+            if db is None:
+                return []
+            with self._read_lock:
+                return db.execute(sql, args).fetchall()
+
+        return await asyncio.to_thread(run)

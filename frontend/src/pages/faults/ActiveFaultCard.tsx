@@ -1,0 +1,102 @@
+import { useState, type ReactNode } from "react";
+
+import { ErrorText } from "../../components/ErrorText";
+import { Spinner } from "../../components/Spinner";
+import { useAction, useApi } from "../../lib/useApi";
+import { errorCode, resetFault } from "./faultsApi";
+import { FaultDetails } from "./FaultDetails";
+import { errorCodeParts, faultCode, faultName } from "./faultText";
+import type { Fault } from "./types";
+
+function ErrorCodeValue({ hex, words }: { hex: string; words: string | null }): ReactNode {
+  return (
+    <>
+      <span className="mono">{hex}</span>
+      {words && `: ${words}`}
+    </>
+  );
+}
+
+/** 603Fh as the drive reports it now, tied to the active fault when the codes agree. */
+function ErrorCodeLine({
+  node,
+  active,
+}: {
+  node: number;
+  active: Fault | null | undefined;
+}): ReactNode {
+  // read again whenever the active fault changes
+  const version = active ? `${active.code}-${active.time}` : String(active);
+  const code = useApi((signal) => errorCode(node, signal), `603f-${node}-${version}`);
+  return (
+    <p className="small error-code-line">
+      <span className="muted">Error code 603Fh on the drive: </span>
+      {code.data ? (
+        <ErrorCodeValue {...errorCodeParts(code.data.value, active)} />
+      ) : code.error ? (
+        <ErrorText error={code.error} inline />
+      ) : (
+        <Spinner label="Reading 603Fh" />
+      )}
+    </p>
+  );
+}
+
+/** The fault the node is in now, in words, with the reset and what it did. */
+export function ActiveFaultCard({
+  node,
+  active,
+  onReset,
+}: {
+  node: number;
+  active: Fault | null | undefined;
+  onReset: () => void;
+}): ReactNode {
+  const [result, setResult] = useState<string | null>(null);
+  const reset = useAction(async () => {
+    setResult(null);
+    const answer = await resetFault(node);
+    setResult(answer.ok ? answer.message : `Not reset: ${answer.message}`);
+    onReset();
+  });
+  return (
+    <section
+      className={`card fault-active${active ? " in-fault" : ""}`}
+      aria-labelledby="fault-active-heading"
+    >
+      <header className="card-header">
+        <h2 id="fault-active-heading">
+          {active === undefined
+            ? "Active fault"
+            : active
+              ? `In fault: ${faultCode(active)} ${faultName(active)}`
+              : "No active fault"}
+        </h2>
+        <span className="spacer" />
+        <button
+          type="button"
+          className={active ? "primary" : undefined}
+          disabled={reset.busy}
+          onClick={() => void reset.run()}
+        >
+          Fault reset
+        </button>
+        {reset.busy && <Spinner label="Resetting" />}
+      </header>
+      {result && (
+        <p className="note" role="status">
+          {result}
+        </p>
+      )}
+      <ErrorText error={reset.error} />
+      {active ? (
+        <FaultDetails fault={active} />
+      ) : (
+        active === null && (
+          <p className="muted">The drive reports no fault. Past faults are listed below.</p>
+        )
+      )}
+      <ErrorCodeLine node={node} active={active} />
+    </section>
+  );
+}

@@ -1,0 +1,154 @@
+import { screen, within } from "@testing-library/react";
+import userEvent from "@testing-library/user-event";
+import { afterEach, describe, expect, it, vi } from "vitest";
+
+import { json, stubFetch } from "../../test/fetchStub";
+import { renderPage } from "../../test/render";
+import { cia402Fault, mdiAlarm4 } from "./fixtures";
+import { FaultsPage } from "./FaultsPage";
+import type { NodeFaults } from "./types";
+
+afterEach(() => {
+  vi.unstubAllGlobals();
+});
+
+const errorCodeLine = (): string | null | undefined =>
+  document.querySelector(".error-code-line")?.textContent;
+
+const sdo603f = (value: number) => ({
+  node: 1,
+  index: 0x603f,
+  subindex: 0,
+  value,
+  text: String(value),
+  raw_hex: "",
+});
+
+describe("FaultsPage", () => {
+  it("shows the active fault in words, resets it and lists the history", async () => {
+    let faults: NodeFaults = {
+      active: mdiAlarm4(),
+      history: [mdiAlarm4({ time: 1_764_000_000 }), mdiAlarm4({ time: 1_764_000_000.5 })],
+      total: 5,
+    };
+    const stub = stubFetch({
+      "GET /api/nodes/1/faults": () => faults,
+      "GET /api/nodes/1/sdo/603F/00": () => sdo603f(faults.active ? 4 : 0),
+      "GET /api/nodes/1/faults/device-history": json(
+        {
+          error: "sdo_abort",
+          message: "Object does not exist in the object dictionary",
+          abort_code: "0x06020000",
+        },
+        502,
+      ),
+      "POST /api/nodes/1/faults/reset": () => {
+        faults = { ...faults, active: null };
+        return {
+          node: 1,
+          ok: true,
+          message: "fault reset: node 1 went from Fault to Switch on disabled",
+          state_before: "Fault",
+          state_after: "Switch on disabled",
+          statusword_hex: "0x0250",
+          active: null,
+        };
+      },
+    });
+    renderPage(<FaultsPage node={1} />, "/nodes/1/faults");
+
+    const active = await screen.findByRole("heading", {
+      name: "In fault: alarm 4 位置超差 Following error",
+    });
+    const card = within(active.closest("section") as HTMLElement);
+    expect(card.getByText("位置超差")).toBeTruthy();
+    expect(card.getByText("the drive's own alarm table")).toBeTruthy();
+    expect(card.getByText("gain, load, 6065h.")).toBeTruthy();
+    expect(card.getByText("MDi-S1-C CANopen manual §4.1.")).toBeTruthy();
+    expect(card.getByText("not in this drive's EMCY")).toBeTruthy();
+    expect(card.getByText("04 00")).toBeTruthy();
+    await vi.waitFor(() =>
+      expect(errorCodeLine()).toBe(
+        "Error code 603Fh on the drive: 0x0004: alarm 4 位置超差 Following error",
+      ),
+    );
+    expect(
+      await screen.findByText("Node 1 keeps no error history of its own (no 1003h)."),
+    ).toBeTruthy();
+
+    expect(screen.getByText("5 EMCYs stored, the newest 2 shown")).toBeTruthy();
+    const history = screen.getByRole("table", { name: "Fault history" });
+    expect(within(history).getAllByRole("row")).toHaveLength(3);
+    expect(within(history).getAllByText("Switch on disabled → Fault")).toHaveLength(2);
+    await userEvent.click(within(history).getAllByRole("row")[1] as HTMLElement);
+    expect(screen.getByLabelText("Selected fault").textContent).toContain("04 00");
+
+    await userEvent.click(card.getByRole("button", { name: "Fault reset" }));
+    expect(
+      await screen.findByText("fault reset: node 1 went from Fault to Switch on disabled"),
+    ).toBeTruthy();
+    expect(await screen.findByRole("heading", { name: "No active fault" })).toBeTruthy();
+    await vi.waitFor(() =>
+      expect(errorCodeLine()).toBe("Error code 603Fh on the drive: 0x0000: no error"),
+    );
+    expect(stub.calls.filter((c) => c.method === "POST")).toHaveLength(1);
+  });
+
+  it("reads the drive's 1003h and clears it only after confirming", async () => {
+    let entries = [
+      { number: 1, value_hex: "0x00008611", fault: cia402Fault({ error_register: null }) },
+    ];
+    const stub = stubFetch({
+      "GET /api/nodes/3/faults": { active: null, history: [], total: 0 },
+      "GET /api/nodes/3/sdo/603F/00": { ...sdo603f(0), node: 3 },
+      "GET /api/nodes/3/faults/device-history": () => ({
+        node: 3,
+        count: entries.length,
+        entries,
+        error_code: null,
+      }),
+      "DELETE /api/nodes/3/faults/device-history": () => {
+        entries = [];
+        return { node: 3, message: "node 3: error history 1003h cleared" };
+      },
+    });
+    renderPage(<FaultsPage node={3} />, "/nodes/3/faults");
+
+    const table = await screen.findByRole("table", { name: "Drive's error history" });
+    expect(within(table).getByText("0x00008611")).toBeTruthy();
+    expect(screen.getByText("No EMCY from this node yet.")).toBeTruthy();
+
+    await userEvent.click(screen.getByRole("button", { name: "Clear history…" }));
+    const dialog = screen.getByRole("dialog");
+    expect(dialog.textContent).toContain("cannot be undone");
+    expect(stub.calls.some((c) => c.method === "DELETE")).toBe(false);
+    await userEvent.click(within(dialog).getByRole("button", { name: "Clear 1003h" }));
+
+    expect(await screen.findByText("node 3: error history 1003h cleared")).toBeTruthy();
+    expect(await screen.findByText("The drive's history is empty.")).toBeTruthy();
+    const del = stub.calls.find((c) => c.method === "DELETE");
+    expect(JSON.parse(del?.body ?? "{}")).toEqual({ confirm: true });
+  });
+
+  it("shows error register bits and manufacturer bytes of a CiA 301 EMCY", async () => {
+    stubFetch({
+      "GET /api/nodes/3/faults": { active: cia402Fault(), history: [cia402Fault()], total: 1 },
+      "GET /api/nodes/3/sdo/603F/00": { ...sdo603f(0x8611), node: 3 },
+      "GET /api/nodes/3/faults/device-history": {
+        node: 3,
+        count: 0,
+        entries: [],
+        error_code: null,
+      },
+    });
+    renderPage(<FaultsPage node={3} />, "/nodes/3/faults");
+    const heading = await screen.findByRole("heading", {
+      name: "In fault: 0x8611 Following error",
+    });
+    const card = within(heading.closest("section") as HTMLElement);
+    expect(card.getByText("21h: generic, device profile")).toBeTruthy();
+    expect(card.getByText("00 00 00 00 00")).toBeTruthy();
+    expect(card.getByText("CiA 402 (drive profile)")).toBeTruthy();
+    await vi.waitFor(() => expect(errorCodeLine()).toContain("0x8611: Following error"));
+  });
+});

@@ -1,0 +1,199 @@
+import { describe, expect, it } from "vitest";
+
+import {
+  bannerText,
+  checkParts,
+  errorCodeParts,
+  errorRegisterText,
+  errorRegisterWords,
+  faultCode,
+  faultWords,
+  hasNoObject,
+  newestFirst,
+  sourceLabel,
+  stateChange,
+} from "./faultText";
+import type { Fault } from "./types";
+
+function fault(overrides: Partial<Fault> = {}): Fault {
+  return {
+    time: 1_700_000_000,
+    node: 1,
+    code: 4,
+    code_hex: "0x0004",
+    source: "vendor",
+    name_en: "Following error",
+    name_zh: "位置超差",
+    check: null,
+    error_register: null,
+    manufacturer_hex: null,
+    raw_hex: "04 00",
+    ...overrides,
+  };
+}
+
+describe("error register", () => {
+  it.each([
+    [0x00, []],
+    [0x01, ["generic"]],
+    [0x21, ["generic", "device profile"]],
+    [0x81, ["generic", "manufacturer"]],
+    [
+      0xff,
+      [
+        "generic",
+        "current",
+        "voltage",
+        "temperature",
+        "communication",
+        "device profile",
+        "reserved bit 6",
+        "manufacturer",
+      ],
+    ],
+  ])("%i in words", (register, words) => {
+    expect(errorRegisterWords(register)).toEqual(words);
+  });
+
+  it.each([
+    [null, "—"],
+    [undefined, "—"],
+    [0, "00h: no error"],
+    [0x21, "21h: generic, device profile"],
+    [0x11, "11h: generic, communication"],
+  ])("%s as text", (register, text) => {
+    expect(errorRegisterText(register)).toBe(text);
+  });
+});
+
+describe("fault words", () => {
+  it.each([
+    [fault(), "alarm 4", "alarm 4 位置超差 Following error"],
+    [
+      fault({ code: 0x8611, code_hex: "0x8611", name_zh: null }),
+      "0x8611",
+      "0x8611 Following error",
+    ],
+    [
+      fault({ code: 0x8611, code_hex: "0x8611", source: "cia402", name_zh: null }),
+      "0x8611",
+      "0x8611 Following error",
+    ],
+    [
+      fault({
+        code: 61,
+        code_hex: "0x003D",
+        source: "unknown",
+        name_zh: null,
+        name_en: "Unknown alarm 61",
+      }),
+      "0x003D",
+      "0x003D Unknown alarm 61",
+    ],
+  ])("%#", (f, code, words) => {
+    expect(faultCode(f)).toBe(code);
+    expect(faultWords(f)).toBe(words);
+  });
+
+  it("makes the banner line", () => {
+    expect(bannerText(fault())).toBe("Node 1 in fault: alarm 4 位置超差 Following error");
+  });
+
+  it.each([
+    ["vendor", "the drive's own alarm table"],
+    ["cia402", "CiA 402 (drive profile)"],
+    ["cia301", "CiA 301 (communication)"],
+    ["unknown", "not in any table"],
+    ["other", "other"],
+  ])("source %s", (source, label) => {
+    expect(sourceLabel(source)).toBe(label);
+  });
+});
+
+describe("checkParts", () => {
+  it.each([
+    [null, []],
+    ["", []],
+    ["Check the wiring.", [{ label: "", text: "Check the wiring." }]],
+    [
+      "Cause: position deviation too large. Check: gain, load, 6065h. CiA code 8611h: Following error. Source: MDi-S1-C CANopen manual §4.1.",
+      [
+        { label: "Cause", text: "position deviation too large." },
+        { label: "Check", text: "gain, load, 6065h." },
+        { label: "CiA code 8611h", text: "Following error." },
+        { label: "Source", text: "MDi-S1-C CANopen manual §4.1." },
+      ],
+    ],
+    [
+      "CiA class: Monitoring. Error register 21h: generic, device profile.",
+      [
+        { label: "CiA class", text: "Monitoring." },
+        { label: "Error register 21h", text: "generic, device profile." },
+      ],
+    ],
+    [
+      "Cause: x. The EMCY carries only the low 16 bits of 603Fh (12320h, 22320h share them): read 603Fh. Check: a. Check: b.",
+      [
+        {
+          label: "Cause",
+          text: "x. The EMCY carries only the low 16 bits of 603Fh (12320h, 22320h share them): read 603Fh.",
+        },
+        { label: "Check", text: "a." },
+        { label: "Check", text: "b." },
+      ],
+    ],
+  ])("%#", (check, parts) => {
+    expect(checkParts(check)).toEqual(parts);
+  });
+});
+
+describe("newestFirst", () => {
+  it("sorts by time, keeping the order of equal times", () => {
+    const items = [
+      { time: 1, id: "a" },
+      { time: 3, id: "b" },
+      { time: 3, id: "c" },
+      { time: 2, id: "d" },
+    ];
+    expect(newestFirst(items).map((i) => i.id)).toEqual(["b", "c", "d", "a"]);
+  });
+});
+
+describe("603Fh and states", () => {
+  it.each([
+    [0, null, { hex: "0x0000", words: "no error" }],
+    [4, fault(), { hex: "0x0004", words: "alarm 4 位置超差 Following error" }],
+    [5, fault(), { hex: "0x0005", words: null }],
+    [
+      0x8611,
+      fault({ code: 0x8611, code_hex: "0x8611", name_zh: null }),
+      { hex: "0x8611", words: "Following error" },
+    ],
+    [
+      0x2320,
+      fault({ code: 0x12320, code_hex: "0x12320", source: "vendor" }),
+      { hex: "0x2320", words: "0x12320 位置超差 Following error" },
+    ],
+    ["n/a", null, { hex: "n/a", words: null }],
+    [null, null, { hex: "—", words: null }],
+  ])("603Fh %s", (value, active, parts) => {
+    expect(errorCodeParts(value, active)).toEqual(parts);
+  });
+
+  it.each([
+    [{ state_before: "Operation enabled", state_after: "Fault" }, "Operation enabled → Fault"],
+    [{ state_before: null, state_after: "Fault" }, "not seen → Fault"],
+    [{}, "—"],
+  ])("state change %#", (states, text) => {
+    expect(stateChange(states)).toBe(text);
+  });
+
+  it.each([
+    ["0x06020000", true],
+    ["06090011", true],
+    ["0x06010002", false],
+    [null, false],
+  ])("no such object: %s", (code, answer) => {
+    expect(hasNoObject(code)).toBe(answer);
+  });
+});

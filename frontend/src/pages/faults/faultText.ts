@@ -1,0 +1,142 @@
+// Faults in words for the banner, the Faults tab and the history table. Pure, table-tested.
+import type { Fault } from "./types";
+
+/** CiA 301 error register 1001h, bit 0 first. */
+const ERROR_REGISTER_BITS: readonly string[] = [
+  "generic",
+  "current",
+  "voltage",
+  "temperature",
+  "communication",
+  "device profile",
+  "reserved bit 6",
+  "manufacturer",
+];
+
+/** The set 1001h bits in words, bit 0 first: 0x21 → ["generic", "device profile"]. */
+export function errorRegisterWords(register: number): string[] {
+  return ERROR_REGISTER_BITS.filter((_, bit) => (register & (1 << bit)) !== 0);
+}
+
+/** "21h: generic, device profile"; "00h: no error"; "—" when the frame carries none. */
+export function errorRegisterText(register: number | null | undefined): string {
+  if (register == null) return "—";
+  const hexText = `${register.toString(16).toUpperCase().padStart(2, "0")}h`;
+  const words = errorRegisterWords(register);
+  return `${hexText}: ${words.length ? words.join(", ") : "no error"}`;
+}
+
+const SOURCE_LABELS: Record<string, string> = {
+  vendor: "the drive's own alarm table",
+  cia402: "CiA 402 (drive profile)",
+  cia301: "CiA 301 (communication)",
+  unknown: "not in any table",
+};
+
+export function sourceLabel(source: string): string {
+  return SOURCE_LABELS[source] ?? source;
+}
+
+/**
+ * Whether the code is a drive's alarm number (MDi-S1-C sends 2 bytes: the alarm) rather than an
+ * EMCY code. EMCY codes below 1000h are "no error / reset" only, so a vendor code there is an
+ * alarm number.
+ */
+export function isAlarmNumber(fault: Pick<Fault, "code" | "source">): boolean {
+  return fault.source === "vendor" && fault.code > 0 && fault.code < 0x1000;
+}
+
+/** "alarm 4" for an alarm number, "0x8611" for an EMCY code. */
+export function faultCode(fault: Pick<Fault, "code" | "code_hex" | "source">): string {
+  return isAlarmNumber(fault) ? `alarm ${fault.code}` : fault.code_hex;
+}
+
+/** "位置超差 Following error": the manual's own name first, then the English one. */
+export function faultName(fault: Pick<Fault, "name_en" | "name_zh">): string {
+  return fault.name_zh ? `${fault.name_zh} ${fault.name_en}` : fault.name_en;
+}
+
+/** "alarm 4 位置超差 Following error". */
+export function faultWords(fault: Fault): string {
+  return `${faultCode(fault)} ${faultName(fault)}`;
+}
+
+/** The banner's line: "Node 1 in fault: alarm 4 位置超差 Following error". */
+export function bannerText(fault: Fault): string {
+  return `Node ${fault.node} in fault: ${faultWords(fault)}`;
+}
+
+export interface CheckPart {
+  /** "Cause", "Check", "CiA code 8611h", "Source"; "" for text before any label. */
+  label: string;
+  text: string;
+}
+
+const CHECK_LABEL =
+  /(?:^|\s)(Cause|Check|Source|CiA class|CiA code [0-9A-F]+h|Error register [0-9A-F]+h):\s/g;
+
+/**
+ * The server's "what to check" text, split at its labels ("Cause: … Check: … Source: …") so the
+ * page can show it as a list; text without labels comes back as one unlabelled part.
+ */
+export function checkParts(check: string | null | undefined): CheckPart[] {
+  if (!check?.trim()) return [];
+  const marks = [...check.matchAll(CHECK_LABEL)].map((m) => ({
+    label: m[1] ?? "",
+    start: m.index,
+    textStart: m.index + m[0].length,
+  }));
+  const parts: CheckPart[] = [];
+  const lead = check.slice(0, marks[0]?.start ?? check.length).trim();
+  if (lead) parts.push({ label: "", text: lead });
+  marks.forEach((mark, i) => {
+    const text = check.slice(mark.textStart, marks[i + 1]?.start ?? check.length).trim();
+    if (text) parts.push({ label: mark.label, text });
+  });
+  return parts;
+}
+
+/** Newest first; the server's order is kept for equal times. */
+export function newestFirst<T extends { time: number }>(items: readonly T[]): T[] {
+  return items
+    .map((item, i) => ({ item, i }))
+    .sort((a, b) => b.item.time - a.item.time || a.i - b.i)
+    .map(({ item }) => item);
+}
+
+/** "2026-11-25 07:12:03.120" in local time. */
+export function formatDateTime(unixSeconds: number): string {
+  const date = new Date(unixSeconds * 1000);
+  const pad = (n: number, w = 2): string => String(n).padStart(w, "0");
+  const day = `${date.getFullYear()}-${pad(date.getMonth() + 1)}-${pad(date.getDate())}`;
+  const clock = `${pad(date.getHours())}:${pad(date.getMinutes())}:${pad(date.getSeconds())}`;
+  return `${day} ${clock}.${pad(date.getMilliseconds(), 3)}`;
+}
+
+/** 603Fh in words: "0x0000" "no error"; "0x0004" "alarm 4 位置超差 Following error" when it is
+ * the active fault's code (MDi: the alarm number; Kinco: the low 16 bits); words null else. */
+export function errorCodeParts(
+  value: number | string | null | undefined,
+  active: Fault | null | undefined,
+): { hex: string; words: string | null } {
+  if (typeof value !== "number") return { hex: value ?? "—", words: null };
+  const hexText = `0x${value.toString(16).toUpperCase().padStart(4, "0")}`;
+  if (value === 0) return { hex: hexText, words: "no error" };
+  if (!active || (active.code & 0xffff) !== value) return { hex: hexText, words: null };
+  // the name alone when the code reads the same; else the code as the drive's table has it
+  const words = faultCode(active) === hexText ? faultName(active) : faultWords(active);
+  return { hex: hexText, words };
+}
+
+/** "Operation enabled → Fault"; a state ServoDesk did not see reads "not seen". */
+export function stateChange(fault: Pick<Fault, "state_before" | "state_after">): string {
+  if (!fault.state_before && !fault.state_after) return "—";
+  return `${fault.state_before || "not seen"} → ${fault.state_after || "not seen"}`;
+}
+
+/** SDO aborts meaning "the drive has no such object": 06020000h, 06090011h. */
+export function hasNoObject(abortCode: string | null | undefined): boolean {
+  if (!abortCode) return false;
+  const value = Number.parseInt(abortCode.replace(/^0x/i, ""), 16);
+  return value === 0x06020000 || value === 0x06090011;
+}

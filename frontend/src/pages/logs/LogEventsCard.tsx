@@ -1,0 +1,73 @@
+import { useState, type ReactNode } from "react";
+
+import { ErrorText } from "../../components/ErrorText";
+import { Spinner } from "../../components/Spinner";
+import { useApi } from "../../lib/useApi";
+import { EventList } from "./EventList";
+import { logEvents } from "./logsApi";
+import { FIRST_PAGE, currentStart, logClock, pageBack, pageForward, pageLabel } from "./logText";
+import type { DecodedLog, LogEventPage } from "./types";
+
+/** The server's page size (the decode answer carries the first page). */
+export const LOG_PAGE_SIZE = 500;
+
+/** The decoded events of one log, a page at a time. */
+export function LogEventsCard({
+  result,
+  total,
+}: {
+  result: DecodedLog;
+  total: number | null;
+}): ReactNode {
+  const [pager, setPager] = useState(FIRST_PAGE);
+  const start = currentStart(pager);
+  const page = useApi(
+    (signal) =>
+      start === 0
+        ? Promise.resolve<LogEventPage>({ events: result.events, next: result.next })
+        : logEvents(result.id, start, LOG_PAGE_SIZE, signal),
+    `log-events-${result.id}-${start}`,
+  );
+  const events = page.data?.events ?? [];
+  const next = page.data?.next ?? null;
+  return (
+    <section className="card" aria-labelledby="log-events-heading">
+      <header className="card-header">
+        <h2 id="log-events-heading">Decoded events</h2>
+        <span className="muted small">{pageLabel(events, total)}</span>
+        <span className="spacer" />
+        <button
+          type="button"
+          disabled={pager.starts.length < 2 || page.loading}
+          onClick={() => setPager(pageBack)}
+        >
+          ← Previous
+        </button>
+        <button
+          type="button"
+          disabled={next === null || page.loading}
+          onClick={() => next !== null && setPager((p) => pageForward(p, next))}
+        >
+          Next →
+        </button>
+        {page.loading && <Spinner label="Loading events" />}
+      </header>
+      <ErrorText error={page.error} onRetry={page.reload} />
+      {events.length > 0 ? (
+        <EventList
+          rows={events.map((e) => ({
+            key: e.seq,
+            time: e.time,
+            kind: e.kind,
+            node: e.node,
+            text: e.text,
+          }))}
+          caption="Decoded events"
+          clock={logClock}
+        />
+      ) : (
+        !page.loading && <p className="muted">The log has no events.</p>
+      )}
+    </section>
+  );
+}

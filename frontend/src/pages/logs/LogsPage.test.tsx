@@ -1,0 +1,169 @@
+import { screen, within } from "@testing-library/react";
+import userEvent from "@testing-library/user-event";
+import { afterEach, describe, expect, it, vi } from "vitest";
+
+import { stubFetch } from "../../test/fetchStub";
+import { renderPage } from "../../test/render";
+import { LogsPage } from "./LogsPage";
+import type { LogEvent } from "./types";
+
+afterEach(() => {
+  vi.unstubAllGlobals();
+});
+
+const event = (seq: number, kind = "sdo", text = `event ${seq}`): LogEvent => ({
+  seq,
+  time: seq / 10,
+  frame: seq + 1,
+  kind,
+  node: 1,
+  text,
+  index: null,
+  subindex: null,
+  code: null,
+  data: null,
+});
+
+const decoded = {
+  id: "abc123",
+  name: "bus.log",
+  summary: [
+    "1,200 frames over 2.500 s (+0.000 s – +2.500 s) from node 1 (MDi-S1-C).",
+    "Bus load at 500 kbit/s: peak 3.1 % in the second from +0.000 s, mean 1.2 %.",
+    "1 EMCY(s), 0 SDO abort(s), 0 heartbeat loss(es).",
+    "+1.200 s node 1 EMCY: alarm 4 位置超差 Following error",
+  ],
+  stats: {
+    frames: 1200,
+    duration_s: 2.5,
+    nodes: [1],
+    counts: { emcy: 1, sdo: 600 },
+    bitrate: 500000,
+    bus_load_peak_percent: 3.1,
+    bus_load_mean_percent: 1.2,
+    events: 700,
+    error_frames: 0,
+  },
+  events: Array.from({ length: 500 }, (_, i) => event(i)),
+  next: 500,
+};
+
+describe("LogsPage", () => {
+  it("decodes an uploaded log: summary first, totals, events paged, exports", async () => {
+    const stub = stubFetch({
+      "GET /api/recording": {
+        active: false,
+        format: null,
+        file: null,
+        since: null,
+        frames: 0,
+        dropped: 0,
+      },
+      "POST /api/logs/decode": decoded,
+      "GET /api/logs/abc123/events": {
+        events: Array.from({ length: 200 }, (_, i) => event(500 + i, "emcy", `late ${i}`)),
+        next: null,
+      },
+    });
+    renderPage(<LogsPage />, "/logs");
+    const file = new File(["(1.0) can0 701#00\n"], "bus.log", { type: "text/plain" });
+    await userEvent.upload(screen.getByLabelText("Choose CAN log…"), file);
+
+    const summary = await screen.findByRole("list", { name: "Summary" });
+    expect(within(summary).getAllByRole("listitem")[0]?.textContent).toContain("1,200 frames");
+    expect(summary.textContent).toContain("alarm 4 位置超差 Following error");
+    const totals = screen.getByLabelText("Log totals");
+    expect(totals.textContent).toContain("Frames1,200");
+    expect(totals.textContent).toContain("Bus loadpeak 3.1 %, mean 1.2 %");
+    expect(await screen.findByText("Events 1–500 of 700")).toBeTruthy();
+    expect(screen.getByRole("link", { name: "Parquet" }).getAttribute("href")).toBe(
+      "/api/logs/abc123/export?format=parquet",
+    );
+    const post = stub.calls.find((c) => c.path === "/api/logs/decode");
+    expect(post?.body).toContain('name="file"');
+    expect(post?.body).not.toContain('name="dcf"');
+
+    await userEvent.click(screen.getByRole("button", { name: "Next →" }));
+    expect(await screen.findByText("Events 501–700 of 700")).toBeTruthy();
+    expect(screen.getByText("late 0")).toBeTruthy();
+    expect(stub.urls.some((u) => u.includes("/api/logs/abc123/events?since=500&limit=500"))).toBe(
+      true,
+    );
+    expect(screen.getByRole<HTMLButtonElement>("button", { name: "Next →" }).disabled).toBe(true);
+    await userEvent.click(screen.getByRole("button", { name: "← Previous" }));
+    expect(await screen.findByText("Events 1–500 of 700")).toBeTruthy();
+  });
+
+  it("sends the DCF with the log when one is chosen", async () => {
+    const stub = stubFetch({
+      "GET /api/recording": {
+        active: false,
+        format: null,
+        file: null,
+        since: null,
+        frames: 0,
+        dropped: 0,
+      },
+      "POST /api/logs/decode": decoded,
+    });
+    renderPage(<LogsPage />, "/logs");
+    await userEvent.upload(
+      screen.getByLabelText("Choose DCF (optional)…"),
+      new File(["[FileInfo]\n"], "node1.dcf"),
+    );
+    expect(screen.getByText("node1.dcf")).toBeTruthy();
+    await userEvent.upload(screen.getByLabelText("Choose CAN log…"), new File(["x"], "bus.log"));
+    await screen.findByRole("list", { name: "Summary" });
+    const post = stub.calls.find((c) => c.path === "/api/logs/decode");
+    expect(post?.body).toContain('name="dcf"');
+  });
+
+  it("records the bus: start, see it count, stop and download", async () => {
+    let active = false;
+    const status = () => ({
+      active,
+      format: active ? "asc" : null,
+      file: active ? "rec.asc" : null,
+      since: active ? Date.now() / 1000 : null,
+      frames: active ? 42 : 0,
+      dropped: 0,
+    });
+    const saved: string[] = [];
+    vi.spyOn(HTMLAnchorElement.prototype, "click").mockImplementation(function (
+      this: HTMLAnchorElement,
+    ) {
+      saved.push(this.download);
+    });
+    URL.createObjectURL = vi.fn(() => "blob:x");
+    URL.revokeObjectURL = vi.fn();
+    const stub = stubFetch({
+      "GET /api/recording": () => status(),
+      "POST /api/recording": () => {
+        active = true;
+        return status();
+      },
+      "DELETE /api/recording": () => {
+        active = false;
+        return new Response("date Tue\nbase hex\n", {
+          headers: {
+            "Content-Type": "text/plain",
+            "Content-Disposition": 'attachment; filename="rec.asc"',
+          },
+        });
+      },
+    });
+    renderPage(<LogsPage />, "/logs");
+    expect(await screen.findByText("Not recording")).toBeTruthy();
+    await userEvent.selectOptions(screen.getByLabelText("Format"), "asc");
+    await userEvent.click(screen.getByRole("button", { name: "Start recording" }));
+    expect(await screen.findByText(/^Recording ASC: 42 frames/)).toBeTruthy();
+    expect(JSON.parse(stub.calls.find((c) => c.method === "POST")?.body ?? "{}")).toEqual({
+      format: "asc",
+    });
+
+    await userEvent.click(screen.getByRole("button", { name: "Stop and download" }));
+    expect(await screen.findByText("rec.asc")).toBeTruthy();
+    expect(saved).toEqual(["rec.asc"]);
+    expect(await screen.findByText("Not recording")).toBeTruthy();
+  });
+});

@@ -1,0 +1,121 @@
+import { useState, type ReactNode } from "react";
+
+import { ErrorText } from "../../components/ErrorText";
+import { Spinner } from "../../components/Spinner";
+import { useAction, useApi } from "../../lib/useApi";
+import { usePoll } from "../faults/usePoll";
+import {
+  recordingStatus,
+  saveBlob,
+  startRecording,
+  stopRecording,
+  type RecordedFile,
+} from "./logsApi";
+import { recordingText } from "./logText";
+import type { RecordingFormat } from "./types";
+
+const FORMATS: { format: RecordingFormat; label: string }[] = [
+  { format: "blf", label: "Vector BLF (.blf)" },
+  { format: "asc", label: "Vector ASC (.asc)" },
+  { format: "log", label: "candump (.log)" },
+];
+
+/** Raw frames of the live bus into a file: start, watch it grow, stop and download. */
+export function RecordingCard({ onDecode }: { onDecode: (file: File) => void }): ReactNode {
+  const status = useApi((signal) => recordingStatus(signal), "recording");
+  const active = status.data?.active ?? false;
+  // the clock for the duration moves with each poll, not with each render
+  const [now, setNow] = useState(() => Date.now() / 1000);
+  usePoll(
+    () => {
+      status.reload();
+      setNow(Date.now() / 1000);
+    },
+    1000,
+    active,
+  );
+  const [format, setFormat] = useState<RecordingFormat>("blf");
+  const [file, setFile] = useState<RecordedFile | null>(null);
+  const start = useAction(async () => {
+    setFile(null);
+    const answer = await startRecording(format);
+    status.setData(() => answer);
+    setNow(Date.now() / 1000);
+  });
+  const stop = useAction(async () => {
+    const recorded = await stopRecording(`recording.${status.data?.format ?? format}`);
+    setFile(recorded);
+    saveBlob(recorded.blob, recorded.name);
+    status.reload();
+  });
+  const data = status.data;
+  return (
+    <section className="card" aria-labelledby="recording-heading">
+      <header className="card-header">
+        <h2 id="recording-heading">Record the bus</h2>
+        {data && (
+          <span className={`badge${active ? " recording-on" : ""}`} role="status">
+            {recordingText(data, now)}
+          </span>
+        )}
+      </header>
+      <div className="inline">
+        <label htmlFor="recording-format" className="muted">
+          Format
+        </label>
+        <select
+          id="recording-format"
+          value={format}
+          disabled={active}
+          onChange={(e) => setFormat(e.target.value as RecordingFormat)}
+        >
+          {FORMATS.map((f) => (
+            <option key={f.format} value={f.format}>
+              {f.label}
+            </option>
+          ))}
+        </select>
+        {active ? (
+          <button
+            type="button"
+            className="primary"
+            disabled={stop.busy}
+            onClick={() => void stop.run()}
+          >
+            Stop and download
+          </button>
+        ) : (
+          <button
+            type="button"
+            className="primary"
+            disabled={start.busy || !data}
+            onClick={() => void start.run()}
+          >
+            Start recording
+          </button>
+        )}
+        {(start.busy || stop.busy) && <Spinner />}
+      </div>
+      <ErrorText error={status.data ? null : status.error} onRetry={status.reload} />
+      <ErrorText error={start.error ?? stop.error} />
+      {file && (
+        <p className="inline small">
+          <span>
+            Saved <span className="mono">{file.name}</span> (
+            {file.blob.size.toLocaleString("en-US")} bytes).
+          </span>
+          <button type="button" className="small" onClick={() => saveBlob(file.blob, file.name)}>
+            Download again
+          </button>
+          <button
+            type="button"
+            className="small"
+            onClick={() => onDecode(new File([file.blob], file.name))}
+          >
+            Analyse this recording
+          </button>
+        </p>
+      )}
+    </section>
+  );
+}

@@ -1,0 +1,82 @@
+// The live timeline's list: newest first, polled for newer events (`since` the newest id) and
+// paged back for older ones (`before` the oldest). Pure, so the merging is table-tested.
+import type { EventKind, TimelineEvent, TimelinePage } from "./types";
+
+export const TIMELINE_PAGE = 50;
+/** Keep the list bounded however long the page stays open. */
+export const TIMELINE_MAX = 2000;
+
+export interface TimelineFilter {
+  node: number | null;
+  kind: EventKind | null;
+}
+
+export interface Timeline {
+  events: TimelineEvent[];
+  /** Highest id seen: the `since` of the next poll (null before the first page). */
+  newest: number | null;
+  /** `before` for "older…"; null when the first page showed everything. */
+  older: number | null;
+}
+
+export const EMPTY_TIMELINE: Timeline = { events: [], newest: null, older: null };
+
+/** The first page (newest first) starts the list. */
+export function firstPage(page: TimelinePage): Timeline {
+  return { events: page.events, newest: page.events[0]?.id ?? 0, older: page.next };
+}
+
+/** A poll's answer (oldest first) goes on top, without duplicates. */
+export function addNewer(timeline: Timeline, page: TimelinePage): Timeline {
+  const known = new Set(timeline.events.map((e) => e.id));
+  const fresh = page.events.filter((e) => !known.has(e.id)).reverse();
+  if (fresh.length === 0) return timeline;
+  const events = [...fresh, ...timeline.events].slice(0, TIMELINE_MAX);
+  const dropped = events.length < fresh.length + timeline.events.length;
+  return {
+    events,
+    newest: Math.max(timeline.newest ?? 0, ...fresh.map((e) => e.id)),
+    // trimmed at the bottom: "older…" continues from what is still shown
+    older: dropped ? (events[events.length - 1]?.id ?? null) : timeline.older,
+  };
+}
+
+/** An "older…" page (newest first) goes below. */
+export function addOlder(timeline: Timeline, page: TimelinePage): Timeline {
+  const known = new Set(timeline.events.map((e) => e.id));
+  return {
+    ...timeline,
+    events: [...timeline.events, ...page.events.filter((e) => !known.has(e.id))],
+    older: page.next,
+  };
+}
+
+/** The route's query for a filter and a cursor. */
+export function timelineQuery(
+  filter: TimelineFilter,
+  cursor: { since?: number; before?: number } = {},
+): { node?: number; kind?: EventKind; since?: number; before?: number; limit: number } {
+  return {
+    ...(filter.node === null ? {} : { node: filter.node }),
+    ...(filter.kind === null ? {} : { kind: filter.kind }),
+    ...cursor,
+    limit: TIMELINE_PAGE,
+  };
+}
+
+/** The kinds a user filters by, in words. */
+export const KIND_LABELS: Record<EventKind, string> = {
+  "boot-up": "Boot-ups",
+  "node-lost": "Heartbeat lost",
+  "node-back": "Heartbeat back",
+  nmt: "NMT commands",
+  bus: "Bus",
+  emcy: "EMCYs",
+  "fault-cleared": "Faults cleared",
+  "fault-reset": "Fault resets",
+  "sdo-abort": "SDO aborts",
+  "cia402-state": "CiA 402 states",
+  "tool-write": "Tool writes",
+  recording: "Recording",
+  dropped: "Dropped events",
+};
