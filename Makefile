@@ -78,6 +78,7 @@ bench: install
 	$(BIN)/python bench/od_upload.py
 	$(BIN)/python bench/log_decode.py
 	$(BIN)/python bench/jog_stop.py
+	$(BIN)/python bench/emcy_storm.py
 
 clean:
 	rm -rf $(VENV) node_modules backend/servodesk/static .mypy_cache .pytest_cache .ruff_cache
