@@ -1,4 +1,4 @@
-import { screen } from "@testing-library/react";
+import { act, screen } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { Route, Routes } from "react-router";
 import { afterEach, describe, expect, it, vi } from "vitest";
@@ -40,5 +40,29 @@ describe("FaultBanner", () => {
     const again = renderPage(<FaultBanner />);
     await new Promise((resolve) => setTimeout(resolve, 20));
     expect(again.container.textContent).toBe("");
+  });
+
+  it("follows the socket's fault messages and reads REST again on a reconnect", async () => {
+    let active = [mdiAlarm4()];
+    const stub = stubFetch({ "GET /api/faults/active": () => ({ faults: active }) });
+    const { store } = renderPage(<FaultBanner />);
+    const banner = await screen.findByRole("alert", { name: "Nodes in fault" });
+    expect(banner.textContent).toContain("Node 1 in fault");
+
+    act(() => store.apply({ type: "fault", node: 2, fault: mdiAlarm4({ node: 2 }) }));
+    expect(screen.getByRole("link", { name: "Open node 2 faults" })).toBeTruthy();
+    act(() => store.apply({ type: "fault", node: 1, fault: null }));
+    expect(screen.queryByRole("link", { name: "Open node 1 faults" })).toBeNull();
+    act(() => store.apply({ type: "fault", node: 2, fault: null }));
+    expect(screen.queryByRole("alert")).toBeNull();
+
+    // no polling: one read on mount …
+    await new Promise((resolve) => setTimeout(resolve, 50));
+    expect(stub.calls).toHaveLength(1);
+    // … and one when the socket (re)connects, for what it missed while down
+    active = [mdiAlarm4({ node: 3 })];
+    act(() => store.setLink({ state: "open", attempt: 0, retryAt: null }));
+    expect(await screen.findByRole("link", { name: "Open node 3 faults" })).toBeTruthy();
+    expect(stub.calls).toHaveLength(2);
   });
 });

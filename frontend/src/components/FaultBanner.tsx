@@ -1,20 +1,33 @@
-import type { ReactNode } from "react";
+import { useEffect, useMemo, type ReactNode } from "react";
 import { Link } from "react-router";
 
-import { useApi } from "../lib/useApi";
+import { useLive, useLiveStore } from "../live/context";
 import { nodeUrl } from "../nav/routes";
 import { activeFaults } from "../pages/faults/faultsApi";
 import { bannerText } from "../pages/faults/faultText";
-import { usePoll } from "../pages/faults/usePoll";
-
-export const BANNER_POLL_MS = 1000;
 
 /** On every page while a node is in fault: what it is, and one click to that node's Faults tab.
- * A failed poll shows nothing (the pages report an unreachable server themselves). */
+ * The WebSocket's `fault` messages keep it current; one GET /api/faults/active on mount and
+ * whenever the socket (re)connects or drops covers what a closed socket missed. A failed read
+ * shows nothing new (the pages report an unreachable server themselves). */
 export function FaultBanner(): ReactNode {
-  const active = useApi((signal) => activeFaults(signal), "faults-active");
-  usePoll(active.reload, BANNER_POLL_MS);
-  const faults = active.data?.faults ?? [];
+  const store = useLiveStore();
+  const open = useLive((s) => s.link.state === "open");
+  const byNode = useLive((s) => s.faults);
+
+  useEffect(() => {
+    const controller = new AbortController();
+    const version = store.faultVersion();
+    activeFaults(controller.signal).then(
+      (answer) => {
+        if (!controller.signal.aborted) store.setActiveFaults(answer.faults, version);
+      },
+      () => undefined,
+    );
+    return () => controller.abort();
+  }, [store, open]);
+
+  const faults = useMemo(() => Object.values(byNode).sort((a, b) => a.node - b.node), [byNode]);
   if (faults.length === 0) return null;
   return (
     <div className="fault-banner" role="alert" aria-label="Nodes in fault">

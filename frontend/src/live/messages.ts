@@ -3,6 +3,8 @@
 // dropped instead of corrupting the store.
 import type { BusStatus, NmtStateName } from "../api/types";
 import type { ControllerInfo, DriveState, JogInfo } from "../pages/drive/types";
+import type { Fault } from "../pages/faults/types";
+import type { TimelineEvent } from "../pages/logs/types";
 
 export interface LiveNode {
   node: number;
@@ -26,6 +28,8 @@ export type ServerMessage =
   | { type: "event"; event: LiveEvent }
   | { type: "history"; events: LiveEvent[] }
   | { type: "pong" }
+  | { type: "timeline"; event: TimelineEvent }
+  | { type: "fault"; node: number; fault: Fault | null }
   | { type: "drive_state"; state: DriveState }
   | { type: "controller"; controller: ControllerInfo }
   | { type: "jog_stopped"; jog: JogInfo };
@@ -73,6 +77,37 @@ function parseEvent(value: unknown): LiveEvent | null {
     kind: (typeof value.kind === "string" ? value.kind : "bus") as LiveEventKind,
     message: value.message,
   };
+}
+
+/** A timeline event as GET /api/events lists it (the id orders it and shows gaps). */
+function parseTimelineEvent(value: unknown): TimelineEvent | null {
+  if (
+    !isRecord(value) ||
+    typeof value.id !== "number" ||
+    typeof value.kind !== "string" ||
+    typeof value.message !== "string"
+  ) {
+    return null;
+  }
+  return {
+    id: value.id,
+    time: typeof value.time === "number" ? value.time : Date.now() / 1000,
+    kind: value.kind,
+    node: typeof value.node === "number" ? value.node : null,
+    message: value.message,
+    data: isRecord(value.data) ? value.data : {},
+  };
+}
+
+/** A node's active fault (null: none), as the banner shows it. */
+function parseFault(data: Record<string, unknown>): ServerMessage | null {
+  if (typeof data.node !== "number") return null;
+  const fault = data.fault;
+  if (fault === null) return { type: "fault", node: data.node, fault: null };
+  if (!isRecord(fault) || typeof fault.code !== "number" || typeof fault.name_en !== "string") {
+    return null;
+  }
+  return { type: "fault", node: data.node, fault: { ...fault, node: data.node } as Fault };
 }
 
 /** A drive state pushed for a watched node: under `state` or `drive`, or the message itself. */
@@ -130,6 +165,12 @@ export function parseMessage(text: string): ServerMessage | null {
     }
     case "pong":
       return { type: "pong" };
+    case "timeline": {
+      const event = parseTimelineEvent(data.event);
+      return event ? { type: "timeline", event } : null;
+    }
+    case "fault":
+      return parseFault(data);
     case "drive_state": {
       const state = parseDriveState(data);
       return state ? { type: "drive_state", state } : null;

@@ -3,6 +3,8 @@
 // useSyncExternalStore, so a 5 Hz node update re-renders only what shows node states.
 import type { BusStatus, NodeInfo } from "../api/types";
 import type { ControllerInfo, DriveState, JogInfo } from "../pages/drive/types";
+import type { Fault } from "../pages/faults/types";
+import type { TimelineEvent } from "../pages/logs/types";
 import type { ClientMessage, LiveEvent, LiveNode, ServerMessage } from "./messages";
 
 export const EVENT_LIMIT = 200;
@@ -40,9 +42,12 @@ export interface LiveSnapshot {
   controllersAt: Readonly<Record<number, number>>;
   /** The last jog the server reported stopped (keep-alive missed, EMCY, page hidden …). */
   jogStopped: JogInfo | null;
+  /** The active fault of each node in fault (`fault` messages, and GET /api/faults/active). */
+  faults: Readonly<Record<number, Fault>>;
 }
 
 type Listener = () => void;
+type TimelineListener = (event: TimelineEvent) => void;
 
 /** Sends a message on the live socket; false when it is not open. */
 export type Sender = (message: ClientMessage) => boolean;
@@ -60,6 +65,7 @@ const INITIAL: LiveSnapshot = {
   controllers: {},
   controllersAt: {},
   jogStopped: null,
+  faults: {},
 };
 
 function sameNode(a: LiveNode, b: LiveNode): boolean {
@@ -78,6 +84,10 @@ export class LiveStore {
   private snapshot: LiveSnapshot = INITIAL;
   private readonly listeners = new Set<Listener>();
   private sender: Sender | null = null;
+  private readonly timelineListeners = new Set<TimelineListener>();
+  /** Counts `fault` messages; faultTouched holds the count at each node's latest one. */
+  private faultSeq = 0;
+  private readonly faultTouched = new Map<number, number>();
 
   // Arrow functions: React calls these detached from the instance.
   subscribe = (listener: Listener): (() => void) => {
@@ -105,6 +115,21 @@ export class LiveStore {
         return;
       case "pong":
         return;
+      case "timeline":
+        // a stream, not a state: each list keeps what matches its filter
+        for (const listener of this.timelineListeners) listener(message.event);
+        return;
+      case "fault": {
+        this.faultSeq += 1;
+        this.faultTouched.set(message.node, this.faultSeq);
+        const faults: Record<number, Fault> = {};
+        for (const fault of Object.values(this.snapshot.faults)) {
+          if (fault.node !== message.node) faults[fault.node] = fault;
+        }
+        if (message.fault) faults[message.node] = message.fault;
+        this.update({ faults });
+        return;
+      }
       case "drive_state": {
         const { node } = message.state;
         this.update({
@@ -126,6 +151,32 @@ export class LiveStore {
         this.update({ jogStopped: message.jog });
         return;
     }
+  }
+
+  /** Called with every `timeline` event as it arrives; returns the unsubscribe. */
+  subscribeTimeline(listener: TimelineListener): () => void {
+    this.timelineListeners.add(listener);
+    return () => this.timelineListeners.delete(listener);
+  }
+
+  /** Where the `fault` messages are now: pass it to setActiveFaults with a REST answer. */
+  faultVersion(): number {
+    return this.faultSeq;
+  }
+
+  /** Replace the active faults with GET /api/faults/active's answer, requested at `version`:
+   * a node whose `fault` message came after the request keeps what that message said. */
+  setActiveFaults(faults: readonly Fault[], version: number): void {
+    const current = this.snapshot.faults;
+    const next: Record<number, Fault> = {};
+    for (const fault of faults) {
+      if ((this.faultTouched.get(fault.node) ?? 0) <= version) next[fault.node] = fault;
+    }
+    for (const [node, seq] of this.faultTouched) {
+      const kept = current[node];
+      if (seq > version && kept) next[node] = kept;
+    }
+    this.update({ faults: next });
   }
 
   /** The connection hands in how to reach the server (null while it has none). */

@@ -1,4 +1,4 @@
-import { screen } from "@testing-library/react";
+import { act, screen } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
@@ -48,5 +48,51 @@ describe("Timeline", () => {
     expect(await screen.findByText("message 5")).toBeTruthy();
     expect(screen.queryByText("message 10")).toBeNull();
     expect(stub.urls.some((u) => u.includes("kind=emcy"))).toBe(true);
+  });
+
+  it("appends matching events from the socket and catches up after a gap or a reconnect", async () => {
+    const stub = stubFetch({
+      "GET /api/events": (request: Request) => {
+        const query = new URL(request.url).searchParams;
+        const since = query.get("since");
+        if (query.get("kind") === "emcy") return { events: [], next: since ? Number(since) : null };
+        if (since === "11") return { events: [ev(12), ev(13)], next: 13 };
+        if (since === "14") return { events: [ev(15)], next: 15 };
+        if (since) return { events: [], next: Number(since) };
+        return { events: [ev(10), ev(9)], next: 9 };
+      },
+    });
+    const { store } = renderPage(<Timeline />);
+    expect(await screen.findByText("message 10")).toBeTruthy();
+    const shown = (): string[] =>
+      screen
+        .getAllByRole("row")
+        .slice(1)
+        .map((r) => /message (\d+)/.exec(r.textContent)?.[1] ?? "");
+    const push = (event: TimelineEvent): void =>
+      act(() => store.apply({ type: "timeline", event }));
+
+    push(ev(11));
+    push(ev(11)); // twice: listed once
+    expect(shown()).toEqual(["11", "10", "9"]);
+    expect(stub.urls.filter((u) => u.includes("since="))).toEqual([]);
+
+    push(ev(14)); // 12 and 13 were missed
+    expect(await screen.findByText("message 12")).toBeTruthy();
+    expect(shown()).toEqual(["14", "13", "12", "11", "10", "9"]);
+    expect(stub.urls.some((u) => u.includes("since=11"))).toBe(true);
+
+    // a reconnect fetches what the socket missed while down
+    act(() => store.setLink({ state: "open", attempt: 0, retryAt: null }));
+    expect(await screen.findByText("message 15")).toBeTruthy();
+    expect(stub.urls.some((u) => u.includes("since=14"))).toBe(true);
+
+    // a filtered list takes only the events that match
+    await userEvent.selectOptions(screen.getByLabelText("Kind"), "emcy");
+    await vi.waitFor(() => expect(screen.queryByText("message 10")).toBeNull());
+    push(ev(16, "emcy", 2));
+    push(ev(17, "nmt", 2));
+    expect(await screen.findByText("message 16")).toBeTruthy();
+    expect(screen.queryByText("message 17")).toBeNull();
   });
 });

@@ -5,23 +5,27 @@ import { asApiError, type ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { formatClock } from "../../lib/format";
-import { useLive } from "../../live/context";
+import { useLive, useLiveStore } from "../../live/context";
 import { useApi } from "../../lib/useApi";
 import { usePoll } from "../faults/usePoll";
 import { EventList } from "./EventList";
 import {
   EMPTY_TIMELINE,
   KIND_LABELS,
+  TIMELINE_PAGE,
+  addEvents,
   addNewer,
   addOlder,
   firstPage,
+  matchesFilter,
   timelineQuery,
   type Timeline as TimelineList,
   type TimelineFilter,
 } from "./timelineState";
 import type { EventKind, TimelinePage } from "./types";
 
-export const TIMELINE_POLL_MS = 1500;
+/** Safety refresh (`since` the synced id) besides the WebSocket's `timeline` events. */
+export const TIMELINE_REFRESH_MS = 15_000;
 
 function fetchPage(
   query: ReturnType<typeof timelineQuery>,
@@ -31,7 +35,7 @@ function fetchPage(
 }
 
 /** What happened on the bus and in the tool, newest first: filter by node and kind, page back
- * with "older…", new events appear while the page is visible. */
+ * with "older…"; new events arrive on the WebSocket. */
 export function Timeline(): ReactNode {
   const nodes = useLive((s) => s.infos.map((i) => i.node).join(","));
   const [filter, setFilter] = useState<TimelineFilter>({ node: null, kind: null });
@@ -81,30 +85,101 @@ export function Timeline(): ReactNode {
   );
 }
 
-/** One filter's list: the first page, then polls for newer and "older…" pages. */
+/** One filter's list: the first page, then the WebSocket's `timeline` events that match, a
+ * `since` catch-up after a gap in their ids or a reconnect, and "older…" pages. */
 function TimelineList({ filter }: { filter: TimelineFilter }): ReactNode {
+  const store = useLiveStore();
+  const open = useLive((s) => s.link.state === "open");
   const first = useApi((signal) => fetchPage(timelineQuery(filter), signal), "timeline-first");
   const [added, setAdded] = useState<TimelineList | null>(null);
   const [error, setError] = useState<ApiError | null>(null);
   const [busy, setBusy] = useState(false);
   const list = added ?? (first.data ? firstPage(first.data) : EMPTY_TIMELINE);
   const listRef = useRef(list);
+  /** Every matching event up to this id is listed (null before the first page). */
+  const synced = useRef<number | null>(null);
+  /** The highest id the socket delivered (any filter). */
+  const streamMax = useRef(0);
+  const fetching = useRef(false);
+  const again = useRef(false);
+  const alive = useRef(true);
+
+  const catchUp = useCallback(async (): Promise<void> => {
+    if (fetching.current) {
+      again.current = true;
+      return;
+    }
+    fetching.current = true;
+    again.current = false;
+    /** Whether a gap (or reconnect) asked for another round meanwhile; resets the request. */
+    const more = (): boolean => {
+      const wanted = again.current;
+      again.current = false;
+      return wanted;
+    };
+    try {
+      do {
+        const from = synced.current;
+        if (from === null) return;
+        const reached = streamMax.current;
+        let since = from;
+        for (;;) {
+          const page = await fetchPage(timelineQuery(filter, { since }));
+          if (!alive.current) return;
+          setAdded((old) => addNewer(old ?? listRef.current, page));
+          setError(null);
+          const next = page.next ?? since;
+          if (page.events.length < TIMELINE_PAGE || next <= since) break;
+          since = next;
+        }
+        // everything published before the first request is in: that includes what the
+        // socket had delivered by then
+        synced.current = Math.max(synced.current ?? 0, since, reached);
+      } while (more());
+    } catch (caught) {
+      if (alive.current) setError(asApiError(caught));
+    } finally {
+      fetching.current = false;
+    }
+  }, [filter]);
+
   useEffect(() => {
     listRef.current = list;
+    if (synced.current === null && list.newest !== null) {
+      synced.current = list.newest;
+      // events the socket delivered before the first page came back: fetch what it missed
+      if (streamMax.current > list.newest) void catchUp();
+    }
   });
 
-  const poll = useCallback(() => {
-    const current = listRef.current;
-    if (current.newest === null) return;
-    fetchPage(timelineQuery(filter, { since: current.newest })).then(
-      (page) => {
-        setAdded((old) => addNewer(old ?? current, page));
-        setError(null);
-      },
-      (caught: unknown) => setError(asApiError(caught)),
-    );
-  }, [filter]);
-  usePoll(poll, TIMELINE_POLL_MS);
+  useEffect(() => {
+    alive.current = true;
+    const unsubscribe = store.subscribeTimeline((event) => {
+      streamMax.current = Math.max(streamMax.current, event.id);
+      const from = synced.current;
+      if (from === null) return; // the first page (or the catch-up after it) covers it
+      if (matchesFilter(filter, event)) {
+        setAdded((old) => addEvents(old ?? listRef.current, [event]));
+      }
+      if (event.id === from + 1) synced.current = event.id;
+      else if (event.id > from + 1) void catchUp(); // a gap: some were missed
+    });
+    return () => {
+      alive.current = false;
+      unsubscribe();
+    };
+  }, [store, filter, catchUp]);
+
+  // a (re)connected socket may have missed events while it was down
+  const wasOpen = useRef(open);
+  useEffect(() => {
+    if (open && !wasOpen.current) void catchUp();
+    wasOpen.current = open;
+  }, [open, catchUp]);
+
+  // a slow safety net; the socket delivers new events at once
+  const refresh = useCallback(() => void catchUp(), [catchUp]);
+  usePoll(refresh, TIMELINE_REFRESH_MS);
 
   const older = async (): Promise<void> => {
     const before = list.older;

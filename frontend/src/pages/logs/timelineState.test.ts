@@ -3,9 +3,11 @@ import { describe, expect, it } from "vitest";
 import {
   EMPTY_TIMELINE,
   TIMELINE_MAX,
+  addEvents,
   addNewer,
   addOlder,
   firstPage,
+  matchesFilter,
   timelineQuery,
 } from "./timelineState";
 import type { TimelineEvent } from "./types";
@@ -38,6 +40,24 @@ describe("timeline state", () => {
     const t = addNewer(start, { events: polled, next: 11 });
     expect(ids(t.events)).toEqual(expected);
     expect(t.newest).toBe(newest);
+  });
+
+  it("merges a catch-up that arrives after live events by id, once each", () => {
+    let t = firstPage({ events: [ev(9), ev(8)], next: null });
+    t = addEvents(t, [ev(12)]); // live, after a gap (10, 11 missed)
+    t = addEvents(t, [ev(12)]); // the same event again
+    t = addNewer(t, { events: [ev(10), ev(11), ev(12)], next: 12 }); // the catch-up
+    expect(ids(t.events)).toEqual([12, 11, 10, 9, 8]);
+    expect(t.newest).toBe(12);
+  });
+
+  it.each([
+    [{ node: null, kind: null }, true],
+    [{ node: 1, kind: "nmt" as const }, true],
+    [{ node: 2, kind: null }, false],
+    [{ node: null, kind: "emcy" as const }, false],
+  ])("filter %# matches a live event: %s", (filter, expected) => {
+    expect(matchesFilter(filter, ev(1))).toBe(expected);
   });
 
   it("pages back for older events", () => {

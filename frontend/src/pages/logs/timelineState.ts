@@ -1,5 +1,6 @@
-// The live timeline's list: newest first, polled for newer events (`since` the newest id) and
-// paged back for older ones (`before` the oldest). Pure, so the merging is table-tested.
+// The live timeline's list: newest first, fed by the WebSocket's `timeline` events, caught up
+// with `since` the newest id after a gap, and paged back for older ones (`before` the oldest).
+// Pure, so the merging is table-tested.
 import type { EventKind, TimelineEvent, TimelinePage } from "./types";
 
 export const TIMELINE_PAGE = 50;
@@ -26,12 +27,23 @@ export function firstPage(page: TimelinePage): Timeline {
   return { events: page.events, newest: page.events[0]?.id ?? 0, older: page.next };
 }
 
-/** A poll's answer (oldest first) goes on top, without duplicates. */
+/** A `since` page (oldest first) goes on top, without duplicates. */
 export function addNewer(timeline: Timeline, page: TimelinePage): Timeline {
+  return addEvents(timeline, page.events);
+}
+
+/** Newer events (live or fetched, any order) merge in by id, newest first, without duplicates:
+ * a catch-up answer that arrives after live events still lands below them. */
+export function addEvents(timeline: Timeline, incoming: readonly TimelineEvent[]): Timeline {
   const known = new Set(timeline.events.map((e) => e.id));
-  const fresh = page.events.filter((e) => !known.has(e.id)).reverse();
+  const fresh: TimelineEvent[] = [];
+  for (const event of incoming) {
+    if (known.has(event.id)) continue;
+    known.add(event.id);
+    fresh.push(event);
+  }
   if (fresh.length === 0) return timeline;
-  const events = [...fresh, ...timeline.events].slice(0, TIMELINE_MAX);
+  const events = [...fresh, ...timeline.events].sort((a, b) => b.id - a.id).slice(0, TIMELINE_MAX);
   const dropped = events.length < fresh.length + timeline.events.length;
   return {
     events,
@@ -49,6 +61,14 @@ export function addOlder(timeline: Timeline, page: TimelinePage): Timeline {
     events: [...timeline.events, ...page.events.filter((e) => !known.has(e.id))],
     older: page.next,
   };
+}
+
+/** Whether a live event belongs in a list filtered by `filter` (as GET /api/events filters). */
+export function matchesFilter(filter: TimelineFilter, event: TimelineEvent): boolean {
+  return (
+    (filter.node === null || event.node === filter.node) &&
+    (filter.kind === null || event.kind === filter.kind)
+  );
 }
 
 /** The route's query for a filter and a cursor. */
