@@ -9,8 +9,6 @@ import shutil
 import subprocess
 from pathlib import Path
 
-import pytest
-
 from servodesk.logs import EventKind, LogAnalysis
 from servodesk.logs.pcap import TSHARK_FIELDS, tshark_command, write_pcap
 from tests.backend.log_session import record, write_log
@@ -18,11 +16,10 @@ from tests.backend.log_session import record, write_log
 TSHARK = shutil.which("tshark")
 Row = dict[str, int]
 
-pytestmark = pytest.mark.skipif(TSHARK is None, reason="tshark missing: `make system-deps`")
-
 
 def tshark_rows(pcap: Path) -> dict[int, Row]:
-    assert TSHARK is not None
+    # `make test` installs it (system-deps): a missing decoder fails, it does not skip
+    assert TSHARK is not None, "tshark missing: run `make system-deps`"
     out = subprocess.run(
         tshark_command(TSHARK, pcap), capture_output=True, text=True, check=True, timeout=60
     ).stdout

@@ -10,9 +10,9 @@ names.
 The simulated drives run in this process at real time, so a busy host can hold the tool's
 sending thread (or the simulator's) back for more than 3 periods at 2 ms: that run is a genuine
 stall and the drive faults. A stalled run is therefore repeated (fault reset, enable) up to
-ATTEMPTS times and the bound asserted on a run that did not stall; when every run stalled
-because the host could not keep real time (the tool's SYNC gaps or the simulator's own tick
-lateness beyond a period), the test is skipped as an environment limit, never passed."""
+ATTEMPTS times and the bound asserted on a run that did not stall; when every run stalled the
+test fails, naming whether the host missed real time (the tool's SYNC gaps or the simulator's
+own tick lateness beyond a period)."""
 
 from __future__ import annotations
 
@@ -29,7 +29,7 @@ pytestmark = pytest.mark.anyio
 
 MARGIN_REV = 0.01
 END_REV = 0.002
-ATTEMPTS = 4
+ATTEMPTS = 6  # a stall on a loaded host is retried; every try stalling fails
 
 
 async def stream(
@@ -47,9 +47,8 @@ async def stream(
         sim_late = r.rig.sim.stats.max_lateness > period_ms / 1000
         host_late = host_late or sim_late or result.sync_interval_max_ms > 3 * period_ms
         distance = -distance  # back towards the start
-    if host_late:
-        pytest.skip(f"the host could not keep {period_ms} ms real time ({result.message})")
-    raise AssertionError(f"node {node}: every stream stalled: {result.message}")
+    late = f" (the host missed {period_ms} ms real time)" if host_late else ""
+    raise AssertionError(f"node {node}: every stream stalled{late}: {result.message}")
 
 
 @pytest.mark.parametrize("period_ms", [2, 10])
