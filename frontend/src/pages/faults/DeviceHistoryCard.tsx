@@ -69,7 +69,7 @@ export function DeviceHistoryCard({ node }: { node: number }): ReactNode {
     <section className="card" aria-labelledby="device-history-heading">
       <header className="card-header">
         <h2 id="device-history-heading">Drive&apos;s error history 1003h</h2>
-        {data && <span className="muted small">{data.count} stored</span>}
+        {data && supported && <span className="muted small">{data.count} stored</span>}
         <span className="spacer" />
         <button type="button" disabled={history.loading} onClick={history.reload}>
           Read 1003h

@@ -23,9 +23,9 @@ export function LogUploadCard({ log, busy, error, onDecode }: Props): ReactNode 
         <h2 id="log-upload-heading">Analyse a CAN log</h2>
       </header>
       <p className="muted small">
-        candump .log, Vector .asc and .blf, PCAN .trc or .csv. The server decodes NMT, heartbeats,
-        SDO transfers, EMCYs in words, CiA 402 states and the bus load; a DCF adds the node&apos;s
-        PDO mapping and names.
+        candump .log, Vector .asc and .blf, PCAN .trc, ASAM .mf4 or .csv. The server decodes NMT,
+        heartbeats, SDO transfers, EMCYs in words, CiA 402 states and the bus load; a DCF adds the
+        node&apos;s PDO mapping and names.
       </p>
       <div className="inline">
         <FilePicker

@@ -18,6 +18,7 @@ const FORMATS: { format: RecordingFormat; label: string }[] = [
   { format: "blf", label: "Vector BLF (.blf)" },
   { format: "asc", label: "Vector ASC (.asc)" },
   { format: "log", label: "candump (.log)" },
+  { format: "mf4", label: "ASAM MDF 4 (.mf4)" },
 ];
 
 /** Raw frames of the live bus into a file: start, watch it grow, stop and download. */

@@ -9,7 +9,7 @@ import type {
   RecordingInfo,
 } from "./types";
 
-export const LOG_FILE_TYPES = ".log,.asc,.blf,.trc,.csv,.txt";
+export const LOG_FILE_TYPES = ".log,.asc,.blf,.trc,.mf4,.csv,.txt";
 export const DCF_FILE_TYPES = ".dcf,.eds";
 
 export function decodeLog(file: File, dcf: File | null): Promise<DecodedLog> {
