@@ -80,11 +80,12 @@ async def test_a_stalled_stream_surfaces_the_lost_sync_alarm() -> None:
         session = r.rig.registry.session(node)
 
         async def stall() -> None:
-            # other work on the node's thread holds the stream back for 50 periods of 2 ms
-            await session.run(lambda _remote: time.sleep(0.1), what="a long step")
+            # other work on the node's thread holds the stream back for 20 periods of 10 ms (at
+            # 10 ms the start of the stream does not depend on this host keeping 2 ms real time)
+            await session.run(lambda _remote: time.sleep(0.2), what="a long step")
 
         streaming = asyncio.create_task(
-            r.motion.ip_stream(node, "sine", period_ms=2, distance_rev=0.2, duration_s=1.0)
+            r.motion.ip_stream(node, "sine", period_ms=10, distance_rev=0.2, duration_s=1.0)
         )
         await asyncio.sleep(0.3)
         await stall()
