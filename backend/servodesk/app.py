@@ -23,6 +23,8 @@ from servodesk.api import (
     paramsets,
     pdos,
     recording,
+    rerun_proxy,
+    scope,
     sdo,
     ws,
 )
@@ -49,7 +51,8 @@ def api_router() -> APIRouter:
     router.include_router(bus.sync_router)
     router.include_router(pdos.bus_router)
     router.include_router(ws.router)
-    for diagnostics in (faults, events_api, logs, recording):
+    router.include_router(rerun_proxy.router)  # /api/scope/viewer
+    for diagnostics in (faults, events_api, logs, recording, scope):
         router.include_router(diagnostics.router)
     return router
 
@@ -92,6 +95,8 @@ def create_app(
     install_schema(app)
     ws.install_live_schema(app)
     app.include_router(api_router())
+    # the rerun viewer (/rerun/) and its gRPC-web at the root, before the frontend's catch-all
+    app.include_router(rerun_proxy.root_router)
     if static_dir is not None:
         mount_frontend(app, static_dir)
     return app

@@ -135,3 +135,15 @@ class StateConflictError(ServodeskError):
     def __init__(self, kind: str, message: str) -> None:
         self.kind = kind
         super().__init__(message)
+
+
+class CaptureNotFoundError(NotFoundError):
+    """No scope capture with this id (deleted, or never made); the API answers 404."""
+
+    def __init__(self, capture_id: int) -> None:
+        self.capture_id = capture_id
+        super().__init__("capture_not_found", f"no scope capture {capture_id}")
+
+
+class ScopeViewerError(ServodeskError):
+    """The embedded rerun viewer (its web and gRPC server) could not be started or reached."""

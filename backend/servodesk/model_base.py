@@ -18,6 +18,10 @@ def _not_text(value: object) -> object:
 
 # A JSON integer: 12 and 12.0 (JSON Schema's integer), never "12" or 12.5.
 JsonInt = Annotated[int, BeforeValidator(_not_text)]
+# Bounds for JsonInt in an alias: Annotated[Annotated[int, Field(ge=…)], NOT_TEXT]. Given as
+# JsonInt's own metadata instead, pydantic leaves them out of the JSON schema ("ge" instead
+# of "minimum"), and the schema would promise what the API refuses.
+NOT_TEXT = BeforeValidator(_not_text)
 
 
 class RequestBody(BaseModel):

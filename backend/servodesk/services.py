@@ -24,6 +24,9 @@ from servodesk.params.node_id import NodeIdService
 from servodesk.params.paramsets import ParamSetService
 from servodesk.params.service import ParamService
 from servodesk.pdo.service import PdoService
+from servodesk.scope.service import ScopeService
+from servodesk.scope.store import CaptureStore
+from servodesk.scope.viewer_server import RerunServer
 from servodesk.sdo.jobs import JobManager
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
@@ -52,11 +55,14 @@ class Services:
     faults: FaultService
     logs: LogService
     recorder: Recorder
+    viewer: RerunServer  # the scope's rerun viewer and gRPC server (loopback, lazily started)
+    scope: ScopeService
 
     async def open(self) -> None:
         """The event bus and the timeline store, before the bus connects (nothing is missed)."""
         self.events.attach_loop()
         await self.storage.start()
+        await self.scope.open()
 
     def start(self) -> None:
         self.safety.start()
@@ -64,7 +70,10 @@ class Services:
 
     async def close(self) -> None:
         self.od_parser.close()
+        # first: a running capture puts the bus back (its TPDOs, SYNC, NMT states)
+        await self.scope.close()
         await self.recorder.close()
+        await self.viewer.close()  # after the scope: its recordings stream into the viewer
         await self.live.close()
         # before the registry and bus go: running jogs are stopped, 1016h entries restored
         await self.safety.close()
@@ -105,6 +114,17 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
     live = LiveHub(bus, registry, safety)
     # the timeline and the active faults on the WebSocket (subscribed after the store: ids)
     live.follow_diagnostics(events, storage.id_of, faults.add_listener, faults.all_active)
+    viewer = RerunServer(settings.data_dir / "rerun")
+    scope = ScopeService(
+        registry,
+        pdos,
+        sync,
+        bus,
+        events,
+        CaptureStore(settings.data_dir / "scope"),
+        viewer=viewer if settings.scope_live_view else None,
+        known_nodes=lambda: [info.node for info in registry.all()],
+    )
     return Services(
         settings=settings,
         bus=bus,
@@ -126,6 +146,8 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
         logs=LogService(settings.data_dir, max_concurrent=settings.log_decodes_max),
         # a recording holds the whole bus: the frames the tool sends as well as those it hears
         recorder=Recorder(partial(bus.add_frame_listener, sent=True), settings.data_dir),
+        viewer=viewer,
+        scope=scope,
     )
 
 

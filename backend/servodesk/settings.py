@@ -66,5 +66,9 @@ class Settings(BaseSettings):
     log_upload_max_mb: int = Field(default=256, ge=1)
     log_decodes_max: int = Field(default=2, ge=1)
 
+    # Scope: captures stream live to the app's own rerun server (loopback) as well as to their
+    # .rrd files; off, captures are only recorded (the viewer can still open them)
+    scope_live_view: bool = True
+
     # Files: uploaded object dictionaries live here, per node
     data_dir: Path = Path.home() / ".local" / "share" / "servodesk"

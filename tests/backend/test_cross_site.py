@@ -24,6 +24,7 @@ PATH_VALUES = {
     "name": "PA-14",
     "job_id": "x",
     "jog_id": "x",
+    "capture_id": "1",
 }
 BODIES: dict[str, dict[str, Any]] = {
     "json": {"json": {"command": "start", "value": 1, "confirm": True}},

@@ -146,6 +146,11 @@ class PdoService:
         producing = assume_sync or self._sync().producing
         return validate(pdos, facts.context(sync_producing=producing, other_ids=others))
 
+    async def taken_ids(self, node: int) -> dict[int, str]:
+        """The CAN ids the other known nodes use (services and valid PDOs): what a new PDO of
+        `node` must not take."""
+        return await self._other_ids(node)
+
     async def _other_ids(self, node: int) -> dict[int, str]:
         ids: dict[int, str] = {}
         for other, pdos in (await self._all_pdos([node]))[0].items():
@@ -182,9 +187,11 @@ class PdoService:
         *,
         master_period_ms: int = DEFAULT_MASTER_PERIOD_MS,
         replace: Mapping[int, Sequence[PdoConfig]] | None = None,
+        sync_period_us: int | None = None,
     ) -> BusLoadResult:
         """Per node and total, at the tool's SYNC period (else the assumed master cycle for
-        the master's event-driven RPDOs) and the bus bitrate."""
+        the master's event-driven RPDOs) and the bus bitrate; `sync_period_us` computes it for
+        another SYNC period (the scope's, before it starts)."""
         pdos_by_node, notes = await self._all_pdos(list(replace or ()))
         pdos_by_node.update(replace or {})
         bitrate = self._bitrate()
@@ -195,10 +202,12 @@ class PdoService:
                 f"computed for {DEFAULT_BITRATE // 1000} kbit/s"
             )
         sync = self._sync()
+        if sync_period_us is None and sync.producing:
+            sync_period_us = sync.period_us
         load = bus_load(
             pdos_by_node,
             bitrate=bitrate,
-            sync_period_us=sync.period_us if sync.producing else None,
+            sync_period_us=sync_period_us,
             threshold_percent=threshold,
             master_period_ms=master_period_ms,
         )

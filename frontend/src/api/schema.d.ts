@@ -1079,6 +1079,111 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/scope/captures": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * List Captures
+         * @description Every capture kept, newest first (the active one with its live progress).
+         */
+        get: operations["list_captures_api_scope_captures_get"];
+        put?: never;
+        /**
+         * Start Capture
+         * @description Set the bus up (SYNC, the scope's TPDOs in free slots, nodes Operational) and start a
+         *     capture: `running` at once when free-running, else `armed` until the trigger.
+         */
+        post: operations["start_capture_api_scope_captures_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/captures/{capture_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Capture */
+        get: operations["get_capture_api_scope_captures__capture_id__get"];
+        put?: never;
+        post?: never;
+        /**
+         * Stop Or Delete Capture
+         * @description An armed or running capture is stopped (its setup undone; 200 with the capture as
+         *     kept); a finished one is deleted with its files (204).
+         */
+        delete: operations["stop_or_delete_capture_api_scope_captures__capture_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/captures/{capture_id}/export": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Export Capture */
+        get: operations["export_capture_api_scope_captures__capture_id__export_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/plan": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Plan Capture
+         * @description What a capture would do, without starting it: each signal's source (TPDO or SDO
+         *     polling, and why) and the bus load at the chosen SYNC period (refused above 100 %).
+         */
+        post: operations["plan_capture_api_scope_plan_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/viewer": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Scope Viewer
+         * @description The embedded rerun viewer: its page under this origin and what it connects to.
+         */
+        get: operations["scope_viewer_api_scope_viewer_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/sync": {
         parameters: {
             query?: never;
@@ -1288,6 +1393,122 @@ export interface components {
              * @default 0
              */
             tx_frames: number;
+        };
+        /** Capture */
+        Capture: {
+            /** Bus Load Percent */
+            bus_load_percent?: number | null;
+            /** Created */
+            created: number;
+            /** Duration S */
+            duration_s: number;
+            /** Ended */
+            ended?: number | null;
+            /** Error */
+            error?: string | null;
+            /** Id */
+            id: number;
+            /**
+             * Lost
+             * @default 0
+             */
+            lost: number;
+            /** Name */
+            name: string | null;
+            /** Nodes */
+            nodes: number[];
+            /** Notes */
+            notes?: string[];
+            /** Recording Id */
+            recording_id: string;
+            /** Samples */
+            samples: number;
+            /** Series */
+            series?: number | null;
+            /** Signals */
+            signals: components["schemas"]["CaptureSignal"][];
+            /**
+             * Size Bytes
+             * @default 0
+             */
+            size_bytes: number;
+            /** Started */
+            started?: number | null;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "armed" | "running" | "done" | "failed";
+            /** Sync Period Us */
+            sync_period_us: number;
+            trigger: components["schemas"]["TriggerRequest"];
+            /** Trigger Time */
+            trigger_time?: number | null;
+        };
+        /** CaptureRequest */
+        CaptureRequest: {
+            /** Duration S */
+            duration_s: number;
+            /** Name */
+            name?: string | null;
+            /** Signals */
+            signals: components["schemas"]["ScopeSignalRequest"][];
+            /**
+             * Start Nodes
+             * @description put pre-operational nodes into Operational for the capture (TPDOs only flow there) and back afterwards
+             * @default true
+             */
+            start_nodes: boolean;
+            /**
+             * Sync Period Us
+             * @description µs
+             * @default 1000
+             */
+            sync_period_us: number;
+            trigger?: components["schemas"]["TriggerRequest"];
+        };
+        /** CaptureSignal */
+        CaptureSignal: {
+            /** Bits */
+            bits: number;
+            /** Cob Id */
+            cob_id?: number | null;
+            /** Index */
+            index: number;
+            /** Key */
+            key: string;
+            /** Last Value */
+            last_value?: number | null;
+            /** Name */
+            name: string;
+            /** Node */
+            node: number;
+            /** Note */
+            note?: string | null;
+            /** Quantity */
+            quantity: string;
+            /** Rate Hz */
+            rate_hz?: number | null;
+            /** Raw Unit */
+            raw_unit: string;
+            /**
+             * Samples
+             * @default 0
+             */
+            samples: number;
+            /** Scale */
+            scale: number;
+            /**
+             * Source
+             * @enum {string}
+             */
+            source: "pdo" | "sdo";
+            /** Subindex */
+            subindex: number;
+            /** Tpdo */
+            tpdo?: number | null;
+            /** Unit */
+            unit: string;
         };
         /**
          * ClientMessage
@@ -2808,6 +3029,54 @@ export interface components {
             /** Nodes */
             nodes: components["schemas"]["NodeInfo"][];
         };
+        /**
+         * ScopePlan
+         * @description What a capture would do, before it starts: each signal's source and the bus load.
+         */
+        ScopePlan: {
+            bus_load: components["schemas"]["BusLoadResult"];
+            /** Notes */
+            notes: string[];
+            /** Ok */
+            ok: boolean;
+            /** Problems */
+            problems: string[];
+            /** Signals */
+            signals: components["schemas"]["CaptureSignal"][];
+        };
+        /** ScopeSignalRequest */
+        ScopeSignalRequest: {
+            /**
+             * Index
+             * @description object index 0000h–FFFFh
+             */
+            index: number;
+            /**
+             * Node
+             * @description CANopen node id 1–127
+             */
+            node: number;
+            /**
+             * Subindex
+             * @description subindex 0–255
+             * @default 0
+             */
+            subindex: number;
+        };
+        /**
+         * ScopeViewer
+         * @description Where the embedded rerun viewer is and what it connects to.
+         */
+        ScopeViewer: {
+            /** Grpc Url */
+            grpc_url: string;
+            /** Running */
+            running: boolean;
+            /** Url */
+            url: string;
+            /** Version */
+            version: string;
+        };
         /** SdoValue */
         SdoValue: {
             /** Data Type Name */
@@ -2909,6 +3178,57 @@ export interface components {
              * @enum {string}
              */
             type: "timeline";
+        };
+        /**
+         * TriggerRequest
+         * @description When the capture starts. `none`: at once (free-running); `level`: the signal at
+         *     (node, index, subindex) crosses `level` (raw value, the object's own units) on `edge`;
+         *     `bit`: bit `bit` of that object (6041h Statusword when no index is given) changes on
+         *     `edge`; `emcy`: an EMCY from `node` (any node when none is given); `state`: the CiA 402
+         *     state of `node` changes (to `state` when given). `pre_s` of the capture lies before the
+         *     trigger. `normal` re-arms after each capture and keeps the last `keep` captures.
+         */
+        TriggerRequest: {
+            /** Bit */
+            bit?: number | null;
+            /**
+             * Edge
+             * @default rising
+             * @enum {string}
+             */
+            edge: "rising" | "falling" | "either";
+            /** Index */
+            index?: number | null;
+            /**
+             * Keep
+             * @default 10
+             */
+            keep: number;
+            /**
+             * Kind
+             * @default none
+             * @enum {string}
+             */
+            kind: "none" | "level" | "bit" | "emcy" | "state";
+            /** Level */
+            level?: number | null;
+            /**
+             * Mode
+             * @default single
+             * @enum {string}
+             */
+            mode: "single" | "normal";
+            /** Node */
+            node?: number | null;
+            /**
+             * Pre S
+             * @default 0
+             */
+            pre_s: number;
+            /** State */
+            state?: string | null;
+            /** Subindex */
+            subindex?: number | null;
         };
         /** UnwatchDriveMessage */
         UnwatchDriveMessage: {
@@ -8349,6 +8669,381 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    list_captures_api_scope_captures_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Capture"][];
+                };
+            };
+        };
+    };
+    start_capture_api_scope_captures_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["CaptureRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Capture"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description scope_busy: another capture is armed or running; or the scope's TPDOs could not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_capture_api_scope_captures__capture_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description capture id */
+                capture_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Capture"];
+                };
+            };
+            /** @description No such capture (capture_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    stop_or_delete_capture_api_scope_captures__capture_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description capture id */
+                capture_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Capture"];
+                };
+            };
+            /** @description the capture and its files are deleted */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such capture (capture_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    export_capture_api_scope_captures__capture_id__export_get: {
+        parameters: {
+            query?: {
+                /** @description csv, parquet (pyarrow), mf4 (asammdf) or rrd (rerun) */
+                format?: "csv" | "parquet" | "mf4" | "rrd";
+            };
+            header?: never;
+            path: {
+                /** @description capture id */
+                capture_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the exported capture */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/octet-stream": string;
+                    "text/csv": string;
+                };
+            };
+            /** @description No such capture (capture_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The capture is still armed or running (capture_recording) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    plan_capture_api_scope_plan_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["CaptureRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ScopePlan"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the request came from another site */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description scope_busy: another capture is armed or running; or the scope's TPDOs could not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    scope_viewer_api_scope_viewer_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ScopeViewer"];
+                };
+            };
+            /** @description The rerun viewer could not start */
+            503: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -1,0 +1,137 @@
+"""A capture as a rerun recording: one RecordingStream per capture, owned by the capture,
+written to its .rrd file and (while live) to the app's loopback rerun server.
+
+Entity paths: `drives/{node}/{key}` in physical units, `raw/drives/{node}/{key}` as the drive
+sends it, `drives/{node}/state` the CiA 402 state lane and `drives/{node}/events` (NMT, EMCY,
+the trigger) as text annotations. Two timelines: `time` (wall clock, all nodes on one axis) and
+`capture` (seconds from the trigger, negative before it). Samples go in columns, a batch per
+flush (`send_columns`), never one log call per sample.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import numpy.typing as npt
+import rerun as rr
+import rerun.blueprint as rrb
+
+from servodesk.scope_models import Capture, CaptureSignal
+
+Floats = npt.NDArray[np.float64]
+APPLICATION_ID = "servodesk-scope"
+WINDOW_S = 5.0  # the live plots scroll over the last seconds
+NS = 1_000_000_000
+
+# one colour per node, so a node's signals read alike across the plots
+_COLOURS = ((31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189))
+
+
+def signal_path(signal: CaptureSignal, *, raw: bool = False) -> str:
+    path = f"drives/{signal.node}/{signal.key}"
+    return f"raw/{path}" if raw else path
+
+
+def blueprint(capture: Capture) -> rrb.Blueprint:
+    """One plot per quantity (position, velocity, torque…) with every node's signals of that
+    quantity, the raw values below, the state and event annotations beside."""
+    by_quantity: dict[str, list[CaptureSignal]] = {}
+    for signal in capture.signals:
+        by_quantity.setdefault(signal.quantity, []).append(signal)
+    scrolling = rrb.VisibleTimeRange(
+        "time",
+        start=rrb.TimeRangeBoundary.cursor_relative(seconds=-WINDOW_S),
+        end=rrb.TimeRangeBoundary.cursor_relative(),
+    )
+    plots: list[rrb.View] = []
+    for quantity, signals in by_quantity.items():
+        unit = signals[0].unit
+        title = quantity.replace("_", " ").capitalize() + (f" [{unit}]" if unit else "")
+        plots.append(
+            rrb.TimeSeriesView(
+                name=title,
+                origin="/",
+                contents=[f"+ /{signal_path(s)}" for s in signals],
+                time_ranges=scrolling,
+            )
+        )
+    raw = rrb.TimeSeriesView(
+        name="Raw values", origin="/raw", contents="$origin/**", time_ranges=scrolling
+    )
+    lanes = rrb.TextLogView(name="States and events", origin="/drives")
+    return rrb.Blueprint(
+        rrb.Horizontal(
+            rrb.Vertical(*plots, raw),
+            lanes,
+            column_shares=[3, 1],
+        ),
+        rrb.TimePanel(timeline="time"),
+        collapse_panels=True,
+    )
+
+
+class CaptureRecording:
+    def __init__(self, capture: Capture, rrd_path: Path, live_url: str | None) -> None:
+        self.rec = rr.RecordingStream(APPLICATION_ID, recording_id=capture.recording_id)
+        sinks: list[rr.FileSink | rr.GrpcSink] = [rr.FileSink(str(rrd_path))]
+        if live_url is not None:
+            sinks.append(rr.GrpcSink(live_url))
+        self.rec.set_sinks(*sinks, default_blueprint=blueprint(capture))
+        name = capture.name or f"Capture {capture.id}"
+        self.rec.send_recording_name(name)
+        for signal in capture.signals:
+            colour = _COLOURS[(signal.node - 1) % len(_COLOURS)]
+            unit = f" [{signal.unit}]" if signal.unit else ""
+            raw_unit = f" [{signal.raw_unit}]" if signal.raw_unit else ""
+            label = f"node {signal.node} {signal.name}"
+            self.rec.log(
+                signal_path(signal),
+                rr.SeriesLines(names=label + unit, colors=[colour]),
+                static=True,
+            )
+            self.rec.log(
+                signal_path(signal, raw=True),
+                rr.SeriesLines(names=label + raw_unit, colors=[colour]),
+                static=True,
+            )
+
+    def samples(
+        self, signal: CaptureSignal, times: Floats, rel: Floats, raw: Floats, values: Floats
+    ) -> None:
+        indexes = _indexes(times, rel)
+        columns = rr.Scalars.columns(scalars=values)
+        self.rec.send_columns(signal_path(signal), indexes=indexes, columns=columns)
+        raw_columns = rr.Scalars.columns(scalars=raw)
+        self.rec.send_columns(signal_path(signal, raw=True), indexes=indexes, columns=raw_columns)
+
+    def texts(
+        self,
+        path: str,
+        times: Sequence[float],
+        rel: Sequence[float],
+        texts: Sequence[str],
+        level: str = "INFO",
+    ) -> None:
+        if not texts:
+            return
+        t = np.asarray(times, dtype=np.float64)
+        r = np.asarray(rel, dtype=np.float64)
+        self.rec.send_columns(
+            path,
+            indexes=_indexes(t, r),
+            columns=rr.TextLog.columns(text=list(texts), level=[level] * len(texts)),
+        )
+
+    def close(self) -> None:
+        """Everything written to the file and sent; the live viewer keeps what it has."""
+        self.rec.flush()
+        self.rec.disconnect()
+
+
+def _indexes(times: Floats, rel: Floats) -> list[rr.TimeColumn]:
+    return [
+        rr.TimeColumn("time", timestamp=(times * NS).astype(np.int64).astype("datetime64[ns]")),
+        rr.TimeColumn("capture", duration=(rel * NS).astype(np.int64).astype("timedelta64[ns]")),
+    ]

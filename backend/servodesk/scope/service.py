@@ -1,0 +1,498 @@
+"""The scope service: plan a capture, set the bus up for it (SYNC, TPDOs, NMT), record it, put
+everything back, keep the captures and export them.
+
+One capture series runs at a time. Its setup (the TPDOs the scope mapped, the SYNC period, the
+nodes it started) is made once and undone when the series ends; in `normal` trigger mode the
+series re-arms a new capture after each one and keeps the last `keep`.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+import uuid
+from collections.abc import Awaitable, Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from servodesk.bus.connection import BusManager
+from servodesk.errors import InvalidValueError, ServodeskError, StateConflictError
+from servodesk.events.bus import EventBus
+from servodesk.models import NmtCommandName, NmtStateName, SyncConfig
+from servodesk.motion.units import DriveUnits
+from servodesk.network.sync import SyncService
+from servodesk.nodes.access import NodeAccess
+from servodesk.pdo.model import PdoConfig
+from servodesk.pdo.procedure import Procedure
+from servodesk.pdo.service import PdoService
+from servodesk.pdo_models import BusLoadResult
+from servodesk.scope import export as exports
+from servodesk.scope.frames import FrameSink
+from servodesk.scope.plan import NodePlan, plan_node
+from servodesk.scope.recording import CaptureRecording
+from servodesk.scope.run import FLUSH_S, CaptureOutput, CaptureRun, close_files, poll_sdo
+from servodesk.scope.samples import SamplesWriter
+from servodesk.scope.setup import Key, build_core, capture_signals, lookup, wanted
+from servodesk.scope.signals import SignalInfo
+from servodesk.scope.store import CaptureStore
+from servodesk.scope.trigger import parse_state
+from servodesk.scope.viewer_server import RerunServer
+from servodesk.scope_models import Capture, CaptureRequest, CaptureSignal, ExportFormat, ScopePlan
+from servodesk_protocol.cia402 import STATUSWORD
+
+log = logging.getLogger(__name__)
+
+MAX_LOAD_PERCENT = 100.0
+ENCODER_RESOLUTION = 0x608F  # :01 increments per :02 motor revolutions
+GEAR_RATIO = 0x6091  # :01 motor increments per :02 user units (position factor)
+
+
+@dataclass
+class Setup:
+    """What a capture series changed on the bus, to be undone when it ends."""
+
+    request: CaptureRequest
+    signals: list[CaptureSignal]
+    infos: dict[Key, SignalInfo]
+    plans: dict[int, NodePlan]
+    bus_load_percent: float
+    notes: list[str]
+    sync_before: SyncConfig | None = None  # None: the scope did not touch SYNC
+    applied: list[int] = field(default_factory=list)  # nodes whose scope TPDOs are written
+    started: dict[int, NmtStateName] = field(default_factory=dict)  # node -> state before
+    series: int | None = None
+    kept: list[int] = field(default_factory=list)  # captures of the series, oldest first
+
+
+class ScopeService:
+    def __init__(
+        self,
+        access: NodeAccess,
+        pdos: PdoService,
+        sync: SyncService,
+        bus: BusManager,
+        events: EventBus,
+        store: CaptureStore,
+        viewer: RerunServer | None,
+        *,
+        known_nodes: Callable[[], Sequence[int]],
+    ) -> None:
+        self.known_nodes = known_nodes
+        self.access = access
+        self.pdos = pdos
+        self.sync = sync
+        self.bus = bus
+        self.events = events
+        self.store = store
+        self.viewer = viewer
+        self._lock = asyncio.Lock()
+        self._setup: Setup | None = None
+        self._run: CaptureRun | None = None
+        self._series_task: asyncio.Task[None] | None = None
+
+    async def open(self) -> None:
+        await asyncio.to_thread(self.store.open)
+
+    # ------------------------------------------------------------------ planning
+
+    async def plan(self, request: CaptureRequest) -> ScopePlan:
+        setup = await self._prepare(request)
+        problems = []
+        if setup.bus_load_percent > MAX_LOAD_PERCENT:
+            problems.append(_overload(setup.bus_load_percent, request.sync_period_us))
+        load = await self._bus_load(setup)
+        return ScopePlan(
+            ok=not problems,
+            signals=setup.signals,
+            bus_load=load,
+            problems=problems,
+            notes=setup.notes,
+        )
+
+    async def _prepare(self, request: CaptureRequest) -> Setup:
+        """Resolve the signals, plan their TPDOs and compute the bus load (reads only)."""
+        check_request(request)
+        nodes = sorted({s.node for s in request.signals} | _trigger_nodes(request))
+        has_statusword = {}
+        for node in nodes:
+            self.access.info(node)  # NodeNotFoundError for a node not on the bus
+            has_statusword[node] = self.access.od(node).get(STATUSWORD, 0) is not None
+        need = wanted(request, has_statusword)
+        infos: dict[Key, SignalInfo] = {}
+        for node in sorted({key[0] for key in need.keys}):
+            units = await self._units(node)
+            od = self.access.od(node)
+            for key in need.keys:
+                if key[0] == node:
+                    infos[key] = lookup(key, od, units)
+        plans: dict[int, NodePlan] = {}
+        notes: list[str] = []
+        for node in sorted({key[0] for key in need.keys}):
+            facts = self.pdos.facts(node)
+            current = await self.pdos.read(node)
+            plan = plan_node(
+                node,
+                [infos[key] for key in need.keys if key[0] == node],
+                current,
+                byte_granular=facts.byte_granular,
+                fixed_cob_ids=facts.fixed_cob_ids,
+                taken_ids=await self.pdos.taken_ids(node),
+                id_change_needs_reset=facts.procedure is Procedure.OUTSIDE_OPERATIONAL,
+            )
+            plans[node] = plan
+            notes.extend(f"node {node}: {note}" for note in plan.notes)
+        signals = capture_signals(need.keys, plans, need.added)
+        setup = Setup(request, signals, infos, plans, 0.0, notes)
+        setup.bus_load_percent = (await self._bus_load(setup)).percent
+        return setup
+
+    async def _bus_load(self, setup: Setup) -> BusLoadResult:
+        """The bus during the capture: every node's TPDOs (the scope's included) and SYNC at
+        the capture's period. RPDOs are left out: ServoDesk sends none while capturing, and
+        another master's traffic is not known here."""
+        replace: dict[int, list[PdoConfig]] = {}
+        for node in sorted(set(self.known_nodes()) | set(setup.plans)):
+            try:
+                current = await self.pdos.cached(node)
+            except ServodeskError:
+                continue  # a node that cannot be read now is not counted (said below)
+            plan = setup.plans.get(node)
+            taken = {pdo.number for pdo in plan.scope_pdos} if plan else set()
+            kept = [p for p in current if p.kind == "tpdo" and p.number not in taken]
+            replace[node] = kept + list(plan.scope_pdos if plan else ())
+        load = await self.pdos.bus_load(
+            MAX_LOAD_PERCENT, replace=replace, sync_period_us=setup.request.sync_period_us
+        )
+        load.notes.insert(
+            0,
+            "RPDOs are not counted: ServoDesk sends none during a capture (another master's"
+            " would add to this)",
+        )
+        return load
+
+    async def _units(self, node: int) -> DriveUnits:
+        """The drive's position factor and encoder resolution, where it has them."""
+        od = self.access.od(node)
+
+        async def read(index: int, subindex: int) -> int | None:
+            if od.get(index, subindex) is None:
+                return None
+            try:
+                data = await self.access.session(node).upload(index, subindex)
+            except ServodeskError:
+                return None
+            return int.from_bytes(data, "little")
+
+        counts, revs = await read(ENCODER_RESOLUTION, 1), await read(ENCODER_RESOLUTION, 2)
+        motor, user = await read(GEAR_RATIO, 1), await read(GEAR_RATIO, 2)
+        per_rev = counts // revs if counts and revs else counts
+        gear = (motor, user) if motor and user else None
+        return DriveUnits.of(per_rev, gear, velocity_actual_rpm=True)
+
+    # ------------------------------------------------------------------ starting and stopping
+
+    async def start(self, request: CaptureRequest) -> Capture:
+        async with self._lock:
+            if self._setup is not None:
+                busy = self._run.capture.id if self._run else None
+                raise StateConflictError(
+                    "scope_busy",
+                    f"capture {busy} is still armed or running: stop it"
+                    f" (DELETE /api/scope/captures/{busy}) before starting another",
+                )
+            setup = await self._prepare(request)
+            if setup.bus_load_percent > MAX_LOAD_PERCENT:
+                raise InvalidValueError(_overload(setup.bus_load_percent, request.sync_period_us))
+            try:
+                await self._configure(setup)
+                run = await self._begin(setup)
+            except BaseException:
+                await self._undo(setup)
+                raise
+            self._setup = setup
+            self._series_task = asyncio.create_task(self._series(setup, run))
+            return run.capture.model_copy(deep=True)
+
+    async def _configure(self, setup: Setup) -> None:
+        """SYNC at the capture's period, the scope's TPDOs written, the nodes Operational."""
+        request = setup.request
+        current = self.sync.get()
+        if not current.producing or current.period_us != request.sync_period_us:
+            setup.sync_before = current
+            await self.sync.set(request.sync_period_us)
+            if current.producing:
+                setup.notes.append(
+                    f"SYNC period changed from {current.period_us} µs to"
+                    f" {request.sync_period_us} µs for the capture (restored afterwards)"
+                )
+        for node, plan in setup.plans.items():
+            if plan.scope_pdos:
+                await self.pdos.apply(node, list(plan.scope_pdos), actor="scope")
+                setup.applied.append(node)
+        if request.start_nodes:
+            for node in setup.applied:  # TPDOs flow only in Operational
+                state = self.access.info(node).nmt_state
+                if state in (NmtStateName.PRE_OPERATIONAL, NmtStateName.STOPPED):
+                    await self.access.nmt(node, NmtCommandName.START)
+                    setup.started[node] = state
+                    setup.notes.append(f"node {node} put into Operational for the capture")
+
+    async def _undo(self, setup: Setup) -> None:
+        """Put back what `_configure` changed; each step is tried even when another fails."""
+        for node, state in setup.started.items():
+            back = (
+                NmtCommandName.STOP
+                if state is NmtStateName.STOPPED
+                else NmtCommandName.PRE_OPERATIONAL
+            )
+            await self._attempt(f"node {node}: NMT back", self.access.nmt(node, back))
+        for node in setup.applied:
+            restore = list(setup.plans[node].restore_pdos)
+            await self._attempt(
+                f"node {node}: TPDOs back", self.pdos.apply(node, restore, actor="scope")
+            )
+        setup.applied.clear()
+        setup.started.clear()
+        before = setup.sync_before
+        if before is not None:
+            period = before.period_us if before.producing else None
+            await self._attempt("SYNC back", self.sync.set(period))
+
+    async def _attempt(self, what: str, step: Awaitable[object]) -> None:
+        try:
+            await step
+        except ServodeskError as error:
+            log.warning("scope: %s failed: %s", what, error)
+
+    async def _begin(self, setup: Setup, series: int | None = None) -> CaptureRun:
+        """A new capture on the configured bus: its record, files, tap and pollers."""
+        request = setup.request
+
+        def build(capture_id: int) -> Capture:
+            return Capture(
+                id=capture_id,
+                name=request.name,
+                state="running" if request.trigger.kind == "none" else "armed",
+                created=time.time(),
+                started=time.time(),
+                signals=[s.model_copy(deep=True) for s in setup.signals],
+                nodes=sorted(setup.plans),
+                sync_period_us=request.sync_period_us,
+                duration_s=request.duration_s,
+                trigger=request.trigger,
+                samples=0,
+                bus_load_percent=round(setup.bus_load_percent, 1),
+                recording_id=str(uuid.uuid4()),
+                series=series,
+                notes=list(setup.notes),
+            )
+
+        capture = await asyncio.to_thread(self.store.create, build)
+        live = await self._live_url(capture)
+        rrd = self.store.rrd_path(capture.id)
+        recording = await asyncio.to_thread(CaptureRecording, capture, rrd, live)
+        writer = SamplesWriter(self.store.samples_path(capture.id))
+        output = CaptureOutput(capture, writer, recording)
+        scope_pdos = {node: plan.scope_pdos for node, plan in setup.plans.items()}
+        core = build_core(capture.signals, setup.infos, scope_pdos, request, output)
+        sink = FrameSink([cob for cob in core.streams if cob < 0x800])
+        run = CaptureRun(capture, core, sink, output)
+        run.cleanups.append(self.bus.add_frame_listener(sink))
+        run.cleanups.append(self.events.subscribe(run.on_event))
+        period = request.sync_period_us / 1e6
+        for node in capture.nodes:
+            polled = [
+                (i, s.node, s.index, s.subindex)
+                for i, s in enumerate(capture.signals)
+                if s.source == "sdo" and s.node == node
+            ]
+            if polled:
+                task = asyncio.create_task(
+                    poll_sdo(self.access, sink, polled, period, capture.notes)
+                )
+                run.pollers.append(task)
+        self._run = run
+        return run
+
+    async def _live_url(self, capture: Capture) -> str | None:
+        if self.viewer is None:
+            return None
+        try:
+            await self.viewer.ensure_started()
+        except ServodeskError as error:
+            capture.notes.append(f"live view unavailable ({error}); the capture is recorded")
+            return None
+        return self.viewer.grpc_url
+
+    async def _series(self, setup: Setup, run: CaptureRun) -> None:
+        """Record captures until the series ends, then undo the setup."""
+        try:
+            while True:
+                await self._record(run)
+                self._keep(setup, run.capture)
+                again = (
+                    setup.request.trigger.mode == "normal"
+                    and run.stop_reason is None
+                    and run.capture.state == "done"
+                )
+                if not again:
+                    break
+                setup.series = setup.series or run.capture.id
+                if run.capture.series is None:
+                    run.capture.series = setup.series
+                    await asyncio.to_thread(self.store.save, run.capture)
+                run = await self._begin(setup, series=setup.series)
+        finally:
+            self._run = None
+            await self._undo(setup)
+            self._setup = None
+
+    async def _record(self, run: CaptureRun) -> None:
+        capture = run.capture
+        try:
+            saved_state = capture.state
+            while run.stop_reason is None:
+                await asyncio.sleep(FLUSH_S)
+                await run.flush()
+                if capture.state != saved_state:
+                    saved_state = capture.state
+                    await asyncio.to_thread(self.store.save, capture.model_copy(deep=True))
+                if run.core.done():
+                    break
+                if run.stalled(time.time()):
+                    capture.notes.append(
+                        "ended early: no samples for 2 s (a drive stopped sending: NMT state,"
+                        " SYNC or bus)"
+                    )
+                    break
+            await run.flush()  # what arrived until now
+            capture.state = "done"
+            if run.stop_reason is not None:
+                capture.notes.append(run.stop_reason)
+        except Exception as error:  # the capture fails, the series ends, the bus is restored
+            log.exception("capture %s failed", capture.id)
+            capture.state = "failed"
+            capture.error = f"{type(error).__name__}: {error}"
+        finally:
+            for cleanup in run.cleanups:
+                cleanup()
+            for task in run.pollers:
+                task.cancel()
+            await asyncio.gather(*run.pollers, return_exceptions=True)
+            await asyncio.to_thread(close_files, run)
+            if run.core.short_frames:
+                capture.notes.append(
+                    f"{run.core.short_frames} frame(s) shorter than the scope's mapping skipped"
+                )
+            capture.ended = time.time()
+            capture.size_bytes = await asyncio.to_thread(self.store.size_bytes, capture.id)
+            await asyncio.to_thread(self.store.save, capture.model_copy(deep=True))
+
+    def _keep(self, setup: Setup, capture: Capture) -> None:
+        if setup.request.trigger.mode != "normal":
+            return
+        setup.kept.append(capture.id)
+        while len(setup.kept) > setup.request.trigger.keep:
+            old = setup.kept.pop(0)
+            try:
+                self.store.delete(old)
+            except ServodeskError as error:
+                log.warning("scope: could not delete capture %s: %s", old, error)
+
+    async def stop(self, capture_id: int) -> Capture | None:
+        """Stop the capture if it is the one recording (returns it, its state final); None
+        when it is not active."""
+        run = self._run
+        if run is None or run.capture.id != capture_id:
+            return None
+        run.stop("stopped by the user")
+        task = self._series_task
+        if task is not None:
+            await asyncio.shield(task)
+        return await self.get(capture_id)
+
+    # ------------------------------------------------------------------ captures
+
+    async def list(self) -> list[Capture]:
+        captures = await asyncio.to_thread(self.store.list)
+        run = self._run
+        if run is not None:
+            captures = [run.capture if c.id == run.capture.id else c for c in captures]
+        return [c.model_copy(deep=True) for c in captures]
+
+    async def get(self, capture_id: int) -> Capture:
+        run = self._run
+        if run is not None and run.capture.id == capture_id:
+            return run.capture.model_copy(deep=True)
+        return await asyncio.to_thread(self.store.get, capture_id)
+
+    async def delete(self, capture_id: int) -> None:
+        await asyncio.to_thread(self.store.delete, capture_id)
+
+    async def export(self, capture_id: int, fmt: ExportFormat) -> Path:
+        capture = await self.get(capture_id)
+        if capture.state in ("armed", "running"):
+            raise StateConflictError(
+                "capture_recording",
+                f"capture {capture_id} is still {capture.state}: export it when it is done"
+                " (or stop it)",
+            )
+        if fmt == "rrd":
+            return self.store.rrd_path(capture_id)
+        samples = self.store.samples_path(capture_id)
+        out = self.store.directory(capture_id) / exports.filename(capture, fmt)
+        return await asyncio.to_thread(exports.export, capture, samples, fmt, out)
+
+    async def close(self) -> None:
+        run = self._run
+        if run is not None:
+            run.stop("stopped: ServoDesk is shutting down")
+        task = self._series_task
+        if task is not None and not task.done():
+            await asyncio.gather(task, return_exceptions=True)
+        await asyncio.to_thread(self.store.close)
+
+
+def check_request(request: CaptureRequest) -> None:
+    """What the schema cannot say: the fields each trigger needs, pre-trigger inside the
+    capture (InvalidValueError in words)."""
+    trigger = request.trigger
+    missing = {
+        "level": trigger.node is None or trigger.index is None or trigger.level is None,
+        "bit": trigger.node is None or trigger.bit is None,
+        "state": trigger.node is None,
+    }
+    needs = {
+        "level": "node, index and level",
+        "bit": "node and bit (index defaults to 6041h)",
+        "state": "node",
+    }
+    if missing.get(trigger.kind):
+        raise InvalidValueError(f"a {trigger.kind} trigger needs {needs[trigger.kind]}")
+    if trigger.kind == "none" and trigger.pre_s > 0:
+        raise InvalidValueError("pre_s needs a trigger: a free-running capture starts at once")
+    if trigger.pre_s >= request.duration_s:
+        raise InvalidValueError(
+            f"pre_s ({trigger.pre_s:g} s) must be shorter than duration_s"
+            f" ({request.duration_s:g} s)"
+        )
+    if trigger.kind == "state" and trigger.state:
+        try:
+            parse_state(trigger.state)
+        except ValueError as error:
+            raise InvalidValueError(str(error)) from error
+
+
+def _trigger_nodes(request: CaptureRequest) -> set[int]:
+    node = request.trigger.node
+    return (
+        {node} if node is not None and request.trigger.kind in ("level", "bit", "state") else set()
+    )
+
+
+def _overload(percent: float, period_us: int) -> str:
+    return (
+        f"the capture would load the bus to {percent:.0f} % at a {period_us} µs SYNC period:"
+        " choose a longer SYNC period or fewer signals"
+    )

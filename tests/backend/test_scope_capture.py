@@ -1,0 +1,283 @@
+"""The scope against the simulated drives, through the API: TPDO captures at the SYNC rate,
+triggers with pre-trigger, the user's mapping put back, exports that read back."""
+
+from __future__ import annotations
+
+import io
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import httpx
+import numpy as np
+import pandas as pd  # type: ignore[import-untyped]
+import pyarrow.parquet as pq
+import pytest
+from fastapi.testclient import TestClient
+from rerun.chunk import RrdReader
+
+from servodesk.app import create_app
+from servodesk.settings import Settings
+
+CLIENT = {"X-Client-Id": "scope-test"}
+POSITION, VELOCITY, STATUSWORD = 0x6064, 0x606C, 0x6041
+JOG_RPM = 300
+USER_PER_REV = 100000  # 6091h factory gear: 100000 user units per revolution
+
+
+@pytest.fixture
+def client(tmp_path: Path) -> Iterator[TestClient]:
+    settings = Settings(simulated=True, data_dir=tmp_path, scope_live_view=False)
+    with TestClient(create_app(settings, static_dir=None)) as test_client:
+        yield test_client
+
+
+def ok(response: httpx.Response, status: int = 200) -> Any:
+    assert response.status_code == status, response.text
+    return response.json()
+
+
+def wait_done(client: TestClient, capture_id: int) -> dict[str, Any]:
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline:
+        capture: dict[str, Any] = ok(client.get(f"/api/scope/captures/{capture_id}"))
+        if capture["state"] in ("done", "failed"):
+            return capture
+        time.sleep(0.1)
+    raise AssertionError(f"capture {capture_id} did not finish: {capture}")
+
+
+@contextmanager
+def jogging(client: TestClient, node: int, rpm: float = JOG_RPM) -> Iterator[None]:
+    """A PV jog held like the browser holds it: keep-alives from another thread."""
+    # the simulated limit switches out of the way of a long jog
+    for index, rev in ((0x5FF1, -1000), (0x5FF2, 1000)):
+        ok(client.put(f"/api/nodes/{node}/sdo/{index:04X}/0", json={"value": rev * 131072}))
+    # the app's start-up work (dictionaries) done before the drive watches ServoDesk's
+    # heartbeat: a busy start can delay it past the drive's 300 ms consumer time
+    time.sleep(0.5)
+    ok(client.post(f"/api/nodes/{node}/drive/enable", headers=CLIENT))
+    body = {"mode": "pv", "velocity_rpm": rpm, "keepalive_ms": 500}
+    jog: dict[str, Any] = ok(client.post(f"/api/nodes/{node}/jog", headers=CLIENT, json=body))
+    done = threading.Event()
+    failures: list[str] = []
+
+    def keep_alive() -> None:
+        while not done.wait(0.1):
+            answer = client.post(f"/api/jog/{jog['jog_id']}/keepalive")
+            if answer.status_code != 200:
+                failures.append(answer.text)
+                return
+
+    thread = threading.Thread(target=keep_alive, daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        done.set()
+        thread.join()
+        ok(client.delete(f"/api/jog/{jog['jog_id']}"))
+    assert not failures, failures
+
+
+def samples_of(client: TestClient, capture_id: int) -> pd.DataFrame:
+    data = client.get(f"/api/scope/captures/{capture_id}/export", params={"format": "parquet"})
+    assert data.status_code == 200, data.text
+    return pq.read_table(io.BytesIO(data.content)).to_pandas()
+
+
+def signal_rows(frame: pd.DataFrame, node: int, index: int) -> pd.DataFrame:
+    return frame[(frame["node"] == node) & (frame["object"] == f"{index:04X}h:00")]
+
+
+def test_tpdo_capture_at_1ms_sync_matches_the_motion(client: TestClient) -> None:
+    before = ok(client.get("/api/nodes/1/pdos"))
+    request = {
+        "signals": [{"node": 1, "index": POSITION}, {"node": 1, "index": VELOCITY}],
+        "sync_period_us": 1000,
+        "duration_s": 2.0,
+    }
+    with jogging(client, 1):
+        time.sleep(0.5)  # at speed
+        capture = ok(client.post("/api/scope/captures", json=request))
+        assert capture["state"] == "running"
+        sources = {(s["index"], s["source"]) for s in capture["signals"]}
+        assert {(POSITION, "pdo"), (VELOCITY, "pdo")} <= sources
+        done = wait_done(client, capture["id"])
+    assert done["state"] == "done", done
+    assert done["lost"] == 0
+    counts = {s["index"]: s["samples"] for s in done["signals"]}
+    assert abs(counts[POSITION] - 2000) <= 2, counts
+    assert abs(counts[VELOCITY] - 2000) <= 2, counts
+
+    frame = samples_of(client, capture["id"])
+    position = signal_rows(frame, 1, POSITION)
+    velocity = signal_rows(frame, 1, VELOCITY)
+    for rows in (position, velocity):
+        assert len(rows) == counts[POSITION]
+        assert np.all(np.diff(rows["timestamp"].to_numpy()) > 0)  # strictly increasing
+    # the drive ran at the jog speed, and its position advanced as that speed says
+    assert velocity["value"].median() == pytest.approx(JOG_RPM, rel=0.02)
+    revs = position["raw"].to_numpy() / USER_PER_REV
+    span = position["timestamp"].iloc[-1] - position["timestamp"].iloc[0]
+    assert (revs[-1] - revs[0]) / span * 60 == pytest.approx(JOG_RPM, rel=0.05)
+    assert position["value"].to_numpy() == pytest.approx(revs)  # physical: revolutions
+
+    # the scope's TPDOs are gone: the user's mapping as it was
+    assert ok(client.get("/api/nodes/1/pdos")) == before
+
+
+def test_level_trigger_with_pre_trigger_captures_the_crossing(client: TestClient) -> None:
+    with jogging(client, 1):
+        time.sleep(0.3)
+        now = ok(client.get(f"/api/nodes/1/sdo/{POSITION:04X}/0"))["value"]
+        # two revolutions ahead: at 300 rpm reached 0.4 s later, after the capture is armed
+        capture, done = capture_crossing(client, now + 2 * USER_PER_REV)
+    assert done["state"] == "done", done
+    assert done["trigger_time"] is not None
+    level = now + 2 * USER_PER_REV
+    rows = signal_rows(samples_of(client, capture["id"]), 1, POSITION)
+    t, raw = rows["time_s"].to_numpy(), rows["raw"].to_numpy()
+    crossing = int(np.flatnonzero(t >= 0)[0])
+    assert t[crossing] == 0.0  # the trigger sample sits at the trigger time
+    assert raw[crossing] >= level > raw[crossing - 1]
+    assert t[0] == pytest.approx(-0.1, abs=0.003)  # 100 ms of pre-trigger
+    assert crossing == pytest.approx(100, abs=3)
+    assert abs(np.count_nonzero(t >= 0) - 400) <= 1  # the post-trigger part: 0.4 s at 1 ms
+
+
+def capture_crossing(client: TestClient, level: int) -> tuple[dict[str, Any], dict[str, Any]]:
+    request = {
+        "signals": [{"node": 1, "index": POSITION}],
+        "sync_period_us": 1000,
+        "duration_s": 0.5,
+        "trigger": {
+            "kind": "level",
+            "node": 1,
+            "index": POSITION,
+            "level": level,
+            "edge": "rising",
+            "pre_s": 0.1,
+        },
+    }
+    capture = ok(client.post("/api/scope/captures", json=request))
+    assert capture["state"] == "armed"
+    return capture, wait_done(client, capture["id"])
+
+
+def test_unmappable_objects_are_polled_by_sdo_with_their_rate(client: TestClient) -> None:
+    request = {
+        "signals": [{"node": 2, "index": 0x1018, "subindex": 1}, {"node": 2, "index": POSITION}],
+        "sync_period_us": 2000,
+        "duration_s": 0.5,
+    }
+    plan = ok(client.post("/api/scope/plan", json=request))
+    by_index = {s["index"]: s for s in plan["signals"]}
+    assert by_index[0x1018]["source"] == "sdo"
+    assert "not PDO-mappable" in by_index[0x1018]["note"]
+    assert by_index[POSITION]["source"] == "pdo"
+    done = wait_done(client, ok(client.post("/api/scope/captures", json=request))["id"])
+    polled = next(s for s in done["signals"] if s["index"] == 0x1018)
+    assert polled["samples"] > 10
+    assert polled["rate_hz"] is not None
+    assert polled["rate_hz"] > 0
+    assert polled["last_value"] == ok(client.get("/api/nodes/2/sdo/1018/1"))["value"]
+
+
+def test_a_drive_that_takes_new_pdo_ids_only_after_a_reset_is_polled(client: TestClient) -> None:
+    """The CiA 402 controller's free TPDOs 5–8 have no CAN id and it takes a new one only
+    after a reset communication, which would drop unsaved settings: SDO, said so."""
+    request = {"signals": [{"node": 3, "index": POSITION}], "duration_s": 0.5}
+    plan = ok(client.post("/api/scope/plan", json=request))
+    assert [s["source"] for s in plan["signals"]] == ["sdo", "sdo"]  # and its statusword
+    assert any("reset communication" in note for note in plan["notes"])
+
+
+def test_overload_is_refused_before_anything_changes(client: TestClient) -> None:
+    before = ok(client.get("/api/nodes/1/pdos"))
+    signals = [
+        {"node": 1, "index": index} for index in (POSITION, VELOCITY, 0x60F4, 0x60FF, 0x607A)
+    ]
+    request = {"signals": signals, "sync_period_us": 500, "duration_s": 1.0}
+    plan = ok(client.post("/api/scope/plan", json=request))
+    assert not plan["ok"]
+    assert plan["bus_load"]["percent"] > 100
+    refused = client.post("/api/scope/captures", json=request)
+    assert refused.status_code == 422
+    assert "choose a longer SYNC period" in refused.json()["message"]
+    assert ok(client.get("/api/nodes/1/pdos")) == before
+    assert ok(client.get("/api/scope/captures")) == []
+
+
+def test_stop_an_armed_capture_then_delete_it(client: TestClient) -> None:
+    before = ok(client.get("/api/nodes/2/pdos"))
+    request = {
+        "signals": [{"node": 2, "index": POSITION}],
+        "sync_period_us": 1000,
+        "duration_s": 1.0,
+        "trigger": {"kind": "emcy", "node": 2},
+    }
+    capture = ok(client.post("/api/scope/captures", json=request))
+    assert capture["state"] == "armed"
+    busy = client.post("/api/scope/captures", json=request)
+    assert busy.status_code == 409
+    assert busy.json()["error"] == "scope_busy"
+    stopped = ok(client.delete(f"/api/scope/captures/{capture['id']}"))
+    assert stopped["state"] == "done"
+    assert "stopped by the user" in stopped["notes"]
+    assert ok(client.get("/api/nodes/2/pdos")) == before
+    assert client.delete(f"/api/scope/captures/{capture['id']}").status_code == 204
+    assert client.get(f"/api/scope/captures/{capture['id']}").status_code == 404
+
+
+def test_emcy_trigger_in_normal_mode_keeps_the_last_captures(client: TestClient) -> None:
+    request = {
+        "signals": [{"node": 2, "index": STATUSWORD}],
+        "sync_period_us": 1000,
+        "duration_s": 0.3,
+        "trigger": {"kind": "emcy", "node": 2, "pre_s": 0.1, "mode": "normal", "keep": 2},
+    }
+    first = ok(client.post("/api/scope/captures", json=request))
+    for _ in range(3):  # three faults, each one capture
+        time.sleep(0.3)
+        ok(client.put("/api/nodes/2/sdo/5FF0/0", json={"value": 0x8611}))  # following error
+        time.sleep(0.6)
+        ok(client.post("/api/nodes/2/drive/fault-reset", headers=CLIENT))
+    time.sleep(0.5)
+    captures = ok(client.get("/api/scope/captures"))
+    done = [c for c in captures if c["state"] == "done"]
+    assert len(done) == 2  # keep: the last two
+    assert all(c["series"] == first["id"] for c in captures)
+    for capture in done:
+        states = {s["index"]: s for s in capture["signals"]}
+        assert states[STATUSWORD]["samples"] == pytest.approx(300, abs=3)
+        assert capture["trigger_time"] is not None
+    active = [c for c in captures if c["state"] == "armed"]
+    assert len(active) == 1  # re-armed for the next fault
+    ok(client.delete(f"/api/scope/captures/{active[0]['id']}"))
+
+
+def test_the_rrd_opens_with_reruns_reader_and_holds_the_samples(
+    client: TestClient, tmp_path: Path
+) -> None:
+    request = {"signals": [{"node": 1, "index": VELOCITY}], "duration_s": 0.3, "name": "rrd"}
+    capture = wait_done(client, ok(client.post("/api/scope/captures", json=request))["id"])
+    rrd = tmp_path / "capture.rrd"
+    answer = client.get(f"/api/scope/captures/{capture['id']}/export", params={"format": "rrd"})
+    rrd.write_bytes(answer.content)
+
+    reader = RrdReader(rrd)
+    [recording] = reader.recordings()
+    assert recording.recording_id == capture["recording_id"]
+    values: list[float] = []
+    for chunk in reader.stream():
+        if chunk.entity_path == "/drives/1/velocity_actual" and not chunk.is_static:
+            assert {"time", "capture"} <= set(chunk.timeline_names)
+            batch = chunk.to_record_batch()
+            values += batch.column("Scalars:scalars").flatten().to_pylist()
+    rows = signal_rows(samples_of(client, capture["id"]), 1, VELOCITY)
+    assert len(values) == len(rows) == capture["signals"][0]["samples"] == 300
+    assert sorted(values) == sorted(rows["value"].tolist())
