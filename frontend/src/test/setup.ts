@@ -1,7 +1,11 @@
 // Unit-test setup: unmount rendered trees between tests (testing-library cleans up by itself
 // only when test globals are enabled, which this project does not use).
-import { cleanup } from "@testing-library/react";
+import { cleanup, configure } from "@testing-library/react";
 import { afterEach } from "vitest";
+
+// findBy*/waitFor wait for what a user would see; on a busy 2-core machine a render after a
+// fetch can take longer than testing-library's 1 s default without anything being wrong.
+configure({ asyncUtilTimeout: 5000 });
 
 afterEach(() => {
   cleanup();
