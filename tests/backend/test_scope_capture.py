@@ -281,3 +281,15 @@ def test_the_rrd_opens_with_reruns_reader_and_holds_the_samples(
     rows = signal_rows(samples_of(client, capture["id"]), 1, VELOCITY)
     assert len(values) == len(rows) == capture["signals"][0]["samples"] == 300
     assert sorted(values) == sorted(rows["value"].tolist())
+
+
+def test_a_capture_that_hears_nothing_fails_with_the_reason(client: TestClient) -> None:
+    """Node 1 left Pre-operational (start_nodes off): its TPDOs never flow. The capture
+    fails after 3 s naming the signals and the NMT state, instead of waiting for ever."""
+    before = ok(client.get("/api/nodes/1/pdos"))
+    request = {"signals": [{"node": 1, "index": POSITION}], "duration_s": 1.0, "start_nodes": False}
+    done = wait_done(client, ok(client.post("/api/scope/captures", json=request))["id"])
+    assert done["state"] == "failed"
+    assert "no samples from node 1 6064h:00" in done["error"]
+    assert "pre-operational" in done["error"]
+    assert ok(client.get("/api/nodes/1/pdos")) == before

@@ -26,6 +26,7 @@ log = logging.getLogger(__name__)
 
 FLUSH_S = 1 / 30  # the live view's refresh: samples reach rerun in batches this often
 STALL_S = 2.0  # no new sample for this long after the window should have ended: finish
+SILENT_S = 3.0  # a signal that sent nothing for this long after the start fails the capture
 
 
 class CaptureOutput:
@@ -105,6 +106,18 @@ class CaptureRun:
             if short and now - (track.last or self.started) > STALL_S:
                 return True
         return False
+
+    def silent(self, now: float) -> list[str]:
+        """Signals that have sent nothing at all since the capture started more than
+        SILENT_S ago (a free-running capture would wait for ever; an armed one could never
+        trigger): their labels, empty when every signal has been heard."""
+        if now - self.started < SILENT_S:
+            return []
+        return [
+            f"node {s.node} {s.index:04X}h:{s.subindex:02X}"
+            for s, track in zip(self.capture.signals, self.core.tracks, strict=True)
+            if track.last is None
+        ]
 
 
 async def poll_sdo(

@@ -31,7 +31,14 @@ from servodesk.scope import export as exports
 from servodesk.scope.frames import FrameSink
 from servodesk.scope.plan import NodePlan, plan_node
 from servodesk.scope.recording import CaptureRecording
-from servodesk.scope.run import FLUSH_S, CaptureOutput, CaptureRun, close_files, poll_sdo
+from servodesk.scope.run import (
+    FLUSH_S,
+    SILENT_S,
+    CaptureOutput,
+    CaptureRun,
+    close_files,
+    poll_sdo,
+)
 from servodesk.scope.samples import SamplesWriter
 from servodesk.scope.setup import Key, build_core, capture_signals, lookup, wanted
 from servodesk.scope.signals import SignalInfo
@@ -233,10 +240,18 @@ class ScopeService:
         if request.start_nodes:
             for node in setup.applied:  # TPDOs flow only in Operational
                 state = self.access.info(node).nmt_state
-                if state in (NmtStateName.PRE_OPERATIONAL, NmtStateName.STOPPED):
-                    await self.access.nmt(node, NmtCommandName.START)
-                    setup.started[node] = state
-                    setup.notes.append(f"node {node} put into Operational for the capture")
+                if state is NmtStateName.OPERATIONAL:
+                    continue
+                await self.access.nmt(node, NmtCommandName.START)
+                if state is NmtStateName.UNKNOWN:
+                    # it sends no heartbeat: put back nothing, its state before is not known
+                    setup.notes.append(
+                        f"node {node} (NMT state unknown: no heartbeat) started for the capture"
+                        " and left Operational"
+                    )
+                    continue
+                setup.started[node] = state
+                setup.notes.append(f"node {node} put into Operational for the capture")
 
     async def _undo(self, setup: Setup) -> None:
         """Put back what `_configure` changed; each step is tried even when another fails."""
@@ -360,6 +375,9 @@ class ScopeService:
                     await asyncio.to_thread(self.store.save, capture.model_copy(deep=True))
                 if run.core.done():
                     break
+                silent = run.silent(time.time())
+                if silent:
+                    raise SilentSignalsError(silent, self._nmt_states(capture.nodes))
                 if run.stalled(time.time()):
                     capture.notes.append(
                         "ended early: no samples for 2 s (a drive stopped sending: NMT state,"
@@ -370,6 +388,9 @@ class ScopeService:
             capture.state = "done"
             if run.stop_reason is not None:
                 capture.notes.append(run.stop_reason)
+        except SilentSignalsError as error:
+            capture.state = "failed"
+            capture.error = str(error)
         except Exception as error:  # the capture fails, the series ends, the bus is restored
             log.exception("capture %s failed", capture.id)
             capture.state = "failed"
@@ -388,6 +409,15 @@ class ScopeService:
             capture.ended = time.time()
             capture.size_bytes = await asyncio.to_thread(self.store.size_bytes, capture.id)
             await asyncio.to_thread(self.store.save, capture.model_copy(deep=True))
+
+    def _nmt_states(self, nodes: Sequence[int]) -> dict[int, str]:
+        states: dict[int, str] = {}
+        for node in nodes:
+            try:
+                states[node] = self.access.info(node).nmt_state.value
+            except ServodeskError:
+                states[node] = "not on the bus"
+        return states
 
     def _keep(self, setup: Setup, capture: Capture) -> None:
         if setup.request.trigger.mode != "normal":
@@ -452,6 +482,17 @@ class ScopeService:
         if task is not None and not task.done():
             await asyncio.gather(task, return_exceptions=True)
         await asyncio.to_thread(self.store.close)
+
+
+class SilentSignalsError(ServodeskError):
+    """Signals that never sent a sample: the capture cannot go on (or ever trigger)."""
+
+    def __init__(self, labels: Sequence[str], states: dict[int, str]) -> None:
+        nmt = ", ".join(f"node {node} {state}" for node, state in sorted(states.items()))
+        super().__init__(
+            f"no samples from {', '.join(labels)} in {SILENT_S:g} s (NMT: {nmt}): check that"
+            " the node is Operational, receives SYNC and keeps the scope's TPDOs"
+        )
 
 
 def check_request(request: CaptureRequest) -> None:
