@@ -22,6 +22,9 @@ export default defineConfig({
   server: {
     proxy: {
       "/api": { target: backend, ws: true },
+      // rerun's viewer and its gRPC-web stream, both served through the backend
+      "/rerun/": { target: backend },
+      "/rerun.sdk_comms.v1alpha1.MessageProxyService": { target: backend },
     },
   },
   test: {

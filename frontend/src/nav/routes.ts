@@ -9,6 +9,7 @@ import { NetworkPage } from "../pages/network/NetworkPage";
 import { OdPage } from "../pages/od/OdPage";
 import { ParamsPage } from "../pages/params/ParamsPage";
 import { PdoPage } from "../pages/pdo/PdoPage";
+import { ScopePage } from "../pages/scope/ScopePage";
 import { ToolsPage } from "../pages/tools/ToolsPage";
 
 export interface TopPage {
@@ -29,6 +30,7 @@ export interface NodeTab {
 
 export const TOP_PAGES: readonly TopPage[] = [
   { path: "/", label: "Network", placement: "before-nodes", Component: NetworkPage },
+  { path: "/scope", label: "Scope", placement: "after-nodes", Component: ScopePage },
   { path: "/logs", label: "Logs", placement: "after-nodes", Component: LogsPage },
   { path: "/tools", label: "Tools", placement: "after-nodes", Component: ToolsPage },
 ];

@@ -1,0 +1,181 @@
+import { useDeferredValue, useId, useMemo, useState, type ReactNode } from "react";
+
+import type { NodeInfo } from "../../api/types";
+import { ErrorText } from "../../components/ErrorText";
+import { Spinner } from "../../components/Spinner";
+import { odAddress } from "../../lib/format";
+import { useApi } from "../../lib/useApi";
+import { nodeTitle } from "../../nav/Sidebar";
+import {
+  MAX_SIGNALS,
+  QUICK_PICKS,
+  addSignal,
+  findEntries,
+  findEntry,
+  signalKey,
+  type SignalChoice,
+} from "./model";
+import { nodeDictionary } from "./scopeApi";
+
+/** Choose the signals: a node, then a quick pick or any object of its dictionary. */
+export function SignalPicker({
+  nodes,
+  signals,
+  onChange,
+}: {
+  nodes: readonly NodeInfo[];
+  signals: readonly SignalChoice[];
+  onChange: (signals: SignalChoice[]) => void;
+}): ReactNode {
+  const id = useId();
+  const [picked, setPicked] = useState<number | null>(null);
+  const node = picked ?? nodes[0]?.node ?? null;
+  const dictionary = useApi(
+    (signal) => (node === null ? Promise.resolve(null) : nodeDictionary(node, signal)),
+    `scope-od-${node ?? "none"}`,
+  );
+  const objects = dictionary.data?.objects;
+  const [query, setQuery] = useState("");
+  const deferredQuery = useDeferredValue(query);
+  const found = useMemo(
+    () => (objects && deferredQuery.trim() ? findEntries(objects, deferredQuery) : null),
+    [objects, deferredQuery],
+  );
+  const chosen = new Set(signals.map(signalKey));
+  const full = signals.length >= MAX_SIGNALS;
+
+  const add = (index: number, subindex: number, name: string): void => {
+    if (node !== null) onChange(addSignal(signals, { node, index, subindex, name }));
+  };
+  const remove = (key: string): void => onChange(signals.filter((s) => signalKey(s) !== key));
+
+  return (
+    <section className="card scope-signals" aria-labelledby={`${id}-h`}>
+      <header className="card-header">
+        <h2 id={`${id}-h`}>Signals</h2>
+        <span className="muted small">
+          {signals.length} of {MAX_SIGNALS}
+        </span>
+      </header>
+      {nodes.length === 0 ? (
+        <p className="muted">No nodes yet: connect and scan on the Network page.</p>
+      ) : (
+        <>
+          <div className="inline">
+            <label htmlFor={`${id}-node`}>Node</label>
+            <select
+              id={`${id}-node`}
+              value={node ?? ""}
+              onChange={(e) => setPicked(Number(e.target.value))}
+            >
+              {nodes.map((info) => (
+                <option key={info.node} value={info.node}>
+                  {nodeTitle(info.node, info)}
+                </option>
+              ))}
+            </select>
+            {dictionary.loading && <Spinner label="Loading the dictionary" />}
+          </div>
+          <ErrorText error={dictionary.error} onRetry={dictionary.reload} />
+          <div className="scope-quick" role="group" aria-label="Quick picks">
+            {QUICK_PICKS.map((pick) => {
+              const entry = findEntry(objects, pick.index);
+              const key = node === null ? "" : signalKey({ node, index: pick.index, subindex: 0 });
+              const on = chosen.has(key);
+              const missing = objects !== undefined && entry === undefined;
+              return (
+                <button
+                  key={pick.index}
+                  type="button"
+                  className={`small scope-pick${on ? " on" : ""}`}
+                  aria-pressed={on}
+                  disabled={missing || (full && !on)}
+                  title={
+                    missing
+                      ? `Node ${node ?? ""}'s dictionary has no ${odAddress(pick.index)}`
+                      : `${entry?.name ?? pick.name} (${odAddress(pick.index)})`
+                  }
+                  onClick={() => (on ? remove(key) : add(pick.index, 0, entry?.name ?? pick.name))}
+                >
+                  {pick.label} <span className="mono">{odAddress(pick.index)}</span>
+                </button>
+              );
+            })}
+          </div>
+          <label htmlFor={`${id}-find`} className="visually-hidden">
+            Find an object of node {node}
+          </label>
+          <input
+            id={`${id}-find`}
+            type="search"
+            className="wide"
+            placeholder="Any object: 2006, 0x1018:2 or words of its name"
+            value={query}
+            onChange={(e) => setQuery(e.target.value)}
+          />
+          {found && (
+            <ul className="scope-found" aria-label={`Objects of node ${node ?? ""}`}>
+              {found.entries.map((entry) => {
+                const address = odAddress(entry.index, entry.subindex);
+                const key =
+                  node === null
+                    ? ""
+                    : signalKey({ node, index: entry.index, subindex: entry.subindex });
+                return (
+                  <li key={address}>
+                    <span className="mono small">{address}</span>
+                    <span className="scope-found-name">{entry.name}</span>
+                    <span className="muted small">
+                      {entry.unit}
+                      {!entry.pdoMappable && " · SDO only"}
+                    </span>
+                    <button
+                      type="button"
+                      className="small"
+                      aria-label={`Add ${entry.name} ${address}`}
+                      disabled={full || chosen.has(key)}
+                      onClick={() => add(entry.index, entry.subindex, entry.name)}
+                    >
+                      {chosen.has(key) ? "Added" : "Add"}
+                    </button>
+                  </li>
+                );
+              })}
+              {found.total === 0 && <li className="muted">No readable object matches.</li>}
+              {found.total > found.entries.length && (
+                <li className="muted small">
+                  {found.total - found.entries.length} more: narrow the search.
+                </li>
+              )}
+            </ul>
+          )}
+        </>
+      )}
+      {signals.length > 0 && (
+        <ul className="scope-chosen" aria-label="Chosen signals">
+          {signals.map((signal) => {
+            const key = signalKey(signal);
+            const address = odAddress(signal.index, signal.subindex);
+            return (
+              <li key={key}>
+                <span className="badge">node {signal.node}</span>
+                <span className="mono small">{address}</span>
+                <span className="scope-found-name">{signal.name}</span>
+                <button
+                  type="button"
+                  className="icon-button"
+                  aria-label={`Remove node ${signal.node} ${signal.name} ${address}`}
+                  title="Remove"
+                  onClick={() => remove(key)}
+                >
+                  ×
+                </button>
+              </li>
+            );
+          })}
+        </ul>
+      )}
+      {full && <p className="muted small">{MAX_SIGNALS} signals is the most one capture takes.</p>}
+    </section>
+  );
+}

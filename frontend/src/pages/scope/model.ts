@@ -1,0 +1,393 @@
+// The Scope page's form and what is shown from the API's answers, as pure functions: the
+// capture request built from what the user typed (with the reason when it cannot be sent), a
+// signal's source in words, a trigger in words, values with their units.
+import type { OdEntry, OdObject } from "../../api/types";
+import { odAddress } from "../../lib/format";
+import { filterOd, parseOdQuery } from "../od/odFilter";
+import { formatCobId } from "../pdo/model";
+import type {
+  Capture,
+  CaptureRequest,
+  CaptureSignal,
+  Edge,
+  ScopePlan,
+  TriggerKind,
+  TriggerMode,
+  TriggerRequest,
+} from "./types";
+
+export const MAX_SIGNALS = 32;
+export const MIN_SYNC_PERIOD_US = 500;
+export const MAX_SYNC_PERIOD_US = 1_000_000;
+export const MAX_DURATION_S = 3600;
+export const STATUSWORD = 0x6041;
+
+/** A signal the user picked: an object of one node. */
+export interface SignalChoice {
+  node: number;
+  index: number;
+  subindex: number;
+  /** The object's name in the node's dictionary (shown in the list). */
+  name: string;
+}
+
+/** The objects a scope is usually pointed at (CiA 402), one click each. */
+export const QUICK_PICKS: readonly { index: number; label: string; name: string }[] = [
+  { index: 0x6064, label: "Position", name: "Position actual value" },
+  { index: 0x606c, label: "Velocity", name: "Velocity actual value" },
+  { index: 0x6077, label: "Torque", name: "Torque actual value" },
+  { index: 0x60f4, label: "Following error", name: "Following error actual value" },
+  { index: STATUSWORD, label: "Statusword", name: "Statusword" },
+  { index: 0x60fd, label: "Digital inputs", name: "Digital inputs" },
+];
+
+/** The CiA 402 states a state trigger can wait for (as the server names them). */
+export const CIA402_STATES: readonly string[] = [
+  "not ready to switch on",
+  "switch on disabled",
+  "ready to switch on",
+  "switched on",
+  "operation enabled",
+  "quick stop active",
+  "fault reaction active",
+  "fault",
+];
+
+/** The trigger section as typed: numbers stay text until the request is built. */
+export interface TriggerForm {
+  kind: TriggerKind;
+  /** level, bit, state: the node watched; emcy: the node sending (null: any node). */
+  node: number | null;
+  /** level: the watched signal, "node:index:subindex" of a chosen signal. */
+  signal: string;
+  /** bit: the object whose bit is watched, "index:subindex"; "" for 6041h Statusword. */
+  bitObject: string;
+  level: string;
+  edge: Edge;
+  bit: string;
+  /** state: the CiA 402 state waited for; "" for any change. */
+  state: string;
+  preS: string;
+  mode: TriggerMode;
+  keep: string;
+}
+
+export interface ScopeForm {
+  signals: SignalChoice[];
+  syncPeriodUs: string;
+  durationS: string;
+  name: string;
+  trigger: TriggerForm;
+}
+
+export const DEFAULT_TRIGGER: TriggerForm = {
+  kind: "none",
+  node: null,
+  signal: "",
+  bitObject: "",
+  level: "",
+  edge: "rising",
+  bit: "",
+  state: "",
+  preS: "0",
+  mode: "single",
+  keep: "10",
+};
+
+export const DEFAULT_FORM: ScopeForm = {
+  signals: [],
+  syncPeriodUs: "1000",
+  durationS: "5",
+  name: "",
+  trigger: DEFAULT_TRIGGER,
+};
+
+export function signalKey(signal: { node: number; index: number; subindex: number }): string {
+  return `${signal.node}:${signal.index}:${signal.subindex}`;
+}
+
+/** Add a signal unless it is already chosen or the list is full. */
+export function addSignal(signals: readonly SignalChoice[], added: SignalChoice): SignalChoice[] {
+  const key = signalKey(added);
+  if (signals.length >= MAX_SIGNALS || signals.some((s) => signalKey(s) === key)) {
+    return [...signals];
+  }
+  return [...signals, added];
+}
+
+/** "1.5", " 1,5 " → 1.5; "", "abc", "1e999" → null. */
+export function parseNumber(text: string): number | null {
+  const cleaned = text.trim().replace(",", ".");
+  if (cleaned === "") return null;
+  const value = Number(cleaned);
+  return Number.isFinite(value) ? value : null;
+}
+
+function parseInteger(text: string): number | null {
+  const value = parseNumber(text);
+  return value !== null && Number.isInteger(value) ? value : null;
+}
+
+export type BuiltRequest = { ok: true; request: CaptureRequest } | { ok: false; problem: string };
+
+const refuse = (problem: string): BuiltRequest => ({ ok: false, problem });
+
+/** The trigger's part of the request, or why it cannot be built. */
+function buildTrigger(
+  form: TriggerForm,
+  durationS: number,
+): { trigger: TriggerRequest } | { problem: string } {
+  const pre = parseNumber(form.preS === "" ? "0" : form.preS);
+  if (pre === null || pre < 0) return { problem: "Pre-trigger: a time of 0 s or more" };
+  const keep = parseInteger(form.keep);
+  if (form.mode === "normal" && (keep === null || keep < 1 || keep > 100)) {
+    return { problem: "Keep: between 1 and 100 captures" };
+  }
+  const trigger: TriggerRequest = {
+    kind: form.kind,
+    edge: form.edge,
+    pre_s: form.kind === "none" ? 0 : pre,
+    mode: form.mode,
+    keep: form.mode === "normal" && keep !== null ? keep : 10,
+  };
+  if (form.kind !== "none" && pre >= durationS) {
+    return { problem: "Pre-trigger: shorter than the duration" };
+  }
+  switch (form.kind) {
+    case "none":
+      return { trigger };
+    case "level": {
+      const [node, index, subindex] = form.signal.split(":").map(Number);
+      if (node === undefined || index === undefined || subindex === undefined || !form.signal) {
+        return { problem: "Level trigger: choose the signal it watches" };
+      }
+      const level = parseNumber(form.level);
+      if (level === null) return { problem: "Level trigger: enter the level (a raw value)" };
+      return { trigger: { ...trigger, node, index, subindex, level } };
+    }
+    case "bit": {
+      if (form.node === null) return { problem: "Bit trigger: choose the node" };
+      const bit = parseInteger(form.bit);
+      if (bit === null || bit < 0 || bit > 63)
+        return { problem: "Bit trigger: a bit from 0 to 63" };
+      const [index, subindex] = form.bitObject ? form.bitObject.split(":").map(Number) : [];
+      return {
+        trigger: {
+          ...trigger,
+          node: form.node,
+          bit,
+          index: index ?? null,
+          subindex: subindex ?? null,
+        },
+      };
+    }
+    case "emcy":
+      return { trigger: { ...trigger, node: form.node } };
+    case "state":
+      if (form.node === null) return { problem: "State trigger: choose the node" };
+      return { trigger: { ...trigger, node: form.node, state: form.state || null } };
+  }
+}
+
+/** The request the form describes, or the first thing that keeps it from being sent. */
+export function buildRequest(form: ScopeForm): BuiltRequest {
+  if (form.signals.length === 0) return refuse("Pick at least one signal");
+  if (form.signals.length > MAX_SIGNALS) return refuse(`At most ${MAX_SIGNALS} signals`);
+  const sync = parseInteger(form.syncPeriodUs);
+  if (sync === null || sync < MIN_SYNC_PERIOD_US || sync > MAX_SYNC_PERIOD_US) {
+    return refuse(
+      `SYNC period: a whole number of µs from ${MIN_SYNC_PERIOD_US} to ${MAX_SYNC_PERIOD_US.toLocaleString("en-US")}`,
+    );
+  }
+  const duration = parseNumber(form.durationS);
+  if (duration === null || duration <= 0 || duration > MAX_DURATION_S) {
+    return refuse(`Duration: more than 0 s, at most ${MAX_DURATION_S} s`);
+  }
+  const name = form.name.trim();
+  if (name.length > 80) return refuse("Name: at most 80 characters");
+  const built = buildTrigger(form.trigger, duration);
+  if ("problem" in built) return refuse(built.problem);
+  return {
+    ok: true,
+    request: {
+      signals: form.signals.map(({ node, index, subindex }) => ({ node, index, subindex })),
+      sync_period_us: sync,
+      duration_s: duration,
+      trigger: built.trigger,
+      name: name || null,
+      start_nodes: true,
+    },
+  };
+}
+
+/** The plan's source column: "TPDO2 · 0x281" or "SDO polling". */
+export function sourceText(signal: Pick<CaptureSignal, "source" | "tpdo" | "cob_id">): string {
+  if (signal.source === "sdo") return "SDO polling";
+  const tpdo = signal.tpdo == null ? "TPDO" : `TPDO${signal.tpdo}`;
+  return signal.cob_id == null ? tpdo : `${tpdo} · COB-ID ${formatCobId(signal.cob_id)}`;
+}
+
+/** "node 1 · 6064h:00" */
+export function signalAddress(signal: { node: number; index: number; subindex: number }): string {
+  return `node ${signal.node} · ${odAddress(signal.index, signal.subindex)}`;
+}
+
+const BIT_PATTERNS = new Set(["statusword", "controlword", "digital_inputs"]);
+
+/** A reading with its unit: bit patterns in hex ("0x0237"), others to about 5 digits. */
+export function formatReading(
+  value: number | null | undefined,
+  signal: Pick<CaptureSignal, "unit" | "quantity" | "bits">,
+): string {
+  if (value == null) return "—";
+  if (BIT_PATTERNS.has(signal.quantity) && Number.isInteger(value) && value >= 0) {
+    const digits = Math.max(4, Math.ceil((signal.bits || 16) / 4));
+    return `0x${value.toString(16).toUpperCase().padStart(digits, "0")}`;
+  }
+  const text = shortNumber(value);
+  return signal.unit ? `${text} ${signal.unit}` : text;
+}
+
+/** Up to 5 significant digits, whole numbers from 10 000 up, an exponent only for the
+ * extremes: 12.346, 120, 0.000123, 123,457. */
+export function shortNumber(value: number): string {
+  const magnitude = Math.abs(value);
+  if (value !== 0 && (magnitude >= 1e12 || magnitude < 1e-4)) return value.toExponential(3);
+  if (magnitude >= 1e4) return value.toLocaleString("en-US", { maximumFractionDigits: 0 });
+  return value.toLocaleString("en-US", { maximumSignificantDigits: 5 });
+}
+
+export function formatBytes(bytes: number): string {
+  if (bytes < 1024) return `${bytes} B`;
+  if (bytes < 1024 * 1024) return `${(bytes / 1024).toFixed(0)} KiB`;
+  return `${(bytes / (1024 * 1024)).toFixed(1)} MiB`;
+}
+
+/** Local date and time of an epoch-seconds timestamp: "2026-11-25 09:09:03". */
+export function formatDateTime(epochS: number): string {
+  const date = new Date(epochS * 1000);
+  const pad = (n: number): string => String(n).padStart(2, "0");
+  return (
+    `${date.getFullYear()}-${pad(date.getMonth() + 1)}-${pad(date.getDate())} ` +
+    `${pad(date.getHours())}:${pad(date.getMinutes())}:${pad(date.getSeconds())}`
+  );
+}
+
+const EDGES: Record<Edge, string> = { rising: "rising", falling: "falling", either: "either edge" };
+
+/** A trigger in words: "free-running", "node 1 6064h:00 crosses 1000 (rising)". */
+export function triggerText(trigger: TriggerRequest): string {
+  let text: string;
+  switch (trigger.kind) {
+    case "none":
+      return "free-running";
+    case "level":
+      text =
+        `node ${trigger.node ?? "?"} ${odAddress(trigger.index ?? 0, trigger.subindex ?? 0)}` +
+        ` crosses ${trigger.level ?? "?"} (${EDGES[trigger.edge]})`;
+      break;
+    case "bit":
+      text =
+        `node ${trigger.node ?? "?"} ${odAddress(trigger.index ?? STATUSWORD, trigger.subindex ?? 0)}` +
+        ` bit ${trigger.bit ?? "?"} (${EDGES[trigger.edge]})`;
+      break;
+    case "emcy":
+      text = trigger.node == null ? "EMCY from any node" : `EMCY from node ${trigger.node}`;
+      break;
+    case "state":
+      text = trigger.state
+        ? `node ${trigger.node ?? "?"} enters ${trigger.state}`
+        : `node ${trigger.node ?? "?"} changes CiA 402 state`;
+      break;
+  }
+  if (trigger.pre_s > 0) text += `, ${trigger.pre_s} s before`;
+  if (trigger.mode === "normal") text += `, re-armed (keeps ${trigger.keep})`;
+  return text;
+}
+
+export function isActive(capture: Pick<Capture, "state"> | null | undefined): boolean {
+  return capture?.state === "armed" || capture?.state === "running";
+}
+
+/** The watched signal's raw level in its physical unit, as a hint beside the level field. */
+export function levelHint(
+  level: string,
+  signal: Pick<CaptureSignal, "scale" | "unit" | "raw_unit"> | undefined,
+): string | null {
+  if (!signal) return null;
+  const raw = signal.raw_unit ? `raw, in ${signal.raw_unit}` : "raw value";
+  const value = parseNumber(level);
+  if (value === null || signal.scale === 1 || !signal.unit) return raw;
+  return `${raw} = ${shortNumber(value * signal.scale)} ${signal.unit}`;
+}
+
+/** An object of a node's dictionary the picker lists. */
+export interface PickableEntry {
+  index: number;
+  subindex: number;
+  /** "Statusword"; a record's entry as "Encoder resolution · Motor revolutions". */
+  name: string;
+  unit: string;
+  pdoMappable: boolean;
+}
+
+function readable(entry: OdEntry): boolean {
+  return entry.access !== "wo";
+}
+
+/** The readable entries of the dictionary that match the search box (OD page syntax: 6041,
+ * 0x1018, 1018:2 or words of a name), at most `limit`, and how many matched in all. */
+export function findEntries(
+  objects: readonly OdObject[],
+  query: string,
+  limit = 40,
+): { entries: PickableEntry[]; total: number } {
+  const entries: PickableEntry[] = [];
+  let total = 0;
+  for (const { object, subs } of filterOd(objects, parseOdQuery(query))) {
+    for (const sub of subs) {
+      if (!readable(sub)) continue;
+      if (object.subs.length > 1 && sub.subindex === 0) continue; // "number of entries"
+      total += 1;
+      if (entries.length >= limit) continue;
+      const name =
+        object.subs.length > 1 && sub.name !== object.name
+          ? `${object.name} · ${sub.name}`
+          : sub.name;
+      entries.push({
+        index: sub.index,
+        subindex: sub.subindex,
+        name,
+        unit: sub.unit,
+        pdoMappable: sub.pdo_mappable,
+      });
+    }
+  }
+  return { entries, total };
+}
+
+/** The dictionary's entry at index:subindex, if it has one. */
+export function findEntry(
+  objects: readonly OdObject[] | undefined,
+  index: number,
+  subindex = 0,
+): OdEntry | undefined {
+  return objects?.find((o) => o.index === index)?.subs.find((s) => s.subindex === subindex);
+}
+
+/** Why Start is disabled, in words; null when the capture may start. */
+export function startReason(
+  built: BuiltRequest,
+  plan: { plan: ScopePlan | null; error: unknown; checking: boolean },
+  current: Pick<Capture, "id" | "state"> | null,
+): string | null {
+  if (current && isActive(current)) {
+    return `Capture ${current.id} is ${current.state}: stop it before starting another`;
+  }
+  if (!built.ok) return built.problem;
+  if (plan.checking) return "Checking the plan…";
+  if (plan.error) return "The check failed (see above)";
+  if (!plan.plan) return "Not checked yet";
+  if (!plan.plan.ok) return plan.plan.problems[0] ?? "The plan is not possible";
+  return null;
+}

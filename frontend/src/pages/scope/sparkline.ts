@@ -1,0 +1,70 @@
+// The live readouts' sparklines: the last values polled from the capture (~4 per second),
+// kept per signal, drawn as one SVG path. Pure.
+import { signalKey } from "./model";
+import type { Capture } from "./types";
+
+export const HISTORY = 100;
+
+/** Last values per signal ("node:index:subindex" → oldest first), for one capture. */
+export interface History {
+  capture: number;
+  values: Readonly<Record<string, readonly number[]>>;
+}
+
+export const EMPTY_HISTORY: History = { capture: -1, values: {} };
+
+/** The history with each signal's latest value appended (at most `limit` kept). A capture
+ * other than the history's starts a new one. */
+export function pushHistory(history: History, capture: Capture, limit = HISTORY): History {
+  const old = history.capture === capture.id ? history.values : {};
+  const values: Record<string, readonly number[]> = {};
+  for (const signal of capture.signals) {
+    const key = signalKey(signal);
+    const kept = old[key] ?? [];
+    const value = signal.last_value;
+    if (value == null || !Number.isFinite(value)) {
+      values[key] = kept;
+      continue;
+    }
+    const next = [...kept, value];
+    values[key] = next.length > limit ? next.slice(next.length - limit) : next;
+  }
+  return { capture: capture.id, values };
+}
+
+function round(value: number): string {
+  return String(Math.round(value * 10) / 10);
+}
+
+/** An SVG path through `values` spread over `width`, scaled into `height` (minus `pad` at top
+ * and bottom). A flat series is drawn through the middle; fewer than two values draw nothing
+ * but a dot-like stub. `capacity`: how many values the full width holds (the newest sits at
+ * the right edge), so the line grows from the right as values come in. */
+export function sparklinePath(
+  values: readonly number[],
+  width: number,
+  height: number,
+  { pad = 2, capacity = values.length }: { pad?: number; capacity?: number } = {},
+): string {
+  if (values.length === 0) return "";
+  const slots = Math.max(capacity, values.length, 2) - 1;
+  const step = width / slots;
+  const start = width - (values.length - 1) * step;
+  let low = Infinity;
+  let high = -Infinity;
+  for (const value of values) {
+    low = Math.min(low, value);
+    high = Math.max(high, value);
+  }
+  const span = high - low;
+  const inner = height - 2 * pad;
+  const y = (value: number): number =>
+    span === 0 ? height / 2 : pad + inner - ((value - low) / span) * inner;
+  if (values.length === 1) {
+    const first = values[0] ?? 0;
+    return `M${round(width - 1)},${round(y(first))}H${round(width)}`;
+  }
+  return values
+    .map((value, i) => `${i === 0 ? "M" : "L"}${round(start + i * step)},${round(y(value))}`)
+    .join("");
+}
