@@ -293,3 +293,12 @@ def test_a_capture_that_hears_nothing_fails_with_the_reason(client: TestClient) 
     assert "no samples from node 1 6064h:00" in done["error"]
     assert "pre-operational" in done["error"]
     assert ok(client.get("/api/nodes/1/pdos")) == before
+
+
+def test_a_new_capture_can_start_as_soon_as_the_last_one_is_done(client: TestClient) -> None:
+    """Done means done for the user: the next Start waits for the bus to be put back."""
+    request = {"signals": [{"node": 1, "index": VELOCITY}], "duration_s": 0.2}
+    for _ in range(3):
+        done = wait_done(client, ok(client.post("/api/scope/captures", json=request))["id"])
+        assert done["state"] == "done"
+    assert len(ok(client.get("/api/scope/captures"))) == 3

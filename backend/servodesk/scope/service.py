@@ -51,6 +51,7 @@ from servodesk_protocol.cia402 import STATUSWORD
 log = logging.getLogger(__name__)
 
 MAX_LOAD_PERCENT = 100.0
+TEARDOWN_WAIT_S = 10.0  # a new capture waits this long for the last one's setup to be undone
 ENCODER_RESOLUTION = 0x608F  # :01 increments per :02 motor revolutions
 GEAR_RATIO = 0x6091  # :01 motor increments per :02 user units (position factor)
 
@@ -201,8 +202,12 @@ class ScopeService:
 
     async def start(self, request: CaptureRequest) -> Capture:
         async with self._lock:
+            task = self._series_task
+            if self._setup is not None and self._run is None and task is not None:
+                # the last capture is done and the bus is being put back: wait for that
+                await asyncio.wait({task}, timeout=TEARDOWN_WAIT_S)
             if self._setup is not None:
-                busy = self._run.capture.id if self._run else None
+                busy = self._run.capture.id if self._run else "(being put back)"
                 raise StateConflictError(
                     "scope_busy",
                     f"capture {busy} is still armed or running: stop it"
