@@ -79,6 +79,8 @@ bench: install
 	$(BIN)/python bench/log_decode.py
 	$(BIN)/python bench/jog_stop.py
 	$(BIN)/python bench/emcy_storm.py
+	$(BIN)/python bench/scope_pipeline.py
+	$(BIN)/python bench/sim_under_load.py
 
 clean:
 	rm -rf $(VENV) node_modules backend/servodesk/static .mypy_cache .pytest_cache .ruff_cache

@@ -10,7 +10,9 @@ flush (`send_columns`), never one log call per sample.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +25,8 @@ from servodesk.scope_models import Capture, CaptureSignal
 Floats = npt.NDArray[np.float64]
 APPLICATION_ID = "servodesk-scope"
 WINDOW_S = 5.0  # the live plots scroll over the last seconds
+FILE_CHUNK_S = 1.0  # samples reach the .rrd in chunks of about this long …
+FILE_CHUNK_ROWS = 65_536  # … or this many rows
 NS = 1_000_000_000
 
 # one colour per node, so a node's signals read alike across the plots
@@ -72,39 +76,73 @@ def blueprint(capture: Capture) -> rrb.Blueprint:
     )
 
 
+@dataclass
+class _Pending:
+    """Samples of one signal waiting to go to the file as one larger chunk."""
+
+    since: float  # monotonic time of the oldest
+    parts: list[tuple[Floats, Floats, Floats, Floats]] = field(default_factory=list)
+    rows: int = 0
+
+
 class CaptureRecording:
+    """Two streams of one recording (same recording id): the live one gets every flush's
+    batch (~30 Hz) for the viewer; the file one gets them gathered into chunks of about a
+    second. rerun's file writer keeps an index entry per chunk in memory until the file is
+    closed, so per-flush chunks would grow memory through a long capture."""
+
     def __init__(self, capture: Capture, rrd_path: Path, live_url: str | None) -> None:
-        self.rec = rr.RecordingStream(APPLICATION_ID, recording_id=capture.recording_id)
-        sinks: list[rr.FileSink | rr.GrpcSink] = [rr.FileSink(str(rrd_path))]
+        self.file = rr.RecordingStream(APPLICATION_ID, recording_id=capture.recording_id)
+        self.file.set_sinks(rr.FileSink(str(rrd_path)), default_blueprint=blueprint(capture))
+        self.live: rr.RecordingStream | None = None
         if live_url is not None:
-            sinks.append(rr.GrpcSink(live_url))
-        self.rec.set_sinks(*sinks, default_blueprint=blueprint(capture))
+            self.live = rr.RecordingStream(APPLICATION_ID, recording_id=capture.recording_id)
+            self.live.set_sinks(rr.GrpcSink(live_url), default_blueprint=blueprint(capture))
+        self._pending: dict[str, _Pending] = {}
+        self._signals = {signal_path(s): s for s in capture.signals}
         name = capture.name or f"Capture {capture.id}"
-        self.rec.send_recording_name(name)
-        for signal in capture.signals:
-            colour = _COLOURS[(signal.node - 1) % len(_COLOURS)]
-            unit = f" [{signal.unit}]" if signal.unit else ""
-            raw_unit = f" [{signal.raw_unit}]" if signal.raw_unit else ""
-            label = f"node {signal.node} {signal.name}"
-            self.rec.log(
-                signal_path(signal),
-                rr.SeriesLines(names=label + unit, colors=[colour]),
-                static=True,
-            )
-            self.rec.log(
-                signal_path(signal, raw=True),
-                rr.SeriesLines(names=label + raw_unit, colors=[colour]),
-                static=True,
-            )
+        for rec in self._streams:
+            rec.send_recording_name(name)
+            for signal in capture.signals:
+                colour = _COLOURS[(signal.node - 1) % len(_COLOURS)]
+                unit = f" [{signal.unit}]" if signal.unit else ""
+                raw_unit = f" [{signal.raw_unit}]" if signal.raw_unit else ""
+                label = f"node {signal.node} {signal.name}"
+                rec.log(
+                    signal_path(signal),
+                    rr.SeriesLines(names=label + unit, colors=[colour]),
+                    static=True,
+                )
+                rec.log(
+                    signal_path(signal, raw=True),
+                    rr.SeriesLines(names=label + raw_unit, colors=[colour]),
+                    static=True,
+                )
+
+    @property
+    def _streams(self) -> list[rr.RecordingStream]:
+        return [self.file] if self.live is None else [self.file, self.live]
 
     def samples(
         self, signal: CaptureSignal, times: Floats, rel: Floats, raw: Floats, values: Floats
     ) -> None:
-        indexes = _indexes(times, rel)
-        columns = rr.Scalars.columns(scalars=values)
-        self.rec.send_columns(signal_path(signal), indexes=indexes, columns=columns)
-        raw_columns = rr.Scalars.columns(scalars=raw)
-        self.rec.send_columns(signal_path(signal, raw=True), indexes=indexes, columns=raw_columns)
+        if self.live is not None:
+            _send(self.live, signal, times, rel, raw, values)
+        path = signal_path(signal)
+        pending = self._pending.get(path)
+        if pending is None:
+            pending = self._pending[path] = _Pending(time.monotonic())
+        pending.parts.append((times, rel, raw, values))
+        pending.rows += times.size
+        if pending.rows >= FILE_CHUNK_ROWS or time.monotonic() - pending.since >= FILE_CHUNK_S:
+            self._write(path)
+
+    def _write(self, path: str) -> None:
+        pending = self._pending.pop(path, None)
+        if pending is None or not pending.parts:
+            return
+        columns = [np.concatenate(part) for part in zip(*pending.parts, strict=True)]
+        _send(self.file, self._signals[path], *columns)
 
     def texts(
         self,
@@ -118,16 +156,37 @@ class CaptureRecording:
             return
         t = np.asarray(times, dtype=np.float64)
         r = np.asarray(rel, dtype=np.float64)
-        self.rec.send_columns(
-            path,
-            indexes=_indexes(t, r),
-            columns=rr.TextLog.columns(text=list(texts), level=[level] * len(texts)),
-        )
+        for rec in self._streams:  # rare: straight to both
+            rec.send_columns(
+                path,
+                indexes=_indexes(t, r),
+                columns=rr.TextLog.columns(text=list(texts), level=[level] * len(texts)),
+            )
 
     def close(self) -> None:
         """Everything written to the file and sent; the live viewer keeps what it has."""
-        self.rec.flush()
-        self.rec.disconnect()
+        for path in list(self._pending):
+            self._write(path)
+        for rec in self._streams:
+            rec.flush()
+            rec.disconnect()
+
+
+def _send(
+    rec: rr.RecordingStream,
+    signal: CaptureSignal,
+    times: Floats,
+    rel: Floats,
+    raw: Floats,
+    values: Floats,
+) -> None:
+    indexes = _indexes(times, rel)
+    rec.send_columns(
+        signal_path(signal), indexes=indexes, columns=rr.Scalars.columns(scalars=values)
+    )
+    rec.send_columns(
+        signal_path(signal, raw=True), indexes=indexes, columns=rr.Scalars.columns(scalars=raw)
+    )
 
 
 def _indexes(times: Floats, rel: Floats) -> list[rr.TimeColumn]:
