@@ -302,3 +302,30 @@ def test_a_new_capture_can_start_as_soon_as_the_last_one_is_done(client: TestCli
         done = wait_done(client, ok(client.post("/api/scope/captures", json=request))["id"])
         assert done["state"] == "done"
     assert len(ok(client.get("/api/scope/captures"))) == 3
+
+
+def test_csv_parquet_and_mf4_exports_read_back_to_the_same_samples(
+    client: TestClient, tmp_path: Path
+) -> None:
+    from asammdf import MDF  # heavy (pandas): only this test
+
+    signals = [{"node": 1, "index": POSITION}, {"node": 1, "index": VELOCITY}]
+    request = {"signals": signals, "duration_s": 0.3}
+    capture = wait_done(client, ok(client.post("/api/scope/captures", json=request))["id"])
+    url = f"/api/scope/captures/{capture['id']}/export"
+    parquet = samples_of(client, capture["id"])
+    csv = pd.read_csv(io.BytesIO(client.get(url, params={"format": "csv"}).content))
+    mf4 = tmp_path / "capture.mf4"
+    mf4.write_bytes(client.get(url, params={"format": "mf4"}).content)
+    with MDF(mf4) as mdf:
+        for index, key in ((POSITION, "position_actual"), (VELOCITY, "velocity_actual")):
+            rows = signal_rows(parquet, 1, index)
+            from_csv = signal_rows(csv, 1, index)
+            assert from_csv["value"].tolist() == rows["value"].tolist()
+            assert from_csv["time_s"].tolist() == rows["time_s"].tolist()
+            assert set(from_csv["unit"]) == set(rows["unit"])
+            channel = mdf.get(f"node1.{key}")
+            assert channel.samples.tolist() == rows["value"].tolist()
+            assert channel.timestamps.tolist() == rows["time_s"].tolist()
+            assert channel.unit == rows["unit"].iloc[0]
+    assert set(parquet["unit"]) == {"rev", "rpm", ""}

@@ -45,7 +45,14 @@ from servodesk.scope.signals import SignalInfo
 from servodesk.scope.store import CaptureStore
 from servodesk.scope.trigger import parse_state
 from servodesk.scope.viewer_server import RerunServer
-from servodesk.scope_models import Capture, CaptureRequest, CaptureSignal, ExportFormat, ScopePlan
+from servodesk.scope_models import (
+    Capture,
+    CaptureRequest,
+    CaptureSignal,
+    CaptureState,
+    ExportFormat,
+    ScopePlan,
+)
 from servodesk_protocol.cia402 import STATUSWORD
 
 log = logging.getLogger(__name__)
@@ -370,6 +377,7 @@ class ScopeService:
 
     async def _record(self, run: CaptureRun) -> None:
         capture = run.capture
+        final: CaptureState = "done"  # set once the files are closed: done means exportable
         try:
             saved_state = capture.state
             while run.stop_reason is None:
@@ -390,15 +398,14 @@ class ScopeService:
                     )
                     break
             await run.flush()  # what arrived until now
-            capture.state = "done"
             if run.stop_reason is not None:
                 capture.notes.append(run.stop_reason)
         except SilentSignalsError as error:
-            capture.state = "failed"
+            final = "failed"
             capture.error = str(error)
         except Exception as error:  # the capture fails, the series ends, the bus is restored
             log.exception("capture %s failed", capture.id)
-            capture.state = "failed"
+            final = "failed"
             capture.error = f"{type(error).__name__}: {error}"
         finally:
             for cleanup in run.cleanups:
@@ -413,6 +420,7 @@ class ScopeService:
                 )
             capture.ended = time.time()
             capture.size_bytes = await asyncio.to_thread(self.store.size_bytes, capture.id)
+            capture.state = final
             await asyncio.to_thread(self.store.save, capture.model_copy(deep=True))
 
     def _nmt_states(self, nodes: Sequence[int]) -> dict[int, str]:
