@@ -381,7 +381,7 @@ class TimedRecording(CaptureRecording):
         self._firsts = firsts
         self.timing = False
         self.latencies: list[Floats] = []
-        self.chunks = 0  # send_columns calls (a chunk each): value and raw per signal
+        self.chunks = 0  # batches handed to the recording (value and raw per signal and flush)
 
     def samples(
         self, signal: CaptureSignal, times: Floats, rel: Floats, raw: Floats, values: Floats
@@ -745,7 +745,7 @@ def main() -> None:
             f" send_columns: p50 {p50:.1f} ms, p99 {p99:.1f} ms, max {ms.max():.1f} ms"
             f" (flush every {FLUSH_S * 1000:.0f} ms; slowest flush {flush_s * 1000:.0f} ms,"
             f" {flush_at:.1f} s in); .rrd {pipeline.rrd_path.stat().st_size / MB:.0f} MB"
-            f" in {args.latency_s:.0f} s, {pipeline.recording.chunks:,} chunks"
+            f" in {args.latency_s:.0f} s, {pipeline.recording.chunks:,} batches"
         )
         print(
             f"  host jitter: the paced sender woke p99 {np.percentile(late, 99):.1f} ms,"
@@ -786,7 +786,7 @@ def main() -> None:
         chunks = pipeline.recording.chunks
         print(
             f"RSS: process start {start_rss:.0f} MB, capture start {begin_rss:.0f} MB, end"
-            f" {end_rss:.0f} MB (MB during the capture: {over_time}); {chunks:,} rerun chunks"
+            f" {end_rss:.0f} MB (MB during the capture: {over_time}); {chunks:,} batches to rerun"
             " sent"
         )
         if len(trail) >= 3:  # the trend after the first sample (start-up)

@@ -203,7 +203,10 @@ class ScopeService:
         motor, user = await read(GEAR_RATIO, 1), await read(GEAR_RATIO, 2)
         per_rev = counts // revs if counts and revs else counts
         gear = (motor, user) if motor and user else None
-        return DriveUnits.of(per_rev, gear, velocity_actual_rpm=True)
+        # the three profiles report 606Ch in rpm (docs/simulator.md "Units"); a drive without a
+        # profile in 60FFh's units, as CiA 402 leaves it to the device (motion/axis.py)
+        rpm = self.access.profile_data(node) is not None
+        return DriveUnits.of(per_rev, gear, velocity_actual_rpm=rpm)
 
     # ------------------------------------------------------------------ starting and stopping
 
