@@ -11,7 +11,7 @@ from pydantic import BaseModel, ConfigDict, Field, RootModel, TypeAdapter
 from pydantic.json_schema import models_json_schema
 
 from servodesk.faults.models import Fault, TimelineEvent
-from servodesk.model_base import JsonInt, RequestBody
+from servodesk.model_base import NOT_TEXT, JsonInt, RequestBody
 from servodesk.models import BusStatus, LiveEvent
 from servodesk.motion.safety_models import ControllerHolder, HeartbeatProtection, JogInfo
 from servodesk.motion.schemas import DriveState
@@ -162,7 +162,7 @@ class QuickStopMessage(RequestBody):
     """Quick stop one node, or every node when `node` is null; open to every client."""
 
     type: Literal["quick_stop"]
-    node: JsonInt | None = Field(default=None, ge=1, le=127)
+    node: Annotated[Annotated[int, Field(ge=1, le=127)], NOT_TEXT] | None = None
 
 
 class WatchDriveMessage(RequestBody):

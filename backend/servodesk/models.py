@@ -8,10 +8,11 @@ every shape; the TypeScript client is generated from the OpenAPI schema they pro
 from __future__ import annotations
 
 from enum import StrEnum
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, Field, StrictBool
 
+from servodesk.model_base import NOT_TEXT
 from servodesk.model_base import JsonInt as JsonInt
 from servodesk.model_base import RequestBody as RequestBody
 from servodesk.model_base import Value as Value
@@ -115,7 +116,7 @@ class HeartbeatWrite(HeartbeatConfig):
 
 class SyncConfig(RequestBody):
     producing: StrictBool = False
-    period_us: JsonInt | None = Field(default=None, ge=0)
+    period_us: Annotated[Annotated[int, Field(ge=0)], NOT_TEXT] | None = None
 
 
 class LintWarningModel(BaseModel):
