@@ -9,11 +9,12 @@ machine follows MDi-S1-C CANopen manual §3.2 (figure 3.2) with the controlwords
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable
 
 import canopen
 
-from servodesk.errors import CommTimeoutError, NodeStoppedError
+from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
 from servodesk.motion.errors import LimitError
@@ -40,7 +41,11 @@ from servodesk_protocol.cia402 import (
 )
 
 S = Cia402State
+log = logging.getLogger(__name__)
+
 MAX_STEPS = 8  # the longest way to Operation enabled (from Fault) is 5 controlwords
+# set-points a drive follows at once in Operation enabled (PV, PT): 0 before every enable
+ZEROED_ON_ENABLE = ((io.TARGET_VELOCITY, io.I32), (io.TARGET_TORQUE, io.I16))
 
 
 class MotionService(IpOps):
@@ -66,6 +71,7 @@ class MotionService(IpOps):
         snap = await self._reachable(node)
         await self._refresh_statics(node)
         self._axis(node).target_user = None
+        await self._zero_setpoints(node)
         state = state_of(snap.statusword)
         for _ in range(MAX_STEPS):
             if state is S.OPERATION_ENABLED:
@@ -87,6 +93,19 @@ class MotionService(IpOps):
                 raise await self._blocked(node)
             state = state_of(sw)
         raise await self._blocked(node)
+
+    async def _zero_setpoints(self, node: int) -> None:
+        """Target velocity and target torque to 0 before the drive is enabled: in PV and PT a
+        drive runs to whatever 60FFh / 6071h hold the moment it is in Operation enabled, and
+        after a quick stop they still hold the stopped jog's set-point."""
+        od = self._registry.od(node)
+        for index, kind in ZEROED_ON_ENABLE:
+            if od.get(index, 0) is None:
+                continue
+            try:
+                await self._write(node, index, 0, 0, kind)
+            except SdoAbortError as error:  # not writable on this drive: it cannot hold one
+                log.info("node %d: %04Xh not zeroed before enable: %s", node, index, error)
 
     async def disable(self, node: int) -> DriveState:
         """Power stage off: shutdown (transitions 8, 6) to Ready to switch on; a quick stop
@@ -163,6 +182,7 @@ class MotionService(IpOps):
         else:
             await self._refresh_statics(node)
             self._axis(node).target_user = None
+            await self._zero_setpoints(node)
         await self._controlword(node, word)
         ok, _ = await self._wait(
             node, lambda w: state_of(w) is target, self._transition_timeout(node)
