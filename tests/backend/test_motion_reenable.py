@@ -1,4 +1,4 @@
-"""Enabling a drive never starts it moving: after a quick stop during a PV or PT jog, 60FFh /
+"""Enabling a drive never starts it moving, and a torque jog stays inside what the drive takes: after a quick stop during a PV or PT jog, 60FFh /
 6071h still hold the jog's set-point, and a drive follows them the moment it is in Operation
 enabled. Every enable writes them to 0 first (found by bench/soak.py: an axis ran away)."""
 
@@ -67,3 +67,14 @@ def test_enable_after_a_quick_stop_does_not_start_the_axis(
     assert velocity(client, node) == 0
     assert ok(client.get(f"/api/nodes/{node}/sdo/60FF/0"))["value"] == 0
     assert ok(client.get(f"/api/nodes/{node}/sdo/6071/0"))["value"] == 0
+
+
+def test_the_torque_limit_follows_the_target_torques_range(client: TestClient) -> None:
+    """MDi-S1-C: 6072h allows 300 % but 6071h takes ±1000 (100 %): a PT jog past it would be
+    refused by the drive (abort 06090031h), so the limit the page offers stops at 100 %."""
+    assert ok(client.get("/api/nodes/1/drive"))["limits"]["max_torque_pct"] == 100
+    assert ok(client.get("/api/nodes/2/drive"))["limits"]["max_torque_pct"] == 300
+    too_much = {"mode": "pt", "torque_pct": 150, "keepalive_ms": 500}
+    ok(client.post("/api/nodes/1/drive/enable", headers=CLIENT))
+    refused = client.post("/api/nodes/1/jog", headers=CLIENT, json=too_much)
+    assert refused.status_code == 422, refused.text

@@ -95,6 +95,11 @@ class MotionCore:
         rpm = float(read_rpm or self._od_default(node, *speed_ref) or DEFAULT_MAX_RPM)
         torque_raw = read_torque or self._od_default(node, io.MAX_TORQUE, 0)
         torque_pct = float(torque_raw) / 10 if torque_raw else DEFAULT_MAX_TORQUE_PCT
+        # 6071h's own range caps a torque jog too (MDi-S1-C: ±1000 = 100 % while 6072h
+        # allows 300 %): a set-point past it is refused by the drive (abort 06090031h)
+        target = self._registry.od(node).get(io.TARGET_TORQUE, 0)
+        if target is not None and isinstance(target.high, int | float) and target.high > 0:
+            torque_pct = min(torque_pct, float(target.high) / 10)
         if self._settings.motion_max_velocity_rpm:
             rpm = min(rpm, self._settings.motion_max_velocity_rpm)
         if self._settings.motion_max_torque_pct:
