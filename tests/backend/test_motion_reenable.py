@@ -1,6 +1,7 @@
-"""Enabling a drive never starts it moving, and a torque jog stays inside what the drive takes: after a quick stop during a PV or PT jog, 60FFh /
-6071h still hold the jog's set-point, and a drive follows them the moment it is in Operation
-enabled. Every enable writes them to 0 first (found by bench/soak.py: an axis ran away)."""
+"""Enabling a drive never starts it moving, and a torque jog stays inside what the drive
+takes. After a quick stop during a PV or PT jog, 60FFh / 6071h still hold the jog's set-point,
+and a drive follows them the moment it is in Operation enabled: every enable writes them to 0
+first (found by bench/soak.py: an axis ran away)."""
 
 from __future__ import annotations
 
