@@ -8,7 +8,9 @@ it can never be mistaken for an 11-bit CANopen id; error frames are skipped and 
 
 from __future__ import annotations
 
+import math
 import os
+import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -20,6 +22,7 @@ _CAN_ERR_FLAG = 0x20000000  # Linux can.h: the id of an error frame has this bit
 PROGRESS_EVERY = 4096  # frames between progress reports
 SUFFIXES = (".log", ".asc", ".blf", ".trc", ".csv", ".mf4")
 Frame = tuple[float, int, bytes]
+_HEX_ID = re.compile(rb"[0-9A-Fa-f]{1,8}")
 
 
 class LogFormatError(ValueError):
@@ -44,10 +47,12 @@ def read_frames(
         reader: Any = can.LogReader(path)
     except ImportError as error:  # MF4 without asammdf (a dependency: a broken install)
         raise LogFormatError(f"{path.name}: {error}") from error
+    except Exception as error:  # the reader's complaint: BLFParseError, struct.error, ...
+        raise ValueError(f"not a readable {suffix} log (its header): {error}") from error
     tell = _position_of(reader)
     count = 0
     try:
-        for msg in reader:
+        for msg in _checked(reader, suffix):
             if msg.is_error_frame:
                 if skipped is not None:
                     skipped[0] += 1
@@ -61,6 +66,23 @@ def read_frames(
         reader.stop()
     if progress is not None:
         progress(os.path.getsize(path))
+
+
+def _checked(reader: Any, suffix: str) -> Iterator[Any]:
+    """The reader's messages; its complaint about a damaged file (zlib.error, struct.error,
+    BLFParseError...) as a ValueError naming the frame it stopped after, like its own
+    ValueErrors (the CLI and the service report those as "cannot read the log")."""
+    count = 0
+    iterator = iter(reader)
+    while True:
+        try:
+            msg = next(iterator)
+        except StopIteration:
+            return
+        except Exception as error:
+            raise ValueError(f"not a readable {suffix} log after frame {count}: {error}") from error
+        count += 1
+        yield msg
 
 
 def _candump(
@@ -81,18 +103,25 @@ def _candump(
             frame = parts[1]
             hash_at = frame.index(b"#")
             ident = frame[:hash_at]
-            can_id = int(ident, 16)
+            try:
+                # int(x, 16) alone also takes "-1", "+7FF" and "1_0"
+                can_id = int(ident, 16) if _HEX_ID.fullmatch(ident) else -1
+                payload = frame[hash_at + 1 :]
+                if payload[:1] == b"#":  # CAN FD: a flags nibble, then the data
+                    payload = payload[2:]
+                data = b"" if payload[:1] in (b"R", b"r") else bytes.fromhex(payload.decode())
+                time = float(line[1:close])
+            except ValueError:  # UnicodeDecodeError too
+                can_id, data, time = -1, b"", math.nan
+            if can_id < 0 or len(data) > 64 or not math.isfinite(time):
+                raise ValueError(f"line {count} is not a candump frame: {line[:60]!r}")
             if len(ident) > 3:  # 29-bit id, or an error frame
                 if can_id & _CAN_ERR_FLAG:
                     if skipped is not None:
                         skipped[0] += 1
                     continue
                 can_id = (can_id & 0x1FFFFFFF) + EXTENDED
-            payload = frame[hash_at + 1 :]
-            if payload[:1] == b"#":  # CAN FD: a flags nibble, then the data
-                payload = payload[2:]
-            data = b"" if payload[:1] in (b"R", b"r") else bytes.fromhex(payload.decode())
-            yield float(line[1:close]), can_id, data
+            yield time, can_id, data
             if progress is not None and count % PROGRESS_EVERY == 0:
                 progress(file.tell())
     if progress is not None:

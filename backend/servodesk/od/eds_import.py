@@ -9,7 +9,7 @@ from servodesk.od import datatypes as dt
 from servodesk.od.entries import KNOWN_KEYS, EntryBuilder
 from servodesk.od.ini_reader import IniDocument, IniEntry, IniSection
 from servodesk.od.lint import Code, WarningSink
-from servodesk.od.literals import parse_int, parse_literal
+from servodesk.od.literals import decimal, parse_int, parse_literal
 from servodesk.od.model import ObjectKind, OdObject, OdSub
 
 _TOP = re.compile(r"[0-9A-Fa-f]{4}")
@@ -255,7 +255,8 @@ def _numbered(section: IniSection | None) -> dict[int, IniEntry]:
     """`1=...`, `2=...` keys of an [xxxxName] / [xxxxValue] section."""
     if section is None:
         return {}
-    return {int(key): entry for key, entry in section.entries.items() if key.isdigit()}
+    numbered = ((decimal(key), entry) for key, entry in section.entries.items())
+    return {number: entry for number, entry in numbered if number is not None}
 
 
 def _check_sub_number(section: IniSection, found: int, sink: WarningSink) -> None:

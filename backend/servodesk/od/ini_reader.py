@@ -9,18 +9,22 @@ from __future__ import annotations
 
 import codecs
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 from servodesk.od.lint import Code, WarningSink
+from servodesk.od.model import OdImportError
 
 # whitespace then ';' starts a comment after a value (python-canopen's inline_comment_prefixes)
 _INLINE_COMMENT = re.compile(r"\s;")
 _LINE_BREAK = re.compile(r"\r\n|\r|\n")
 # share of non-ASCII characters that must be common simplified Chinese (GB2312) for a GBK guess
 _GBK_MIN_SHARE = 0.9
+# ~700 bytes each in memory; the largest vendor EDS files hold tens of thousands
+MAX_SECTIONS = 200_000
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)  # slots: one per line of a file of up to megabytes
 class IniEntry:
     key: str  # as written
     value: str  # stripped, an inline comment removed
@@ -29,7 +33,7 @@ class IniEntry:
     comment: str | None = None
 
 
-@dataclass
+@dataclass(slots=True)
 class IniSection:
     name: str  # as written
     line: int
@@ -119,7 +123,7 @@ def read_ini(text: str, sink: WarningSink, *, encoding: str = "utf-8") -> IniDoc
     doc = IniDocument(sections={}, encoding=encoding)
     _check_line_endings(text, sink)
     current: IniSection | None = None
-    for number, line in enumerate(_LINE_BREAK.split(text), start=1):
+    for number, line in enumerate(_split_lines(text), start=1):
         stripped = line.strip()
         if not stripped or stripped[0] in ";#":
             continue
@@ -145,6 +149,16 @@ def read_ini(text: str, sink: WarningSink, *, encoding: str = "utf-8") -> IniDoc
     return doc
 
 
+def _split_lines(text: str) -> Iterator[str]:
+    """_LINE_BREAK.split(text), one line at a time: a list of every line of a file of a million
+    short lines takes many times the file's size."""
+    start = 0
+    for match in _LINE_BREAK.finditer(text):
+        yield text[start : match.start()]
+        start = match.end()
+    yield text[start:]
+
+
 def _open_section(doc: IniDocument, stripped: str, number: int, sink: WarningSink) -> IniSection:
     end = stripped.find("]")
     name = stripped[1:end].strip() if end >= 0 else stripped[1:].strip()
@@ -165,6 +179,11 @@ def _open_section(doc: IniDocument, stripped: str, number: int, sink: WarningSin
             section=name,
         )
         return existing
+    if len(doc.sections) >= MAX_SECTIONS:
+        raise OdImportError(
+            f"{sink.file}: line {number}: more than {MAX_SECTIONS} [sections]; "
+            "not a device description"
+        )
     section = IniSection(name=name, line=number)
     doc.sections[name.casefold()] = section
     return section

@@ -14,6 +14,7 @@ if TYPE_CHECKING:
 # warning: a value was repaired, guessed or left empty, or the file contradicts itself
 # error: an object or entry in the file could not be loaded at all
 Severity = Literal["info", "warning", "error"]
+MAX_PER_CODE = 1000  # warnings kept per code and file; real files have at most a few hundred
 
 
 class Code(StrEnum):
@@ -81,6 +82,7 @@ class WarningSink:
     def __init__(self, file: str) -> None:
         self.file = file
         self.items: list[LintWarning] = []
+        self._counts: dict[Code, int] = {}
 
     def add(
         self,
@@ -92,6 +94,11 @@ class WarningSink:
         key: str | None = None,
         severity: Severity = "warning",
     ) -> None:
+        count = self._counts[code] = self._counts.get(code, 0) + 1
+        if count > MAX_PER_CODE:
+            return  # a hostile file: a million bad lines must not take a million warnings' memory
+        if count == MAX_PER_CODE:
+            message += f" (and every further {code} warning of this file is left out)"
         self.items.append(LintWarning(self.file, line, section, key, code, message, severity))
 
 

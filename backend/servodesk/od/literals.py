@@ -41,6 +41,14 @@ class Parsed:
         self.notes.append(Note(code, message, severity, detail))
 
 
+def decimal(text: str) -> int | None:
+    """ASCII decimal digits as an int, else None: str.isdigit() also takes "²" and "٣", which
+    int() refuses, as it refuses more than 4300 digits."""
+    if text.isascii() and text.isdigit() and len(text) <= 100:
+        return int(text)
+    return None
+
+
 def parse_int(text: str) -> tuple[int, bool]:
     """Decimal or 0x-hex integer with an optional sign -> (value, written_in_hex).
 

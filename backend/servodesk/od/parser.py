@@ -71,11 +71,13 @@ def _parse(data: bytes, filename: str, node_id: int | None) -> tuple[bytes, int]
     """Worker side: the model pickled as a head (no objects) and `n` chunks of objects into
     one stream (one pickler: a value shared by many entries is sent once)."""
     try:
-        model = _shared(load_od_bytes(data, filename, node_id=node_id))
+        model: ObjectDictionaryModel | None = _shared(
+            load_od_bytes(data, filename, node_id=node_id)
+        )
     except MemoryError:
-        raise OdImportError(
-            f"{filename} needs more memory to read than one dictionary may take"
-        ) from None
+        model = None
+    if model is None:  # raised out here: the MemoryError's frames (the half-read file) are gone
+        raise OdImportError(f"{filename} needs more memory to read than one dictionary may take")
     stream = io.BytesIO()
     pickler = pickle.Pickler(stream, protocol=pickle.HIGHEST_PROTOCOL)
     pickler.dump(replace(model, objects={}))

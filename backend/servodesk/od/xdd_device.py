@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 
 from servodesk.od.lint import Code, WarningSink
-from servodesk.od.literals import parse_int
+from servodesk.od.literals import decimal, parse_int
 from servodesk.od.model import DeviceInfo
 from servodesk.od.xml_tree import Node, text_child
 
@@ -53,8 +53,9 @@ def read_xdd_device(root: Node, sink: WarningSink) -> DeviceInfo:
     dummies = set()
     for dummy in root.iter("dummy"):
         key, _, flag = dummy.attrib.get("entry", "").partition("=")
-        if key.startswith("Dummy") and key[5:].isdigit() and flag.strip() == "1":
-            dummies.add(int(key[5:]))
+        slot = decimal(key[5:])
+        if key.startswith("Dummy") and slot is not None and flag.strip() == "1":
+            dummies.add(slot)
     return DeviceInfo(
         vendor_name=text("vendorName"),
         vendor_number=number("vendorID"),
@@ -78,4 +79,4 @@ def read_xdd_device(root: Node, sink: WarningSink) -> DeviceInfo:
 
 def _int_attr(attrs: dict[str, str], name: str) -> int | None:
     text = attrs.get(name)
-    return int(text) if text is not None and text.isdigit() else None
+    return decimal(text) if text is not None else None

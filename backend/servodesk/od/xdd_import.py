@@ -8,10 +8,12 @@ CANopenEditor writes them into the ApplicationProcess parameter the object refer
 
 from __future__ import annotations
 
+import re
+
 from servodesk.od import datatypes as dt
 from servodesk.od.entries import ACCESS_TYPES
 from servodesk.od.lint import Code, WarningSink
-from servodesk.od.literals import parse_literal
+from servodesk.od.literals import decimal, parse_literal
 from servodesk.od.model import Access, DeviceInfo, ObjectKind, OdObject, OdSub, Value
 from servodesk.od.xdd_device import read_xdd_device
 from servodesk.od.xml_tree import Node, parse_xml, text_child
@@ -46,6 +48,7 @@ _PARAMETER_ACCESS: dict[str, Access] = {
     "readWriteOutput": "rww",
     "noAccess": "ro",
 }
+_HEX = re.compile(r"\s*(?:0[xX])?([0-9A-Fa-f]+)\s*")
 _OBJECT_TYPES: dict[int, ObjectKind] = {0x2: "domain", 0x7: "var", 0x8: "array", 0x9: "record"}
 
 
@@ -95,12 +98,12 @@ class _ObjectReader:
         self.arrays = arrays
 
     def read(self, node: Node) -> OdObject | None:
-        try:
-            index = int(node.attrib.get("index", ""), 16)
-        except ValueError:
+        index = _hex(node.attrib.get("index", ""), 0xFFFF)
+        if index is None:
             self.sink.add(
                 Code.XML,
-                f"CANopenObject index '{node.attrib.get('index')}' is not hex; object ignored",
+                f"CANopenObject index '{node.attrib.get('index')}' is not hex 0..FFFF; "
+                "object ignored",
                 line=node.line,
                 severity="error",
             )
@@ -126,12 +129,11 @@ class _ObjectReader:
         element_type = self.arrays.get(_type_ref(param) or "")
         subs: dict[int, OdSub] = {}
         for child in node.findall("CANopenSubObject"):
-            try:
-                subindex = int(child.attrib.get("subIndex", ""), 16)
-            except ValueError:
+            subindex = _hex(child.attrib.get("subIndex", ""), 0xFF)
+            if subindex is None:
                 self.sink.add(
                     Code.XML,
-                    "CANopenSubObject has no hex subIndex; ignored",
+                    "CANopenSubObject has no hex subIndex 0..FF; ignored",
                     line=child.line,
                     severity="error",
                     section=section,
@@ -140,7 +142,8 @@ class _ObjectReader:
             child_param = self.params.get(child.attrib.get("uniqueIDRef", ""))
             subs[subindex] = self._sub(child, child_param, index, subindex, element_type)
         declared = node.attrib.get("subNumber")
-        if declared is not None and declared.isdigit() and int(declared) != len(subs):
+        number = decimal(declared) if declared is not None else None
+        if number is not None and number != len(subs):
             self.sink.add(
                 Code.SUBNUMBER_MISMATCH,
                 f"subNumber is {declared} but {len(subs)} "
@@ -160,8 +163,8 @@ class _ObjectReader:
 
     def _kind(self, node: Node, section: str) -> ObjectKind:
         text = node.attrib.get("objectType", "7")
-        code = int(text) if text.isdigit() else -1
-        kind = _OBJECT_TYPES.get(code)
+        code = decimal(text)
+        kind = _OBJECT_TYPES.get(-1 if code is None else code)
         if kind is None:
             kind = "record" if node.find("CANopenSubObject") else "var"
             self.sink.add(
@@ -298,6 +301,15 @@ class _ObjectReader:
                 section=section,
                 key="defaultValue",
             )
+
+
+def _hex(text: str, highest: int) -> int | None:
+    """An index or sub-index: ASCII hex (int(x, 16) also takes "-1", "1_0" and Arabic digits)."""
+    match = _HEX.fullmatch(text)
+    if match is None:
+        return None
+    value = int(match.group(1), 16)
+    return value if value <= highest else None
 
 
 def _property(param: Node, name: str) -> str | None:

@@ -12,8 +12,12 @@ from xml.parsers import expat
 
 from servodesk.od.model import OdImportError
 
+MAX_DEPTH = 100  # an XDD nests about ten deep; more is a hostile file
+# ~200 bytes each in memory; the largest vendor XDDs hold tens of thousands
+MAX_ELEMENTS = 500_000
 
-@dataclass
+
+@dataclass(slots=True)  # slots: one per element of a file of up to megabytes
 class Node:
     tag: str  # local name, namespace dropped
     attrib: dict[str, str]  # local attribute names
@@ -53,8 +57,17 @@ def parse_xml(data: bytes, filename: str) -> Node:
     parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
     stack: list[Node] = []
     roots: list[Node] = []
+    count = 0
 
     def start(name: str, attrs: dict[str, str]) -> None:
+        nonlocal count
+        count += 1
+        if len(stack) >= MAX_DEPTH or count > MAX_ELEMENTS:
+            what = f"nested deeper than {MAX_DEPTH}" if count <= MAX_ELEMENTS else "too many"
+            raise OdImportError(
+                f"{filename}: line {parser.CurrentLineNumber}: XML elements {what} "
+                f"(at most {MAX_DEPTH} levels and {MAX_ELEMENTS} elements); not an XDD"
+            )
         node = Node(
             _local(name), {_local(k): v for k, v in attrs.items()}, parser.CurrentLineNumber
         )
@@ -82,6 +95,10 @@ def parse_xml(data: bytes, filename: str) -> Node:
         parser.Parse(data, True)
     except expat.ExpatError as exc:
         raise OdImportError(f"{filename} is not well-formed XML: {exc}") from exc
+    except (LookupError, ValueError) as exc:  # encoding="xtf-8", "gbk": expat cannot decode it
+        raise OdImportError(
+            f"{filename}: line {parser.CurrentLineNumber}: cannot read the XML encoding: {exc}"
+        ) from exc
     if not roots:
         raise OdImportError(f"{filename} has no XML root element")
     return roots[0]
