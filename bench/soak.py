@@ -21,8 +21,8 @@ is the capture start, a few HTTP calls a minute and an RSS sample every 5 s. For
   ±1000 rev first), held 0.5–3 s with POST /api/jog/{id}/keepalive every 100 ms (holdToRun
   KEEPALIVE_INTERVAL_MS; keepalive_ms 300 = KEEPALIVE_TIMEOUT_MS), then DELETE; one jog in
   QUICK_STOP_SHARE ends with POST …/drive/quick-stop instead, and the drive is enabled again.
-  An axis still moving SETTLE_S after a jog ended or after that enable is a runaway (reported,
-  then stopped with a short jog and DELETE).
+  An axis still moving SETTLE_S after a jog ended or after that enable, and no longer slowing
+  down, is a runaway (reported, then stopped with a short jog and DELETE).
 
 Any 5xx or unexpected 4xx (or transport error) is an error. A jog the server stopped on its
 own (keep-alive missed, EMCY, limit switch …: keep-alive answers 409 jog_stopped, or DELETE
@@ -88,6 +88,8 @@ KEEPALIVE_MS = 300  # holdToRun KEEPALIVE_TIMEOUT_MS
 HOLD_S = (0.5, 3.0)
 PAUSE_S = (0.2, 1.0)  # between two jogs
 QUICK_STOP_SHARE = 0.15
+FALLING_RPM = 5.0  # slower by at least this over half a second: still ramping down
+RAMP_MAX_S = 30.0  # no ramp-down takes longer on these drives (6000 rpm at the lowest decel)
 SETTLE_S = 5.0  # the axis comes to rest (|v| < STILL_RPM) within this after a jog, or it runs
 STILL_RPM = 30.0
 RSS_TARGET_MB = 20.0
@@ -294,13 +296,24 @@ class Jogger:
         """Waits for the axis to come to rest (it coasts after a jog); an axis still moving
         after SETTLE_S with no jog running is a runaway: reported, then stopped with a short
         jog and DELETE (whose stop zeroes the target)."""
-        deadline = time.monotonic() + SETTLE_S
+        started = time.monotonic()
+        deadline = started + SETTLE_S
+        last_speed = float("inf")
         while True:
             state = self.drive(node)
             if state is None or abs(state["velocity_rpm"]) < STILL_RPM:
                 return state
-            if time.monotonic() > deadline or self.halt.is_set():
+            speed = abs(state["velocity_rpm"])
+            # past SETTLE_S, an axis still ramping down (a low profile deceleration after a
+            # fast jog) is not a runaway: only one whose speed stops falling is
+            falling = speed < last_speed - FALLING_RPM
+            if self.halt.is_set() or time.monotonic() - started > RAMP_MAX_S:
                 break
+            if time.monotonic() > deadline and not falling:
+                break
+            if time.monotonic() > deadline:
+                deadline = time.monotonic() + 0.5  # judge the next half second
+                last_speed = speed
             self.halt.wait(0.2)
         mode = state["mode"]
         self.note(
@@ -569,7 +582,7 @@ def print_load(report: LoadReport, *, full: bool) -> None:
     )
     runaways = sum(report.runaways.values())
     print(
-        f"runaways (axis still moving {SETTLE_S:.0f} s after, with no jog running): {runaways}"
+        f"runaways (axis moving {SETTLE_S:.0f} s after and not slowing, no jog running): {runaways}"
         + "".join(f"\n  {n} × {key}" for key, n in report.runaways.most_common())
     )
     print(
