@@ -512,7 +512,6 @@ MEMORY_PROBE = textwrap.dedent(
 )
 
 
-@pytest.mark.skipif(sys.platform == "win32", reason="one platform is enough for the memory probe")
 def test_a_long_capture_exports_with_bounded_memory(tmp_path: Path) -> None:
     rows = 2_000_000
     # the whole table would take 36 B a row in arrow (72 MB), its CSV text over 200 MB

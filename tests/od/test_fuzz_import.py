@@ -34,16 +34,15 @@ INI_FILES = (
 XML_FILES = ("CANopenNode_demoDevice.xdd", "CANopenNode_DS301_profile.xpd")
 MB = 1024 * 1024
 
-pytestmark = pytest.mark.skipif(
-    not corpus(INI_FILES[0]).is_file(), reason="vendor corpus ../shared/eds not present"
-)
-
 _CACHE: dict[str, bytes] = {}
 
 
 def _read(name: str) -> bytes:
     if name not in _CACHE:
-        _CACHE[name] = corpus(name).read_bytes()
+        path = corpus(name)
+        if not path.is_file():  # CI has ../shared beside the checkout: a missing file fails
+            pytest.fail(f"vendor file {path} is missing: ../shared/eds must sit beside the repo")
+        _CACHE[name] = path.read_bytes()
     return _CACHE[name]
 
 
