@@ -28,12 +28,12 @@ from servodesk.pdo.procedure import Procedure
 from servodesk.pdo.service import PdoService
 from servodesk.pdo_models import BusLoadResult
 from servodesk.scope import export as exports
+from servodesk.scope.checks import SilentSignalsError, check_request, overload, trigger_nodes
 from servodesk.scope.frames import FrameSink
 from servodesk.scope.plan import NodePlan, plan_node
 from servodesk.scope.recording import CaptureRecording
 from servodesk.scope.run import (
     FLUSH_S,
-    SILENT_S,
     CaptureOutput,
     CaptureRun,
     close_files,
@@ -43,7 +43,6 @@ from servodesk.scope.samples import SamplesWriter
 from servodesk.scope.setup import Key, build_core, capture_signals, lookup, wanted
 from servodesk.scope.signals import SignalInfo
 from servodesk.scope.store import CaptureStore
-from servodesk.scope.trigger import parse_state
 from servodesk.scope.viewer_server import RerunServer
 from servodesk.scope_models import (
     Capture,
@@ -115,7 +114,7 @@ class ScopeService:
         setup = await self._prepare(request)
         problems = []
         if setup.bus_load_percent > MAX_LOAD_PERCENT:
-            problems.append(_overload(setup.bus_load_percent, request.sync_period_us))
+            problems.append(overload(setup.bus_load_percent, request.sync_period_us))
         load = await self._bus_load(setup)
         return ScopePlan(
             ok=not problems,
@@ -128,7 +127,7 @@ class ScopeService:
     async def _prepare(self, request: CaptureRequest) -> Setup:
         """Resolve the signals, plan their TPDOs and compute the bus load (reads only)."""
         check_request(request)
-        nodes = sorted({s.node for s in request.signals} | _trigger_nodes(request))
+        nodes = sorted({s.node for s in request.signals} | trigger_nodes(request))
         has_statusword = {}
         for node in nodes:
             self.access.info(node)  # NodeNotFoundError for a node not on the bus
@@ -225,7 +224,7 @@ class ScopeService:
                 )
             setup = await self._prepare(request)
             if setup.bus_load_percent > MAX_LOAD_PERCENT:
-                raise InvalidValueError(_overload(setup.bus_load_percent, request.sync_period_us))
+                raise InvalidValueError(overload(setup.bus_load_percent, request.sync_period_us))
             try:
                 await self._configure(setup)
                 run = await self._begin(setup)
@@ -498,58 +497,3 @@ class ScopeService:
         if task is not None and not task.done():
             await asyncio.gather(task, return_exceptions=True)
         await asyncio.to_thread(self.store.close)
-
-
-class SilentSignalsError(ServodeskError):
-    """Signals that never sent a sample: the capture cannot go on (or ever trigger)."""
-
-    def __init__(self, labels: Sequence[str], states: dict[int, str]) -> None:
-        nmt = ", ".join(f"node {node} {state}" for node, state in sorted(states.items()))
-        super().__init__(
-            f"no samples from {', '.join(labels)} in {SILENT_S:g} s (NMT: {nmt}): check that"
-            " the node is Operational, receives SYNC and keeps the scope's TPDOs"
-        )
-
-
-def check_request(request: CaptureRequest) -> None:
-    """What the schema cannot say: the fields each trigger needs, pre-trigger inside the
-    capture (InvalidValueError in words)."""
-    trigger = request.trigger
-    missing = {
-        "level": trigger.node is None or trigger.index is None or trigger.level is None,
-        "bit": trigger.node is None or trigger.bit is None,
-        "state": trigger.node is None,
-    }
-    needs = {
-        "level": "node, index and level",
-        "bit": "node and bit (index defaults to 6041h)",
-        "state": "node",
-    }
-    if missing.get(trigger.kind):
-        raise InvalidValueError(f"a {trigger.kind} trigger needs {needs[trigger.kind]}")
-    if trigger.kind == "none" and trigger.pre_s > 0:
-        raise InvalidValueError("pre_s needs a trigger: a free-running capture starts at once")
-    if trigger.pre_s >= request.duration_s:
-        raise InvalidValueError(
-            f"pre_s ({trigger.pre_s:g} s) must be shorter than duration_s"
-            f" ({request.duration_s:g} s)"
-        )
-    if trigger.kind == "state" and trigger.state:
-        try:
-            parse_state(trigger.state)
-        except ValueError as error:
-            raise InvalidValueError(str(error)) from error
-
-
-def _trigger_nodes(request: CaptureRequest) -> set[int]:
-    node = request.trigger.node
-    return (
-        {node} if node is not None and request.trigger.kind in ("level", "bit", "state") else set()
-    )
-
-
-def _overload(percent: float, period_us: int) -> str:
-    return (
-        f"the capture would load the bus to {percent:.0f} % at a {period_us} µs SYNC period:"
-        " choose a longer SYNC period or fewer signals"
-    )
