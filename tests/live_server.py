@@ -9,6 +9,7 @@ import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import pytest
 import uvicorn
@@ -25,10 +26,16 @@ def free_port() -> int:
 
 
 @contextmanager
-def serve_simulated(data_dir: Path, *, static_dir: Path | None = STATIC_DIR) -> Iterator[str]:
-    """The app with its simulated drives; yields its base URL, stops it afterwards."""
+def serve_simulated(
+    data_dir: Path,
+    *,
+    static_dir: Path | None = STATIC_DIR,
+    overrides: dict[str, Any] | None = None,
+) -> Iterator[str]:
+    """The app with its simulated drives (and any other `overrides` of the settings, such as
+    access tokens); yields its base URL, stops it afterwards."""
     port = free_port()
-    settings = Settings(simulated=True, port=port, data_dir=data_dir)
+    settings = Settings(simulated=True, port=port, data_dir=data_dir, **(overrides or {}))
     app = create_app(settings, static_dir=static_dir)
     server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
     thread = threading.Thread(target=server.run, name="live-server", daemon=True)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import socket
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from pathlib import Path
@@ -10,7 +11,11 @@ from pathlib import Path
 from fastapi import APIRouter, FastAPI
 
 from servodesk import __version__
+from servodesk.access.guard import Access, AccessGuard
+from servodesk.access.tokens import TokenTable
 from servodesk.api import (
+    access,
+    audit,
     bus,
     drive,
     faults,
@@ -31,7 +36,7 @@ from servodesk.api import (
 from servodesk.api import events as events_api
 from servodesk.api.errors import install_error_handlers
 from servodesk.api.schema import install_schema
-from servodesk.api.security import HostGuard, SameOriginGuard
+from servodesk.api.security import HostGuard, SameOriginGuard, ServedHosts
 from servodesk.api.static import mount_frontend
 from servodesk.bus.connection import BusFactory
 from servodesk.errors import ServodeskError
@@ -46,13 +51,13 @@ STATIC_DIR = Path(__file__).parent / "static"
 
 def api_router() -> APIRouter:
     router = APIRouter(prefix="/api")
-    for module in (health, bus, nodes, od, sdo, params, paramsets, pdos, drive, jog):
+    for module in (health, access, bus, nodes, od, sdo, params, paramsets, pdos, drive, jog):
         router.include_router(module.router)
     router.include_router(bus.sync_router)
     router.include_router(pdos.bus_router)
     router.include_router(ws.router)
     router.include_router(rerun_proxy.router)  # /api/scope/viewer
-    for diagnostics in (faults, events_api, logs, recording, scope):
+    for diagnostics in (faults, events_api, logs, recording, scope, audit):
         router.include_router(diagnostics.router)
     return router
 
@@ -86,11 +91,21 @@ def create_app(
         docs_url="/api/docs",
         redoc_url=None,
     )
-    # Requests naming another host are refused (DNS rebinding); see api/security.py.
-    # State-changing requests from other sites' pages are refused (see api/security.py).
-    app.add_middleware(SameOriginGuard)
+    # Middleware runs last-added first: Host, then Origin, then who is asking (api/security.py,
+    # access/guard.py). A bad token in the settings stops here with TokenConfigError.
+    hosts = served_hosts(settings)
+    app.state.access = Access(
+        TokenTable.load(
+            settings.tokens.get_secret_value() if settings.tokens else None, settings.tokens_file
+        ),
+        secure_cookies=settings.tls_cert is not None,
+    )
+    app.state.hosts = hosts
+    app.add_middleware(AccessGuard, access=app.state.access)
+    # State-changing requests from other sites' pages are refused.
+    app.add_middleware(SameOriginGuard, hosts=hosts)
     # Requests naming another host are refused (DNS rebinding); added last, so checked first.
-    app.add_middleware(HostGuard)
+    app.add_middleware(HostGuard, hosts=hosts)
     install_error_handlers(app)
     install_schema(app)
     ws.install_live_schema(app)
@@ -100,6 +115,20 @@ def create_app(
     if static_dir is not None:
         mount_frontend(app, static_dir)
     return app
+
+
+WILDCARD_BINDS = frozenset({"0.0.0.0", "::", ""})
+
+
+def served_hosts(settings: Settings) -> ServedHosts:
+    """Loopback, the address the server is bound to (unless it is a wildcard: then the
+    machine's own name) and the names in `allowed_hosts`."""
+    extra = [h for h in settings.allowed_hosts.split(",") if h.strip()]
+    if settings.bind in WILDCARD_BINDS:
+        extra += [socket.gethostname(), socket.getfqdn()]
+    else:
+        extra.append(settings.bind)
+    return ServedHosts(extra)
 
 
 async def _connect_at_start(services: Services) -> None:

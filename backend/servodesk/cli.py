@@ -1,6 +1,7 @@
 """`servodesk` command line: the web app (`serve`) and field commands for scripts.
 
-    servodesk serve [--sim] [--bind 127.0.0.1] [--port 8000] [bus flags]
+    servodesk serve [--sim] [--bind 127.0.0.1] [--port 8000] [--tokens-file F]
+                    [--allowed-host NAME] [--tls-cert PEM --tls-key PEM] [bus flags]
     servodesk scan [--sim] [bus flags]
     servodesk read NODE INDEX SUB [--sim] [bus flags]
     servodesk write NODE INDEX SUB VALUE [--size 1|2|4] [--sim] [bus flags]
@@ -23,12 +24,14 @@ import sys
 import traceback
 from collections.abc import AsyncIterator, Awaitable, Callable, Sequence
 from contextlib import asynccontextmanager
+from pathlib import Path
 from typing import Any, NoReturn, TypeVar
 
 from can.cli import add_bus_arguments
 from tqdm import tqdm
 
 from servodesk import __version__
+from servodesk.access.tokens import TokenConfigError, TokenTable
 from servodesk.api.security import LOOPBACK_HOSTS
 from servodesk.bus.config_check import check_bus_config
 from servodesk.errors import ServodeskError
@@ -90,8 +93,19 @@ def build_parser() -> argparse.ArgumentParser:
 
     serve = commands.add_parser("serve", help="run the web app (http://127.0.0.1:8000)")
     _bus_flags(serve)
-    serve.add_argument("--bind", default="127.0.0.1", help="address to listen on (loopback)")
+    serve.add_argument(
+        "--bind", default="127.0.0.1", help="address to listen on (beyond loopback: tokens)"
+    )
     serve.add_argument("--port", type=int, default=8000)
+    serve.add_argument(
+        "--tokens-file", help="access tokens, one role=token (or user:role=token) per line"
+    )
+    serve.add_argument(
+        "--allowed-host", action="append", default=[],
+        help="a host name users reach the server by (repeatable; checked against Host/Origin)",
+    )  # fmt: skip
+    serve.add_argument("--tls-cert", help="serve HTTPS: the certificate (PEM)")
+    serve.add_argument("--tls-key", help="serve HTTPS: the private key (PEM)")
 
     scan = commands.add_parser("scan", help="find the nodes on the bus")
     _bus_flags(scan)
@@ -197,28 +211,66 @@ def serve(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
 
     from servodesk.app import create_app
 
-    if args.bind not in LOOPBACK_HOSTS:
-        # DESIGN, Security: beyond loopback needs a token and roles, which do not exist yet.
-        print(
-            f"servodesk: refusing to serve on {args.bind}: only loopback addresses are allowed "
-            "until access tokens exist",
-            file=sys.stderr,
-        )
-        return 2
+    settings = _serve_settings(args)
+    refusal = serve_refusal(settings)
+    if refusal is not None:
+        print(f"servodesk: {refusal}", file=sys.stderr)
+        return USAGE_ERROR
     _use_system_allocator(argv)
-    config = bus_config(args)
-    settings = Settings(
-        bind=args.bind,
+    scheme = "https" if settings.tls_cert else "http"
+    print(f"ServoDesk {__version__} on {scheme}://{args.bind}:{args.port}", flush=True)
+    uvicorn.run(
+        create_app(settings),
+        host=args.bind,
         port=args.port,
-        simulated=config.simulated,
-        interface=config.interface,
-        channel=config.channel,
-        bitrate=config.bitrate,
-        bus_options=dict(config.options),
+        log_level="info",
+        ssl_certfile=settings.tls_cert,
+        ssl_keyfile=settings.tls_key,
     )
-    print(f"ServoDesk {__version__} on http://{args.bind}:{args.port}", flush=True)
-    uvicorn.run(create_app(settings), host=args.bind, port=args.port, log_level="info")
     return 0
+
+
+def _serve_settings(args: argparse.Namespace) -> Settings:
+    """The flags over the environment (SERVODESK_TOKENS and the rest stay as set there)."""
+    config = bus_config(args)
+    given: dict[str, Any] = {
+        "bind": args.bind,
+        "port": args.port,
+        "simulated": config.simulated,
+        "interface": config.interface,
+        "channel": config.channel,
+        "bitrate": config.bitrate,
+        "bus_options": dict(config.options),
+    }
+    if args.tokens_file:
+        given["tokens_file"] = Path(args.tokens_file)
+    if args.allowed_host:
+        given["allowed_hosts"] = ",".join(args.allowed_host)
+    if args.tls_cert or args.tls_key:
+        given["tls_cert"] = Path(args.tls_cert) if args.tls_cert else None
+        given["tls_key"] = Path(args.tls_key) if args.tls_key else None
+    return Settings(**given)
+
+
+def serve_refusal(settings: Settings) -> str | None:
+    """Why the server must not start with these settings (one line), or None."""
+    secret = settings.tokens.get_secret_value() if settings.tokens else None
+    try:
+        tokens = TokenTable.load(secret, settings.tokens_file)
+    except TokenConfigError as error:
+        return f"access tokens: {error}"
+    if settings.bind not in LOOPBACK_HOSTS and not tokens.configured:
+        return (
+            f"refusing to serve on {settings.bind} without access tokens: anyone who can reach "
+            'it could move the drives. Set SERVODESK_TOKENS="engineer=…,operator=…,viewer=…" '
+            "or --tokens-file FILE (one role=token per line; see docs/security.md)"
+        )
+    if (settings.tls_cert is None) != (settings.tls_key is None):
+        return "HTTPS needs both --tls-cert and --tls-key (PEM files)"
+    for what, path in (("certificate", settings.tls_cert), ("key", settings.tls_key)):
+        if path is not None and not path.is_file():
+            return f"the TLS {what} {path} is not a readable file"
+    return None
 
 
 def _use_system_allocator(argv: Sequence[str]) -> None:

@@ -39,6 +39,18 @@ class CommTimeoutError(ServodeskError):
         super().__init__(f"node {node_id}: no answer to {what}")
 
 
+class SdoProtocolError(CommTimeoutError):
+    """The node answered, but not as the transfer expects (a segment with the wrong toggle bit,
+    another command, another object's answer): the transfer was aborted. A subclass of
+    CommTimeoutError so every caller handles it like a failed exchange; its message names the
+    cause instead of claiming that nothing came back."""
+
+    def __init__(self, node_id: int, what: str, detail: str) -> None:
+        super().__init__(node_id, what)
+        self.detail = detail
+        self.args = (f"node {node_id}: {what} failed: {detail}; the transfer was aborted",)
+
+
 class NodeNotFoundError(ServodeskError):
     def __init__(self, node_id: int) -> None:
         self.node_id = node_id

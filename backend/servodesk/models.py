@@ -354,3 +354,6 @@ class ErrorBody(BaseModel):
     step: str | None = None  # pdo_apply_failed: the write or read that failed
     restored: bool | None = None  # pdo_apply_failed: whether the previous PDOs are back
     problems: list[PdoProblem] | None = None  # invalid PDO configuration: every reason
+    role: str | None = None  # forbidden: the caller's role
+    required: str | None = None  # forbidden: the least role that may
+    retry_after_s: int | None = None  # rate_limited: when to try again

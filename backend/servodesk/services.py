@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import partial
 
+from servodesk.audit import AuditLog
 from servodesk.bus.connection import BusFactory, BusManager
 from servodesk.events.bus import EventBus
 from servodesk.events.sources import PublishingSdoService, registry_events
@@ -57,9 +58,12 @@ class Services:
     recorder: Recorder
     viewer: RerunServer  # the scope's rerun viewer and gRPC server (loopback, lazily started)
     scope: ScopeService
+    audit: AuditLog  # every write to a drive: who, when, old → new, result
 
     async def open(self) -> None:
-        """The event bus and the timeline store, before the bus connects (nothing is missed)."""
+        """The audit log, the event bus and the timeline store, before the bus connects
+        (nothing is missed)."""
+        await self.audit.open()
         self.events.attach_loop()
         await self.storage.start()
         await self.scope.open()
@@ -83,7 +87,8 @@ class Services:
         await self.registry.close()
         await self.bus.close()
         self.faults.close()
-        await self.storage.close()  # last: what the others published on the way out is kept
+        await self.storage.close()  # what the others published on the way out is kept
+        await self.audit.close()  # last: the results of the stops made on the way out
 
 
 def build_services(settings: Settings, *, bus_factory: BusFactory | None = None) -> Services:
@@ -148,6 +153,7 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
         recorder=Recorder(partial(bus.add_frame_listener, sent=True), settings.data_dir),
         viewer=viewer,
         scope=scope,
+        audit=AuditLog(settings.data_dir),
     )
 
 

@@ -5,16 +5,26 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from pydantic import Field
+from pydantic import Field, SecretStr
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 
 class Settings(BaseSettings):
     model_config = SettingsConfigDict(env_prefix="SERVODESK_", extra="ignore")
 
-    # Where the web app listens. Beyond loopback needs a token (a later issue); refuse until then.
+    # Where the web app listens. Beyond loopback needs access tokens (docs/security.md).
     bind: str = "127.0.0.1"
     port: int = 8000
+    # Access tokens per role: "engineer=…,operator=…,viewer=…" (or "user:role=…"), and/or a
+    # file with one such entry per line. Once any is configured, every request needs one.
+    tokens: SecretStr | None = None
+    tokens_file: Path | None = None
+    # Host names (besides loopback and the bound address) the app may be reached by,
+    # comma-separated: checked against Host and Origin headers (DNS rebinding).
+    allowed_hosts: str = ""
+    # HTTPS with uvicorn's own TLS: both files, PEM
+    tls_cert: Path | None = None
+    tls_key: Path | None = None
 
     # CAN bus. None values fall back to python-can's own config file and environment.
     interface: str | None = None

@@ -4,6 +4,7 @@ import { BrowserRouter } from "react-router";
 
 import { App } from "./App";
 import { LiveProvider } from "./live/LiveProvider";
+import { SessionGate } from "./session/SessionGate";
 import "./styles/index.css";
 
 const root = document.getElementById("root");
@@ -12,9 +13,11 @@ if (!root) throw new Error("index.html has no #root element");
 createRoot(root).render(
   <StrictMode>
     <BrowserRouter>
-      <LiveProvider>
-        <App />
-      </LiveProvider>
+      <SessionGate>
+        <LiveProvider>
+          <App />
+        </LiveProvider>
+      </SessionGate>
     </BrowserRouter>
   </StrictMode>,
 );

@@ -25,6 +25,7 @@ PATH_VALUES = {
     "job_id": "x",
     "jog_id": "x",
     "capture_id": "1",
+    "entry_id": "1",
 }
 BODIES: dict[str, dict[str, Any]] = {
     "json": {"json": {"command": "start", "value": 1, "confirm": True}},

@@ -8,6 +8,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Any
 
+import httpx
 import pytest
 import schemathesis
 from hypothesis import HealthCheck, settings
@@ -35,12 +36,29 @@ EXAMPLES = 12
 # schema-valid data: that is checked by `passes_validation` instead.
 SEMANTIC_REFUSALS = {422: "invalid_value", 428: "confirmation_required"}
 
-schema = schemathesis.openapi.from_dict(create_app(static_dir=None).openapi())
+# The run is made as an engineer with tokens configured, so every request also passes the
+# access check; the least number of requests it must make (the Trust issue's bar).
+TOKEN = "engineer-fuzz-0123456789"
+AUTH = {"authorization": f"Bearer {TOKEN}"}
+MIN_REQUESTS = 1000
+
+_openapi = create_app(static_dir=None).openapi()
+schema = schemathesis.openapi.from_dict(_openapi)
+# (METHOD, path template) of every operation that writes an audit entry (x-audited)
+AUDITED = {
+    (method.upper(), path)
+    for path, item in _openapi["paths"].items()
+    for method, operation in item.items()
+    if operation.get("x-audited")
+}
+# what the run sent: requests in all, and those the audit log must hold an entry for
+SENT = {"requests": 0, "audited": 0}
 
 
 @pytest.fixture(scope="module")
 def base_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    with serve_simulated(tmp_path_factory.mktemp("data"), static_dir=None) as url:
+    data = tmp_path_factory.mktemp("data")
+    with serve_simulated(data, static_dir=None, overrides={"tokens": f"engineer={TOKEN}"}) as url:
         yield url
 
 
@@ -53,6 +71,10 @@ def passes_validation(
     if meta is None or not meta.generation.mode.is_positive or response.status_code < 400:
         return None
     body = response.json()
+    if case.path == "/api/login" and response.status_code in (401, 429):
+        # a well-formed token that is not one of ours, and the rate limit that follows
+        assert body["error"] in ("unauthorized", "rate_limited"), body
+        return None
     if response.status_code in SEMANTIC_REFUSALS:
         assert body["error"] in (SEMANTIC_REFUSALS[response.status_code], "identity_mismatch"), (
             f"schema-valid request refused: {response.status_code} {body}"
@@ -72,9 +94,33 @@ def passes_validation(
     suppress_health_check=list(HealthCheck),
 )
 def test_api_conforms_to_its_schema(case: schemathesis.Case[Any], base_url: str) -> None:
-    case.call_and_validate(
+    response = case.call_and_validate(
         base_url=base_url,
+        headers=AUTH,
         timeout=30,
         excluded_checks=[positive_data_acceptance],
         additional_checks=[passes_validation],
     )
+    SENT["requests"] += 1
+    routed = not (response.status_code == 404 and response.json().get("error") == "not_found")
+    if (case.method.upper(), case.path) in AUDITED and routed:
+        SENT["audited"] += 1
+
+
+def test_the_run_was_large_enough_and_every_write_is_audited(base_url: str) -> None:
+    """Runs after the generated cases (same module, same server): at least MIN_REQUESTS were
+    made, and the audit log holds one entry for each request to a writing route."""
+    assert SENT["requests"] >= MIN_REQUESTS, SENT
+    entries = []
+    before: int | None = None
+    with httpx.Client(base_url=base_url, headers=AUTH, timeout=30) as client:
+        while True:
+            params = {"limit": 1000, **({"before": before} if before else {})}
+            page = client.get("/api/audit", params=params).json()
+            if not page:
+                break
+            entries += page
+            before = page[-1]["id"]
+    assert len(entries) == SENT["audited"], SENT
+    assert all(entry["result"] != "pending" for entry in entries)
+    assert {entry["user"] for entry in entries} == {"engineer"}

@@ -134,11 +134,12 @@ def test_level_trigger_with_pre_trigger_captures_the_crossing(client: TestClient
     with jogging(client, 1):
         time.sleep(0.3)
         now = ok(client.get(f"/api/nodes/1/sdo/{POSITION:04X}/0"))["value"]
-        # two revolutions ahead: at 300 rpm reached 0.4 s later, after the capture is armed
-        capture, done = capture_crossing(client, now + 2 * USER_PER_REV)
+        # six revolutions ahead: at 300 rpm reached 1.2 s later, after the capture is armed
+        # (arming maps TPDOs by SDO: 0.3–0.6 s on a busy machine, too close to 0.4 s)
+        capture, done = capture_crossing(client, now + 6 * USER_PER_REV)
     assert done["state"] == "done", done
     assert done["trigger_time"] is not None
-    level = now + 2 * USER_PER_REV
+    level = now + 6 * USER_PER_REV
     rows = signal_rows(samples_of(client, capture["id"]), 1, POSITION)
     t, raw = rows["time_s"].to_numpy(), rows["raw"].to_numpy()
     crossing = int(np.flatnonzero(t >= 0)[0])

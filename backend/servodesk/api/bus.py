@@ -4,12 +4,13 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import BUS_ERRORS
 from servodesk.bus.interfaces import INTERFACES
 from servodesk.models import BusConfig, BusStatus, InterfaceInfo, SyncConfig
 
-router = APIRouter(prefix="/bus", tags=["bus"], responses=BUS_ERRORS)
+router = APIRouter(prefix="/bus", tags=["bus"], responses=BUS_ERRORS, route_class=AuditedRoute)
 
 
 @router.get("")
@@ -37,7 +38,9 @@ async def interfaces() -> list[InterfaceInfo]:
     return list(INTERFACES)
 
 
-sync_router = APIRouter(prefix="/sync", tags=["bus"], responses=BUS_ERRORS)
+sync_router = APIRouter(
+    prefix="/sync", tags=["bus"], responses=BUS_ERRORS, route_class=AuditedRoute
+)
 
 
 @sync_router.get("")

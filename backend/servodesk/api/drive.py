@@ -12,6 +12,7 @@ from typing import Annotated
 
 from fastapi import APIRouter, Depends, Header
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import MOTION_ERRORS, NODE_ERRORS
 from servodesk.motion.lease import Client
@@ -33,7 +34,7 @@ from servodesk.motion.schemas import (
     MoveRequest,
 )
 
-router = APIRouter(tags=["drive"], responses=MOTION_ERRORS)
+router = APIRouter(tags=["drive"], responses=MOTION_ERRORS, route_class=AuditedRoute)
 
 CLIENT_ID = r"^[A-Za-z0-9._:-]{1,64}$"
 

@@ -6,11 +6,12 @@ from typing import Annotated
 
 from fastapi import APIRouter, Query
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.events.bus import EventKind
 from servodesk.faults.models import EventPage, TimelineEvent
 
-router = APIRouter(tags=["events"])
+router = APIRouter(tags=["events"], route_class=AuditedRoute)
 
 
 @router.get("/events")

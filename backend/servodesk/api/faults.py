@@ -6,6 +6,7 @@ from typing import Annotated
 
 from fastapi import APIRouter, Body, Query
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.drive import ClientDep
 from servodesk.api.errors import CONFIRM_ERRORS, MOTION_ERRORS, NODE_ERRORS
@@ -18,7 +19,7 @@ from servodesk.faults.models import (
     NodeFaults,
 )
 
-router = APIRouter(tags=["faults"])
+router = APIRouter(tags=["faults"], route_class=AuditedRoute)
 
 
 @router.get("/nodes/{node}/faults")

@@ -4,10 +4,11 @@ from fastapi import APIRouter
 from pydantic import BaseModel
 
 from servodesk import __version__
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.models import BusStatus
 
-router = APIRouter(tags=["health"])
+router = APIRouter(tags=["health"], route_class=AuditedRoute)
 
 
 class Health(BaseModel):

@@ -5,12 +5,13 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.drive import ClientDep
 from servodesk.api.errors import JOG_ERRORS, MOTION_ERRORS
 from servodesk.motion.safety_models import JogInfo, JogRequest
 
-router = APIRouter(tags=["jog"])
+router = APIRouter(tags=["jog"], route_class=AuditedRoute)
 
 
 @router.post("/nodes/{node}/jog", responses=MOTION_ERRORS)

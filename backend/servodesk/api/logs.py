@@ -11,6 +11,7 @@ from fastapi.responses import FileResponse
 from pydantic import BaseModel, Field
 from starlette.background import BackgroundTask
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import _error
 from servodesk.api.uploads import Upload, read_limited, upload_name
@@ -18,7 +19,7 @@ from servodesk.logs.events import Event
 from servodesk.logs.export import ExportFormat
 from servodesk.logs.service import EXPORT_TYPES, event_data
 
-router = APIRouter(prefix="/logs", tags=["logs"])
+router = APIRouter(prefix="/logs", tags=["logs"], route_class=AuditedRoute)
 
 FIRST_PAGE = 500
 MAX_DCF = 8 * 1024 * 1024

@@ -5,6 +5,7 @@ from __future__ import annotations
 from fastapi import APIRouter
 from pydantic import BaseModel
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
 from servodesk.models import (
@@ -17,7 +18,7 @@ from servodesk.models import (
     ScanResult,
 )
 
-router = APIRouter(tags=["nodes"], responses=NODE_ERRORS)
+router = APIRouter(tags=["nodes"], responses=NODE_ERRORS, route_class=AuditedRoute)
 
 
 class NmtSent(BaseModel):

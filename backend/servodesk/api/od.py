@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from fastapi import APIRouter, UploadFile
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import NODE_ERRORS
 from servodesk.api.uploads import Upload, read_limited, upload_name
@@ -12,7 +13,7 @@ from servodesk.od import ObjectDictionaryModel
 from servodesk.od.parser import OdParser
 from servodesk.od_view import od_check, od_tree
 
-router = APIRouter(tags=["object dictionary"], responses=NODE_ERRORS)
+router = APIRouter(tags=["object dictionary"], responses=NODE_ERRORS, route_class=AuditedRoute)
 
 MAX_OD_FILE = 8 * 1024 * 1024  # the largest real EDS files are a few hundred kB
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
 from servodesk.models import (
@@ -19,7 +20,9 @@ from servodesk.models import (
     ParamWriteResult,
 )
 
-router = APIRouter(prefix="/nodes/{node}", tags=["parameters"], responses=NODE_ERRORS)
+router = APIRouter(
+    prefix="/nodes/{node}", tags=["parameters"], responses=NODE_ERRORS, route_class=AuditedRoute
+)
 
 
 @router.get("/params")

@@ -7,12 +7,15 @@ from typing import Annotated
 from fastapi import APIRouter, File, Form, UploadFile
 from fastapi.responses import PlainTextResponse
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
 from servodesk.api.uploads import Upload, read_limited, upload_name
 from servodesk.models import CompareResult, DcfLoadResult
 
-router = APIRouter(prefix="/nodes/{node}", tags=["parameter sets"], responses=NODE_ERRORS)
+router = APIRouter(
+    prefix="/nodes/{node}", tags=["parameter sets"], responses=NODE_ERRORS, route_class=AuditedRoute
+)
 
 MAX_DCF_FILE = 8 * 1024 * 1024
 

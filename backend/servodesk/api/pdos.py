@@ -8,6 +8,7 @@ from typing import Annotated, Literal
 from fastapi import APIRouter, Query
 from fastapi.responses import PlainTextResponse
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import BUS_ERRORS, NODE_ERRORS, PDO_APPLY_ERRORS
 from servodesk.pdo.bus_load import DEFAULT_MASTER_PERIOD_MS
@@ -25,8 +26,10 @@ from servodesk.pdo_models import (
 )
 from servodesk_protocol.pdo import transmission_words
 
-router = APIRouter(prefix="/nodes/{node}/pdos", tags=["pdo"], responses=NODE_ERRORS)
-bus_router = APIRouter(tags=["pdo"], responses=BUS_ERRORS)
+router = APIRouter(
+    prefix="/nodes/{node}/pdos", tags=["pdo"], responses=NODE_ERRORS, route_class=AuditedRoute
+)
+bus_router = APIRouter(tags=["pdo"], responses=BUS_ERRORS, route_class=AuditedRoute)
 
 Modes = Annotated[
     str,

@@ -9,13 +9,14 @@ from fastapi import APIRouter
 from fastapi.responses import FileResponse
 from pydantic import BaseModel
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import _error
 from servodesk.events.bus import EventKind, event
 from servodesk.logs.recording import RecordingFormat, RecordingStatus
 from servodesk.model_base import RequestBody
 
-router = APIRouter(prefix="/recording", tags=["recording"])
+router = APIRouter(prefix="/recording", tags=["recording"], route_class=AuditedRoute)
 
 MEDIA = {
     RecordingFormat.BLF: "application/octet-stream",

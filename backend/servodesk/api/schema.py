@@ -10,6 +10,8 @@ from fastapi import FastAPI
 from fastapi.openapi.utils import get_openapi
 from starlette.routing import compile_path
 
+from servodesk.access.policy import required_role
+
 ERROR_REF = {"$ref": "#/components/schemas/ErrorBody"}
 CHANGES_STATE = frozenset({"post", "put", "patch", "delete"})
 FASTAPI_ONLY = ("HTTPValidationError", "ValidationError")
@@ -34,7 +36,7 @@ def build_schema(app: FastAPI) -> dict[str, Any]:
         description=app.description,
         routes=app.routes,
     )
-    for item in schema.get("paths", {}).values():
+    for path, item in schema.get("paths", {}).items():
         for method, operation in item.items():
             if not isinstance(operation, dict) or "responses" not in operation:
                 continue
@@ -47,8 +49,14 @@ def build_schema(app: FastAPI) -> dict[str, Any]:
                 responses["422"] = _error("Invalid request: what is wrong, per field")
             if operation.get("requestBody"):
                 responses.setdefault("400", _error("The body could not be parsed"))
+            if required_role(method, path) is not None:
+                responses.setdefault(
+                    "401", _error("A login is needed: access tokens are configured")
+                )
             if method in CHANGES_STATE:
-                responses.setdefault("403", _error("Refused: the request came from another site"))
+                responses.setdefault(
+                    "403", _error("Refused: the caller's role may not, or another site's page")
+                )
     schemas = schema.get("components", {}).get("schemas", {})
     for name in FASTAPI_ONLY:
         schemas.pop(name, None)

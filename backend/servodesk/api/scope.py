@@ -7,12 +7,13 @@ from typing import Annotated
 from fastapi import APIRouter, Path, Query, Response
 from fastapi.responses import FileResponse
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import NODE_ERRORS, PDO_APPLY_ERRORS, _error
 from servodesk.scope import export as exports
 from servodesk.scope_models import Capture, CaptureRequest, ExportFormat, ScopePlan
 
-router = APIRouter(prefix="/scope", tags=["scope"])
+router = APIRouter(prefix="/scope", tags=["scope"], route_class=AuditedRoute)
 
 CaptureId = Annotated[int, Path(ge=1, le=2**53, description="capture id")]
 

@@ -6,11 +6,12 @@ from typing import Annotated
 
 from fastapi import APIRouter, Query
 
+from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import Index, NodeId, ServicesDep, Subindex, parse_hex
 from servodesk.api.errors import NODE_ERRORS
 from servodesk.models import Job, SdoValue, SdoWrite
 
-router = APIRouter(tags=["sdo"], responses=NODE_ERRORS)
+router = APIRouter(tags=["sdo"], responses=NODE_ERRORS, route_class=AuditedRoute)
 
 
 @router.get("/nodes/{node}/sdo/{index}/{subindex}")

@@ -1,8 +1,7 @@
-"""Loopback-only serving: Host checks against DNS rebinding, Origin checks against cross-site
-requests (DESIGN: Security).
-
-Serving beyond loopback needs a token and roles, which the tool does not have yet, so the
-server refuses to bind elsewhere (cli.py) and refuses requests naming another host. Browsers
+"""Host checks against DNS rebinding, Origin checks against cross-site requests (DESIGN:
+Security), both against the origins the app is served on (`ServedHosts`): loopback by default,
+plus the bound address and the names given with `--allowed-host` when serving beyond loopback
+(which needs access tokens: servodesk.access). Browsers
 send form, multipart and text/plain posts to any site without asking first (no CORS preflight),
 so every state-changing request must come from one of our own pages: `SameOriginGuard` checks
 that in one place for all routes, and the WebSocket uses the same rule.
@@ -25,6 +24,26 @@ def _is_loopback(hostname: str) -> bool:
     return hostname in LOOPBACK_HOSTS or f"[{hostname}]" in LOOPBACK_HOSTS
 
 
+class ServedHosts:
+    """The host names and addresses requests may name: loopback always, plus `extra` (the
+    address the server is bound to, the names users reach it by)."""
+
+    def __init__(self, extra: Iterable[str] = ()) -> None:
+        names = (h.strip().lower().strip("[]") for h in extra)
+        self.extra = frozenset(n for n in names if n and not _is_loopback(n))
+
+    def allows(self, hostname: str) -> bool:
+        name = hostname.lower().strip("[]")
+        return _is_loopback(name) or name in self.extra or name == TEST_HOST
+
+    def describe(self) -> str:
+        names = ["127.0.0.1", "localhost", "[::1]", *sorted(self.extra)]
+        return f"{', '.join(names[:-1])} and {names[-1]}"
+
+
+LOOPBACK = ServedHosts()
+
+
 def _authority(host: str, default_port: int) -> tuple[str, int] | None:
     """("127.0.0.1", 8000) from a Host header or URL netloc; None if unparsable."""
     try:
@@ -34,8 +53,10 @@ def _authority(host: str, default_port: int) -> tuple[str, int] | None:
         return None
 
 
-def origin_allowed(origin: str | None, host_header: str | None) -> bool:
-    """No Origin (scripts, curl) is fine. A browser Origin must be a loopback host, and, when
+def origin_allowed(
+    origin: str | None, host_header: str | None, hosts: ServedHosts = LOOPBACK
+) -> bool:
+    """No Origin (scripts, curl) is fine. A browser Origin must be a served host, and, when
     the Host header is known, the very host and port the request was sent to."""
     if origin is None:
         return True
@@ -45,7 +66,7 @@ def origin_allowed(origin: str | None, host_header: str | None) -> bool:
     except ValueError:
         return False
     hostname = parts.hostname or ""
-    if parts.scheme not in ("http", "https") or not _is_loopback(hostname):
+    if parts.scheme not in ("http", "https") or not hosts.allows(hostname):
         return False  # also "null" (sandboxed frames, file: pages)
     if host_header is None:
         return True
@@ -56,10 +77,13 @@ def origin_allowed(origin: str | None, host_header: str | None) -> bool:
     if served_host == TEST_HOST:
         return True
     default = 443 if parts.scheme == "https" else 80
-    return _is_loopback(served_host) and (port or default) == served_port
+    same_host = served_host.lower().strip("[]") == hostname.lower().strip("[]") or (
+        _is_loopback(served_host) and _is_loopback(hostname)
+    )
+    return hosts.allows(served_host) and same_host and (port or default) == served_port
 
 
-def refusal(headers: dict[str, str]) -> str | None:
+def refusal(headers: dict[str, str], hosts: ServedHosts = LOOPBACK) -> str | None:
     """Why a state-changing request must be refused as cross-site, or None if it may pass.
 
     Origin decides when present; without it (older browsers on same-origin requests), the
@@ -68,7 +92,7 @@ def refusal(headers: dict[str, str]) -> str | None:
     host = headers.get("host")
     origin = headers.get("origin")
     if origin is not None:
-        return None if origin_allowed(origin, host) else origin
+        return None if origin_allowed(origin, host, hosts) else origin
     site = headers.get("sec-fetch-site")
     if site is not None:
         return None if site in ("same-origin", "none") else f"a {site} page"
@@ -76,28 +100,29 @@ def refusal(headers: dict[str, str]) -> str | None:
     if referer is not None:
         parts = urlsplit(referer)
         source = f"{parts.scheme}://{parts.netloc}" if parts.scheme else referer
-        return None if origin_allowed(source, host) else source
+        return None if origin_allowed(source, host, hosts) else source
     return None
 
 
 class HostGuard:
-    """Pure ASGI middleware: only requests naming a loopback host are served (a DNS rebinding
+    """Pure ASGI middleware: only requests naming a served host are served (a DNS rebinding
     page names its own host), refused with 400 in the API's error shape."""
 
-    def __init__(self, app: ASGIApp) -> None:
+    def __init__(self, app: ASGIApp, hosts: ServedHosts = LOOPBACK) -> None:
         self.app = app
+        self.hosts = hosts
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] in ("http", "websocket"):
             host = _headers(scope["headers"]).get("host", "")
             served = _authority(host, 80)
-            if served is None or not (_is_loopback(served[0]) or served[0] == TEST_HOST):
+            if served is None or not self.hosts.allows(served[0]):
                 if scope["type"] == "websocket":
                     await send({"type": "websocket.close", "code": 1008})
                     return
                 message = (
                     f"refused a request for host {host!r}: ServoDesk answers only to "
-                    "127.0.0.1, localhost and [::1]"
+                    f"{self.hosts.describe()}"
                 )
                 await _send_error(send, 400, "bad_host", message)
                 return
@@ -108,12 +133,13 @@ class SameOriginGuard:
     """Pure ASGI middleware (bodies stream through untouched): refuses state-changing HTTP
     requests from other sites with 403 in the API's error shape."""
 
-    def __init__(self, app: ASGIApp) -> None:
+    def __init__(self, app: ASGIApp, hosts: ServedHosts = LOOPBACK) -> None:
         self.app = app
+        self.hosts = hosts
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] == "http" and scope["method"] in CHANGES_STATE:
-            source = refusal(_headers(scope["headers"]))
+            source = refusal(_headers(scope["headers"]), self.hosts)
             if source is not None:
                 await _forbid(send, source)
                 return

@@ -11,8 +11,9 @@ from typing import Any
 from fastapi import APIRouter, FastAPI, WebSocket, WebSocketDisconnect
 from pydantic import ValidationError
 
+from servodesk.api.audited import outcome_of
 from servodesk.api.errors import describe, validation_message
-from servodesk.api.security import origin_allowed
+from servodesk.api.security import LOOPBACK, ServedHosts, origin_allowed
 from servodesk.errors import ServodeskError
 from servodesk.live import LiveClient
 from servodesk.live_messages import (
@@ -43,7 +44,8 @@ router = APIRouter()
 async def live(websocket: WebSocket) -> None:
     # A page from another site must not drive the tool through the user's browser (DNS
     # rebinding / cross-site WebSocket): only our own origin may connect.
-    if not origin_allowed(websocket.headers.get("origin"), websocket.headers.get("host")):
+    hosts: ServedHosts = getattr(websocket.app.state, "hosts", LOOPBACK)
+    if not origin_allowed(websocket.headers.get("origin"), websocket.headers.get("host"), hosts):
         await websocket.close(code=1008)
         return
     services: Services = websocket.app.state.services
@@ -91,14 +93,25 @@ async def _handle(services: Services, client: LiveClient, raw: Any) -> dict[str,
             case JogKeepaliveMessage(jog_id=jog_id):
                 safety.jogs.keepalive(jog_id)
             case JogStopMessage(jog_id=jog_id):
-                await safety.jogs.stop(jog_id, "stopped by the user")
+                async with services.audit.entry(
+                    "jog-stop", None, f"stop jog {jog_id} (live channel)", outcome_of, wait=False
+                ):
+                    await safety.jogs.stop(jog_id, "stopped by the user")
             case PageHiddenMessage():
                 if not client.client.anonymous:
                     safety.page_hidden(client.client.id)
             case QuickStopMessage(node=None):
-                await safety.quick_stop_all()
+                async with services.audit.entry(
+                    "quick-stop", None, "quick stop of every drive (live channel)", outcome_of,
+                    wait=False,
+                ):  # fmt: skip
+                    await safety.quick_stop_all()
             case QuickStopMessage(node=int(node)):
-                await safety.quick_stop(node)
+                async with services.audit.entry(
+                    "quick-stop", node, f"quick stop of node {node} (live channel)", outcome_of,
+                    wait=False,
+                ):  # fmt: skip
+                    await safety.quick_stop(node)
             case WatchDriveMessage(node=node):
                 services.registry.info(node)
                 services.live.watch(client, node)

@@ -21,6 +21,7 @@ import asyncio
 import contextvars
 import functools
 import threading
+import time
 from collections import deque
 from collections.abc import AsyncIterator, Callable
 from concurrent.futures import Future
@@ -37,11 +38,13 @@ from servodesk.errors import (
     CommTimeoutError,
     RequestInterruptedError,
     SdoAbortError,
+    SdoProtocolError,
 )
 
 T = TypeVar("T")
 
 WRITE_ONLY = 0x06010001  # SDO abort: attempt to read a write-only object
+NO_RESPONSE = "No SDO response received"  # canopen's SdoCommunicationError on a timeout
 CLOSED = "the connection to it was renewed (bus reconnected or node moved) while the request waited"
 
 # The transactions the running task (and the tasks it starts) is inside: their own requests
@@ -163,6 +166,12 @@ class NodeSession:
         # queued (FIFO, so requests keep their order). `priority()` does not wait here.
         self._gate = asyncio.Lock()
         self._transactions: list[Transaction] = []  # open ones, told when a stop cuts in
+        # A timed-out request may still be answered late (a slow drive, a busy bus). SDO
+        # answers carry no request id and canopen drops only what arrived before it sends, so a
+        # late answer would be taken for the next request's (a PUT read back the value of an
+        # earlier GET). After a failed exchange the next call first lets one more response
+        # time pass on this node's thread (worker-thread only, no lock needed).
+        self._quiet_until: float | None = None
 
     @property
     def node_id(self) -> int:
@@ -231,7 +240,8 @@ class NodeSession:
             raise RequestInterruptedError(self.node_id, CLOSED)
         for tx in self._transactions:
             tx.interrupted = what
-        call = functools.partial(self._call, fn, what, 0, 0)
+        # a stop does not wait for late answers to settle (see _quiet_until)
+        call = functools.partial(self._call, fn, what, 0, 0, urgent=True)
         return await asyncio.wrap_future(self._worker.submit(call, urgent=True))
 
     async def upload(self, index: int, subindex: int) -> bytes:
@@ -297,11 +307,19 @@ class NodeSession:
         self._worker.submit(swap)
 
     def _call(
-        self, fn: Callable[[canopen.RemoteNode], T], what: str, index: int, subindex: int
+        self,
+        fn: Callable[[canopen.RemoteNode], T],
+        what: str,
+        index: int,
+        subindex: int,
+        *,
+        urgent: bool = False,
     ) -> T:
         if self._closed:
             # queued before the connection was renewed: its remote is gone, send nothing
             raise RequestInterruptedError(self.node_id, CLOSED)
+        if not urgent:
+            self._let_late_answers_pass()
         try:
             return fn(self.remote)
         except SdoAbortedError as abort:
@@ -309,6 +327,10 @@ class NodeSession:
         except SdoCommunicationError as error:
             if self._closed:  # the answer went to the old connection's listeners
                 raise RequestInterruptedError(self.node_id, CLOSED) from error
+            self._quiet_until = time.monotonic() + self.remote.sdo.RESPONSE_TIMEOUT
+            if str(error) != NO_RESPONSE:
+                # it did answer, out of protocol (toggle bit, command): say so, not "no answer"
+                raise SdoProtocolError(self.node_id, what, str(error)) from error
             raise CommTimeoutError(self.node_id, what) from error
         except RuntimeError as error:
             # canopen's "Not connected to CAN bus": the connection closed during the call
@@ -318,6 +340,15 @@ class NodeSession:
         except can.CanError as error:
             # The adapter itself failed (unplugged, bus-off): the bus manager reconnects.
             raise BusNotConnectedError(f"CAN adapter error during {what}: {error}") from error
+
+    def _let_late_answers_pass(self) -> None:
+        """After a failed exchange, wait until a late answer to it would have arrived; canopen
+        then drops it when the next request starts (see `_quiet_until`)."""
+        until, self._quiet_until = self._quiet_until, None
+        if until is not None:
+            delay = until - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
 
     def close(self) -> None:
         """Stop the worker thread after the call in progress. Calls still queued are not

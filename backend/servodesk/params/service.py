@@ -11,6 +11,7 @@ from __future__ import annotations
 import builtins
 import re
 
+from servodesk.audit.entry import current_entry
 from servodesk.errors import (
     ConfirmationRequiredError,
     InvalidValueError,
@@ -107,6 +108,13 @@ class ParamService:
         index, subindex = parameter.object
         old = await self._old_value(node, parameter) if self._publish is not None else None
         written = await self._sdo.write(node, index, subindex, number)
+        entry = current_entry()
+        if entry is not None and entry.action == "param":
+            was = f"{entry.old} → " if entry.old is not None else ""
+            entry.what = (
+                f"set {parameter.name} ({where(index, subindex)}) of node {node}: "
+                f"{was}{written.value}"
+            )
         if self._publish is not None:
             was = f"{old} → " if old is not None else ""
             self._publish(

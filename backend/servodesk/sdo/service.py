@@ -8,7 +8,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from servodesk.errors import InvalidValueError
+from servodesk.audit.entry import current_entry
+from servodesk.errors import InvalidValueError, ServodeskError
 from servodesk.models import SdoValue
 from servodesk.nodes.access import NodeAccess
 from servodesk.od import ObjectDictionaryModel
@@ -80,6 +81,18 @@ class SdoService:
         model = self._access.od(node)
         data = self.encode(model, index, subindex, value, size)
         sub = model.get(index, subindex)
+        # The audit entry of a single write names its object and the value it replaces
+        # (read just before: that is what an undo writes back).
+        entry = current_entry()
+        if entry is not None and entry.records_object():
+            readable = sub is None or sub.access != "wo"
+            old = await self._old_value(node, index, subindex) if readable else None
+            entry.set_object(index, subindex, old)
+            if entry.action == "sdo-write":  # a parameter or an undo words its own entry
+                was = f"{old} → " if old is not None else ""
+                entry.what = f"write node {node} {where(index, subindex)}: {was}{value}"
+        else:
+            entry = None
         # one step on the node: a parallel write cannot land between the write and its read-back
         try:
             back = await session.write_and_read(
@@ -88,7 +101,19 @@ class SdoService:
         finally:
             if self._on_write is not None:
                 self._on_write(node, index, subindex)
-        return sdo_value(node, model, index, subindex, data if back is None else back)
+        written = sdo_value(node, model, index, subindex, data if back is None else back)
+        if entry is not None:
+            entry.new = written.value
+            if entry.action == "sdo-write":
+                was = f"{entry.old} → " if entry.old is not None else ""
+                entry.what = f"write node {node} {where(index, subindex)}: {was}{written.text}"
+        return written
+
+    async def _old_value(self, node: int, index: int, subindex: int) -> int | float | str | None:
+        try:
+            return (await self.read(node, index, subindex)).value
+        except ServodeskError:
+            return None  # unreadable now: the write goes ahead, the entry says old unknown
 
     @staticmethod
     def encode(

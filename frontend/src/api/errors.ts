@@ -13,6 +13,11 @@ export type ApiErrorKind =
   | "confirmation_required"
   | "identity_mismatch"
   | "validation_error"
+  | "unauthorized"
+  | "forbidden"
+  | "rate_limited"
+  | "not_undoable"
+  | "changed_since"
   | "network"
   | "error";
 
@@ -28,6 +33,11 @@ const KNOWN_KINDS: ReadonlySet<string> = new Set<ApiErrorKind>([
   "confirmation_required",
   "identity_mismatch",
   "validation_error",
+  "unauthorized",
+  "forbidden",
+  "rate_limited",
+  "not_undoable",
+  "changed_since",
   "network",
   "error",
 ]);
@@ -38,6 +48,8 @@ export class ApiError extends Error {
   readonly abortCode: string | null;
   /** The node the error concerns, when the server names one. */
   readonly node: number | null;
+  /** Seconds to wait before trying again (a rate-limited login). */
+  readonly retryAfterS: number | null;
 
   constructor(
     status: number,
@@ -45,6 +57,7 @@ export class ApiError extends Error {
     message: string,
     abortCode: string | null,
     node: number | null = null,
+    retryAfterS: number | null = null,
   ) {
     super(message);
     this.name = "ApiError";
@@ -52,6 +65,7 @@ export class ApiError extends Error {
     this.kind = kind;
     this.abortCode = abortCode;
     this.node = node;
+    this.retryAfterS = retryAfterS;
   }
 
   /** What the user reads: an SDO abort shows its raw code beside the meaning. */
@@ -84,15 +98,30 @@ function describeValidation(detail: unknown): string {
   return parts.join("; ") || "Invalid request";
 }
 
+// A 401 on any request means there is no (longer a) login session. Every failed request of
+// every page passes through toApiError, so this is the one place that notices it; the session
+// context listens and shows the login screen over whatever page asked.
+const unauthorizedListeners = new Set<() => void>();
+
+/** Call `listener` on every 401 answer; returns the unsubscribe function. */
+export function onUnauthorized(listener: () => void): () => void {
+  unauthorizedListeners.add(listener);
+  return () => {
+    unauthorizedListeners.delete(listener);
+  };
+}
+
 /** Turn whatever came back with a non-2xx status into an ApiError. */
 export function toApiError(status: number, body: unknown, statusText = ""): ApiError {
+  if (status === 401) for (const listener of [...unauthorizedListeners]) listener();
   if (isRecord(body)) {
     if (typeof body.error === "string") {
       const kind = KNOWN_KINDS.has(body.error) ? (body.error as ApiErrorKind) : "error";
       const message = typeof body.message === "string" ? body.message : body.error;
       const abort = typeof body.abort_code === "string" ? body.abort_code : null;
       const node = typeof body.node === "number" ? body.node : null;
-      return new ApiError(status, kind, message, abort, node);
+      const retry = typeof body.retry_after_s === "number" ? body.retry_after_s : null;
+      return new ApiError(status, kind, message, abort, node, retry);
     }
     if ("detail" in body) {
       return new ApiError(status, "validation_error", describeValidation(body.detail), null);

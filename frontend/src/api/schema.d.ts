@@ -4,6 +4,66 @@
  */
 
 export interface paths {
+    "/api/audit": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Audit Entries
+         * @description The entries, newest first.
+         */
+        get: operations["audit_entries_api_audit_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/audit/export": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Export Audit
+         * @description Every matching entry as CSV, oldest first.
+         */
+        get: operations["export_audit_api_audit_export_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/audit/{entry_id}/undo": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Undo
+         * @description Write the entry's old value back (itself audited, naming this entry in `undo_of`).
+         */
+        post: operations["undo_api_audit__entry_id__undo_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/bus": {
         parameters: {
             query?: never;
@@ -210,6 +270,46 @@ export interface paths {
          * @description Keep the jog moving; 409 jog_stopped once it was stopped (re-arming is explicit).
          */
         post: operations["keepalive_api_jog__jog_id__keepalive_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/login": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Login
+         * @description Trade an access token for a login cookie (HttpOnly, SameSite=Strict; Secure over TLS).
+         */
+        post: operations["login_api_login_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/logout": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Logout
+         * @description End the browser's login (the cookie is cleared and forgotten by the server).
+         */
+        post: operations["logout_api_logout_post"];
         delete?: never;
         options?: never;
         head?: never;
@@ -1184,6 +1284,26 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/session": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Session
+         * @description Who the caller is and what their role may do (401 when a login is needed).
+         */
+        get: operations["session_api_session_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/sync": {
         parameters: {
             query?: never;
@@ -1210,6 +1330,50 @@ export interface components {
         ActiveFaults: {
             /** Faults */
             faults: components["schemas"]["Fault"][];
+        };
+        /** AuditEntry */
+        AuditEntry: {
+            /** Abort Code */
+            abort_code: string | null;
+            /** Action */
+            action: string;
+            /** Client */
+            client: string | null;
+            /** Error */
+            error: string | null;
+            /** Finished */
+            finished: number | null;
+            /** Id */
+            id: number;
+            /** Index */
+            index: number | null;
+            /** Message */
+            message: string | null;
+            /** New */
+            new: number | string | null;
+            /** Node */
+            node: number | null;
+            /** Old */
+            old: number | string | null;
+            /**
+             * Result
+             * @enum {string}
+             */
+            result: "pending" | "ok" | "failed" | "unknown";
+            /** Role */
+            role: string;
+            /** Subindex */
+            subindex: number | null;
+            /** Time */
+            time: number;
+            /** Undo Of */
+            undo_of: number | null;
+            /** Undoable */
+            undoable: boolean;
+            /** User */
+            user: string;
+            /** What */
+            what: string;
         };
         /** BitrateChange */
         BitrateChange: {
@@ -1802,8 +1966,14 @@ export interface components {
             node?: number | null;
             /** Problems */
             problems?: components["schemas"]["PdoProblem"][] | null;
+            /** Required */
+            required?: string | null;
             /** Restored */
             restored?: boolean | null;
+            /** Retry After S */
+            retry_after_s?: number | null;
+            /** Role */
+            role?: string | null;
             /** Step */
             step?: string | null;
             /** Subindex */
@@ -2403,6 +2573,11 @@ export interface components {
              */
             next: number | null;
         };
+        /** LoginRequest */
+        LoginRequest: {
+            /** Token */
+            token: string;
+        };
         /** MessageResult */
         MessageResult: {
             /** Message */
@@ -2430,8 +2605,14 @@ export interface components {
             problems?: components["schemas"]["PdoProblem"][] | null;
             /** Reasons */
             reasons?: components["schemas"]["EnableReason"][] | null;
+            /** Required */
+            required?: string | null;
             /** Restored */
             restored?: boolean | null;
+            /** Retry After S */
+            retry_after_s?: number | null;
+            /** Role */
+            role?: string | null;
             state?: components["schemas"]["DriveState"] | null;
             /** Step */
             step?: string | null;
@@ -2941,6 +3122,13 @@ export interface components {
             /** Pdos */
             pdos: components["schemas"]["PdoIn"][];
         };
+        /** Permissions */
+        Permissions: {
+            /** Configure */
+            configure: boolean;
+            /** Operate */
+            operate: boolean;
+        };
         /** PingMessage */
         PingMessage: {
             /**
@@ -3108,6 +3296,19 @@ export interface components {
          * @description Any message the server sends on /api/ws.
          */
         ServerMessage: components["schemas"]["BusMessage"] | components["schemas"]["NodesMessage"] | components["schemas"]["EventMessage"] | components["schemas"]["HistoryMessage"] | components["schemas"]["TimelineMessage"] | components["schemas"]["FaultMessage"] | components["schemas"]["PongMessage"] | components["schemas"]["DriveStateMessage"] | components["schemas"]["ControllerMessage"] | components["schemas"]["JogStoppedMessage"] | components["schemas"]["ErrorMessage"];
+        /** SessionInfo */
+        SessionInfo: {
+            /** Auth Required */
+            auth_required: boolean;
+            may: components["schemas"]["Permissions"];
+            /**
+             * Role
+             * @enum {string}
+             */
+            role: "viewer" | "operator" | "engineer";
+            /** User */
+            user: string;
+        };
         /**
          * SpeedLimit
          * @description What caps the speed in profile torque: the drive's max speed object (MDi-S1-C: PA-103
@@ -3230,6 +3431,14 @@ export interface components {
             /** Subindex */
             subindex?: number | null;
         };
+        /** UndoRequest */
+        UndoRequest: {
+            /**
+             * Force
+             * @default false
+             */
+            force: boolean;
+        };
         /** UnwatchDriveMessage */
         UnwatchDriveMessage: {
             /** Node */
@@ -3259,6 +3468,198 @@ export interface components {
 }
 export type $defs = Record<string, never>;
 export interface operations {
+    audit_entries_api_audit_get: {
+        parameters: {
+            query?: {
+                node?: number | null;
+                /** @description unix time (s) */
+                since?: number | null;
+                /** @description unix time (s) */
+                until?: number | null;
+                user?: string | null;
+                action?: string | null;
+                /** @description entries older than this id */
+                before?: number | null;
+                limit?: number;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["AuditEntry"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    export_audit_api_audit_export_get: {
+        parameters: {
+            query?: {
+                format?: "csv";
+                node?: number | null;
+                since?: number | null;
+                until?: number | null;
+                user?: string | null;
+                action?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description every matching entry */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/csv": unknown;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    undo_api_audit__entry_id__undo_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                entry_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "application/json": components["schemas"]["UndoRequest"] | null;
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["AuditEntry"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such entry, or its node is not on the bus */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description not_undoable (why), changed_since (the value changed: use force), or the drive refused the write (sdo_abort with its code) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
     bus_status_api_bus_get: {
         parameters: {
             query?: never;
@@ -3275,6 +3676,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Bus not connected */
@@ -3309,6 +3719,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["BusLoadResult"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Invalid request: what is wrong, per field */
@@ -3362,7 +3781,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -3409,7 +3837,16 @@ export interface operations {
                     "application/json": components["schemas"]["BusStatus"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -3447,6 +3884,15 @@ export interface operations {
                     "application/json": components["schemas"]["InterfaceInfo"][];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected */
             503: {
                 headers: {
@@ -3476,7 +3922,16 @@ export interface operations {
                     "application/json": components["schemas"]["BusStatus"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -3522,6 +3977,15 @@ export interface operations {
                     "application/json": components["schemas"]["EventPage"];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
@@ -3549,6 +4013,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ActiveFaults"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
         };
@@ -3594,6 +4067,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Job"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -3663,7 +4145,16 @@ export interface operations {
                     "application/json": components["schemas"]["Job"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -3739,6 +4230,15 @@ export interface operations {
                     "application/json": components["schemas"]["JogInfo"];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such jog (jog_not_found) */
             404: {
                 headers: {
@@ -3788,7 +4288,16 @@ export interface operations {
                     "application/json": components["schemas"]["JogInfo"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -3846,7 +4355,16 @@ export interface operations {
                     "application/json": components["schemas"]["JogInfo"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -3875,6 +4393,102 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    login_api_login_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["LoginRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SessionInfo"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The token is not valid */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Too many failed logins: wait `retry_after_s` */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    logout_api_logout_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3915,7 +4529,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -3957,6 +4580,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["LogEventPage"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No decoded log with this id */
@@ -4001,6 +4633,15 @@ export interface operations {
                     "application/vnd.apache.parquet": string;
                     "application/x-ndjson": string;
                     "text/csv": string;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No decoded log with this id */
@@ -4054,7 +4695,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -4128,6 +4778,15 @@ export interface operations {
                     "application/json": components["schemas"]["NodeInfo"][];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -4185,6 +4844,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["NodeInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -4253,6 +4921,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["BitrateOptions"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -4336,7 +5013,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -4435,7 +5121,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -4534,7 +5229,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -4609,6 +5313,15 @@ export interface operations {
                 };
                 content: {
                     "text/plain": string;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -4692,7 +5405,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -4776,6 +5498,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -4864,7 +5595,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -4944,6 +5684,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -5032,7 +5781,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5114,7 +5872,16 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerInfo"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5196,7 +5963,16 @@ export interface operations {
                     "application/json": components["schemas"]["DriveState"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5278,7 +6054,16 @@ export interface operations {
                     "application/json": components["schemas"]["DriveState"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5360,7 +6145,16 @@ export interface operations {
                     "application/json": components["schemas"]["DriveState"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5455,7 +6249,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5530,6 +6333,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["HomingMethodInfo"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -5618,7 +6430,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5693,6 +6514,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["MotionLimits"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -5781,7 +6611,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5876,7 +6715,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5971,7 +6819,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6048,7 +6905,16 @@ export interface operations {
                     "application/json": components["schemas"]["DriveState"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6128,6 +6994,15 @@ export interface operations {
                     "application/json": components["schemas"]["NodeFaults"];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Invalid request: what is wrong, per field */
             422: {
                 headers: {
@@ -6158,6 +7033,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["DeviceHistory"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -6241,7 +7125,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6332,7 +7225,16 @@ export interface operations {
                     "application/json": components["schemas"]["FaultResetResult"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6407,6 +7309,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["HeartbeatConfig"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -6490,7 +7401,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6594,7 +7514,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6684,7 +7613,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6759,6 +7697,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["OdTree"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -6842,7 +7789,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6919,7 +7875,16 @@ export interface operations {
                     "application/json": components["schemas"]["OdTree"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6996,6 +7961,15 @@ export interface operations {
                     "application/json": components["schemas"]["Param"][];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -7063,6 +8037,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Param"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -7147,7 +8130,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -7222,6 +8214,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Pdo"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -7305,7 +8306,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -7385,6 +8395,15 @@ export interface operations {
                     "text/plain": string;
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -7451,6 +8470,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["LiveCheck"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -7521,7 +8549,16 @@ export interface operations {
                     "application/json": components["schemas"]["LiveCheck"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -7598,7 +8635,16 @@ export interface operations {
                     "application/json": components["schemas"]["LiveCheck"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -7678,6 +8724,15 @@ export interface operations {
                     "application/json": components["schemas"]["PdoList"];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -7744,6 +8799,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["PdoRules"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Unknown node */
@@ -7832,7 +8896,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -7922,7 +8995,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8012,6 +9094,15 @@ export interface operations {
                     "application/json": components["schemas"]["SdoValue"];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Unknown node */
             404: {
                 headers: {
@@ -8097,7 +9188,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8187,7 +9287,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8273,7 +9382,16 @@ export interface operations {
                     "application/json": components["schemas"]["Job"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8360,7 +9478,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8434,7 +9561,16 @@ export interface operations {
                     "application/json": components["schemas"]["QuickStopResult"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8499,6 +9635,15 @@ export interface operations {
                     "application/json": components["schemas"]["RecordingInfo"];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     start_recording_api_recording_post: {
@@ -8532,7 +9677,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8571,7 +9725,16 @@ export interface operations {
                     "text/plain": string;
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8622,7 +9785,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8696,6 +9868,15 @@ export interface operations {
                     "application/json": components["schemas"]["Capture"][];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     start_capture_api_scope_captures_post: {
@@ -8729,7 +9910,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8806,6 +9996,15 @@ export interface operations {
                     "application/json": components["schemas"]["Capture"];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such capture (capture_not_found) */
             404: {
                 headers: {
@@ -8854,7 +10053,16 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -8906,6 +10114,15 @@ export interface operations {
                 content: {
                     "application/octet-stream": string;
                     "text/csv": string;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such capture (capture_not_found) */
@@ -8968,7 +10185,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -9042,8 +10268,46 @@ export interface operations {
                     "application/json": components["schemas"]["ScopeViewer"];
                 };
             };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The rerun viewer could not start */
             503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    session_api_session_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SessionInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -9069,6 +10333,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["SyncConfig"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Bus not connected */
@@ -9113,7 +10386,16 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the request came from another site */
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
             403: {
                 headers: {
                     [name: string]: unknown;

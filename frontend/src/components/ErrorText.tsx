@@ -2,6 +2,7 @@ import { useState, type ReactNode } from "react";
 
 import { api, call } from "../api/client";
 import { asApiError, type ApiError } from "../api/errors";
+import { useMay } from "../session/context";
 
 /** An error shown where it happened; SDO aborts read "0x06010002 — Attempt to write …".
  *
@@ -30,6 +31,7 @@ export function ErrorText({
 }
 
 function StartButton({ node, onDone }: { node: number; onDone?: () => void }): ReactNode {
+  const configure = useMay("configure");
   const [busy, setBusy] = useState(false);
   const [failed, setFailed] = useState<string | null>(null);
 
@@ -54,7 +56,12 @@ function StartButton({ node, onDone }: { node: number; onDone?: () => void }): R
   return (
     <>
       {" "}
-      <button type="button" className="small" disabled={busy} onClick={() => void preOperational()}>
+      <button
+        type="button"
+        className="small"
+        onClick={() => void preOperational()}
+        {...configure.gate("change the node's NMT state", { disabled: busy })}
+      >
         Set node {node} Pre-operational
       </button>
       {failed && <span className="error-text small"> {failed}</span>}

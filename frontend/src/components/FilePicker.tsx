@@ -5,6 +5,8 @@ interface Props {
   label: string;
   accept: string;
   disabled?: boolean;
+  /** The button's tooltip (why it is disabled, when it is). */
+  title?: string | undefined;
   onFile: (file: File) => void;
 }
 
@@ -12,7 +14,7 @@ interface Props {
  * A button that opens the file chooser. The real <input type=file> stays in the page (visually
  * hidden, labelled) so keyboard users, screen readers and browser tests can use it directly.
  */
-export function FilePicker({ label, accept, disabled = false, onFile }: Props): ReactNode {
+export function FilePicker({ label, accept, disabled = false, title, onFile }: Props): ReactNode {
   const id = useId();
   const input = useRef<HTMLInputElement>(null);
   return (
@@ -32,7 +34,12 @@ export function FilePicker({ label, accept, disabled = false, onFile }: Props): 
           if (file) onFile(file);
         }}
       />
-      <button type="button" disabled={disabled} onClick={() => input.current?.click()}>
+      <button
+        type="button"
+        disabled={disabled}
+        title={title}
+        onClick={() => input.current?.click()}
+      >
         {label}
       </button>
     </span>

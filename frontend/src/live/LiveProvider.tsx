@@ -1,5 +1,7 @@
 import { useEffect, useState, type ReactNode } from "react";
 
+import { useSessionControl } from "../session/context";
+
 import { clientName, CLIENT_ID } from "./clientId";
 import { LiveConnection, liveUrl } from "./connection";
 import { LiveStoreContext } from "./context";
@@ -15,12 +17,14 @@ interface Props {
 
 export function LiveProvider({ children, store: given, connect = true }: Props): ReactNode {
   const [store] = useState(() => given ?? new LiveStore());
+  const recheck = useSessionControl()?.recheck;
 
   useEffect(() => {
     if (!connect) return undefined;
     const connection = new LiveConnection(store, {
       url: liveUrl(window.location),
       hello: { type: "hello", client_id: CLIENT_ID, name: clientName() },
+      onRefused: () => recheck?.(),
     });
     store.setSender((message) => connection.send(message));
     connection.start();
@@ -34,7 +38,7 @@ export function LiveProvider({ children, store: given, connect = true }: Props):
       store.setSender(null);
       connection.stop();
     };
-  }, [store, connect]);
+  }, [store, connect, recheck]);
 
   useEffect(() => {
     if (!connect) return undefined;

@@ -25,16 +25,17 @@ class FakeSocket implements SocketLike {
   receive(data: unknown): void {
     this.onmessage?.(new MessageEvent("message", { data: JSON.stringify(data) }));
   }
-  drop(): void {
-    this.onclose?.(new CloseEvent("close"));
+  drop(code?: number): void {
+    this.onclose?.(new CloseEvent("close", code === undefined ? {} : { code }));
   }
 }
 
-function setup() {
+function setup(onRefused?: () => void) {
   const sockets: FakeSocket[] = [];
   const store = new LiveStore();
   const connection = new LiveConnection(store, {
     url: "ws://test/api/ws",
+    ...(onRefused ? { onRefused } : {}),
     createSocket: (url) => {
       const socket = new FakeSocket(url);
       sockets.push(socket);
@@ -72,6 +73,20 @@ describe("LiveConnection", () => {
       "ws://127.0.0.1:8000/api/ws",
     );
     expect(liveUrl({ protocol: "https:", host: "desk.local" })).toBe("wss://desk.local/api/ws");
+  });
+
+  it("reports a close for want of a login (1008) and keeps retrying", () => {
+    const refused = vi.fn();
+    const { sockets, connection, last } = setup(refused);
+    connection.start();
+    last().drop();
+    expect(refused).not.toHaveBeenCalled();
+    vi.advanceTimersByTime(500);
+    last().drop(1008);
+    expect(refused).toHaveBeenCalledTimes(1);
+    vi.advanceTimersByTime(1000);
+    expect(sockets).toHaveLength(3);
+    connection.stop();
   });
 
   it("shows the link state and feeds messages into the store", () => {

@@ -27,6 +27,9 @@ export interface ConnectionOptions {
   random?: () => number;
   /** Sent first on every connection (the safety layer's hello: who this tab is). */
   hello?: ClientMessage | null;
+  /** The server closed with 1008 (policy): no valid login session. Reconnecting goes on;
+   * the caller checks the session, which shows the login screen when it is gone. */
+  onRefused?: () => void;
 }
 
 export const PING_MS = 10_000;
@@ -57,6 +60,7 @@ export class LiveConnection {
       backoff: DEFAULT_BACKOFF,
       random: Math.random,
       hello: null,
+      onRefused: () => undefined,
       ...options,
     };
   }
@@ -99,7 +103,10 @@ export class LiveConnection {
       const message = parseMessage(event.data);
       if (message) this.store.apply(message);
     };
-    socket.onclose = () => this.lost();
+    socket.onclose = (event: CloseEvent) => {
+      if (event.code === 1008) this.options.onRefused();
+      this.lost();
+    };
     socket.onerror = () => undefined; // a close event always follows; handled there
   }
 

@@ -5,6 +5,7 @@ import type { NodeInfo } from "../api/types";
 import { NmtDot } from "../components/NmtDot";
 import { useLive } from "../live/context";
 import type { LinkStatus } from "../live/store";
+import { SessionBadge } from "../session/SessionBadge";
 import { NODE_TABS, TOP_PAGES, nodeUrl, type TopPage } from "./routes";
 
 /** "1 · MDi-S1-C · DVS_CANOPEN": id, profile, the drive's own name (1008h). */
@@ -121,6 +122,7 @@ export function Sidebar(): ReactNode {
         ))}
       </ul>
       <LinkIndicator />
+      <SessionBadge />
     </nav>
   );
 }

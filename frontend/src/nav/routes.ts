@@ -2,6 +2,7 @@
 // these arrays, so a new page (Motion, PDO, Faults per node; a top-level Scope) is one entry.
 import type { ComponentType } from "react";
 
+import { AuditPage } from "../pages/audit/AuditPage";
 import { DrivePage } from "../pages/drive/DrivePage";
 import { FaultsPage } from "../pages/faults/FaultsPage";
 import { LogsPage } from "../pages/logs/LogsPage";
@@ -32,6 +33,7 @@ export const TOP_PAGES: readonly TopPage[] = [
   { path: "/", label: "Network", placement: "before-nodes", Component: NetworkPage },
   { path: "/scope", label: "Scope", placement: "after-nodes", Component: ScopePage },
   { path: "/logs", label: "Logs", placement: "after-nodes", Component: LogsPage },
+  { path: "/audit", label: "Audit", placement: "after-nodes", Component: AuditPage },
   { path: "/tools", label: "Tools", placement: "after-nodes", Component: ToolsPage },
 ];
 

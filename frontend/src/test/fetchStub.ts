@@ -1,6 +1,7 @@
 // A fetch stand-in for page tests: routes "METHOD /path" to canned answers and records calls.
 import { vi } from "vitest";
 
+/** May answer asynchronously (e.g. after reading the request's body). */
 export type Handler = (request: Request) => unknown;
 
 export interface FetchStub {
@@ -27,7 +28,7 @@ export function stubFetch(routes: Record<string, Handler | object>): FetchStub {
     stub.urls.push(input.url);
     const route = routes[key];
     if (route === undefined) return json({ error: "error", message: `no stub for ${key}` }, 500);
-    const answer: unknown = typeof route === "function" ? (route as Handler)(input) : route;
+    const answer: unknown = typeof route === "function" ? await (route as Handler)(input) : route;
     return answer instanceof Response ? answer : json(answer);
   });
   return stub;

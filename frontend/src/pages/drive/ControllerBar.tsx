@@ -2,6 +2,7 @@ import type { ReactNode } from "react";
 
 import { ErrorText } from "../../components/ErrorText";
 import { useAction } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { takeControl } from "./driveApi";
 import type { ControllerInfo } from "./types";
 
@@ -16,6 +17,7 @@ export function ControllerBar({
   controller: ControllerInfo | undefined;
   show: (info: ControllerInfo) => void;
 }): ReactNode {
+  const operate = useMay("operate");
   const take = useAction(async (takeOver: boolean) => show(await takeControl(node, takeOver)));
   if (!controller) return <span className="muted small">Control: …</span>;
   const holder = controller.holder;
@@ -37,9 +39,11 @@ export function ControllerBar({
         <button
           type="button"
           className="small"
-          disabled={take.busy}
           onClick={() => void take.run(true)}
-          title="Their jogs stop; your commands pass from now on"
+          {...operate.gate("take control of the drive", {
+            disabled: take.busy,
+            title: "Their jogs stop; your commands pass from now on",
+          })}
         >
           Take over
         </button>
@@ -48,8 +52,8 @@ export function ControllerBar({
         <button
           type="button"
           className="small"
-          disabled={take.busy}
           onClick={() => void take.run(false)}
+          {...operate.gate("take control of the drive", { disabled: take.busy })}
         >
           Take control
         </button>

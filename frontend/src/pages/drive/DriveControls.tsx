@@ -4,6 +4,7 @@ import type { ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { asApiError } from "../../api/errors";
+import { useMay } from "../../session/context";
 import {
   driveAction,
   driveCommand,
@@ -26,6 +27,7 @@ interface Props {
 
 /** Enable (the whole sequence), Disable, and one button per state-machine command. */
 export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: Props): ReactNode {
+  const operate = useMay("operate");
   const [busy, setBusy] = useState<string | null>(null);
   const [error, setError] = useState<ApiError | null>(null);
   const [blocked, setBlocked] = useState<EnableBlockedError | null>(null);
@@ -65,17 +67,21 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
         <button
           type="button"
           className="primary"
-          disabled={busy !== null || !mayCommand || enabled}
           onClick={() => void run("enable", action("enable"))}
-          title="Shutdown, switch on, enable operation: as far as the drive lets it"
+          {...operate.gate("enable the drive", {
+            disabled: busy !== null || !mayCommand || enabled,
+            title: "Shutdown, switch on, enable operation: as far as the drive lets it",
+          })}
         >
           Enable
         </button>
         <button
           type="button"
-          disabled={busy !== null || !mayCommand}
           onClick={() => void run("disable", action("disable"))}
-          title="Power stage off (shutdown to Ready to switch on)"
+          {...operate.gate("disable the drive", {
+            disabled: busy !== null || !mayCommand,
+            title: "Power stage off (shutdown to Ready to switch on)",
+          })}
         >
           Disable
         </button>
@@ -98,7 +104,10 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
       <div className="transition-buttons" role="group" aria-label="State machine commands">
         {COMMANDS.map((info) => {
           const takes = transitionsFor(info.name, drive.state);
-          const open = info.name === "quick_stop" || (mayCommand && takes.length > 0);
+          // quick stop is everyone's, whatever the role or the lease
+          const always = info.name === "quick_stop";
+          const allowed = always || operate.allowed;
+          const open = always || (mayCommand && allowed && takes.length > 0);
           const why = takes.length
             ? `Controlword ${info.controlword.toString(16).toUpperCase().padStart(4, "0")}h: transition ${takes.map((t) => t.number).join(", ")}`
             : `No transition from ${STATE_LABELS[drive.state]}`;
@@ -108,7 +117,7 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
               type="button"
               className="small"
               disabled={busy !== null || !open || takes.length === 0}
-              title={why}
+              title={allowed ? why : operate.because("send drive commands")}
               aria-label={info.label}
               onClick={() => void run(info.label, command(info))}
             >

@@ -14,8 +14,11 @@ export function HoldButton({
   disabled,
   onChange,
   className,
+  title,
 }: {
   label: string;
+  /** Why it is disabled, when it is. */
+  title?: string;
   transport: HoldTransport;
   disabled?: boolean;
   onChange?: (snapshot: HoldSnapshot) => void;
@@ -73,6 +76,7 @@ export function HoldButton({
       type="button"
       className={`hold-button${active ? " held" : ""}${className ? ` ${className}` : ""}`}
       disabled={disabled}
+      title={title}
       aria-pressed={active}
       onPointerDown={(e) => {
         if (e.button !== 0) return;

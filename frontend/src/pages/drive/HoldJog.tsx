@@ -1,6 +1,7 @@
 import { useMemo, useState, type ReactNode } from "react";
 
 import { useLiveStore } from "../../live/context";
+import { useMay } from "../../session/context";
 import { HoldButton } from "./HoldButton";
 import { KEEPALIVE_TIMEOUT_MS, type HoldSnapshot, type HoldTransport } from "./holdToRun";
 import { jogKeepalive, startJog, stopJog, type JogRamp } from "./driveApi";
@@ -107,11 +108,14 @@ export function HoldJog({
     ramp,
   );
   const enabled = drive.state === "operation_enabled";
-  const why = !mayCommand
-    ? "Another client controls this drive"
-    : !enabled
-      ? "Enable the drive first"
-      : (check.error ?? (rampCheck.error ? `${rampText.label}: ${rampCheck.error}` : null));
+  const operate = useMay("operate");
+  const why =
+    operate.because("jog the drive") ??
+    (!mayCommand
+      ? "Another client controls this drive"
+      : !enabled
+        ? "Enable the drive first"
+        : (check.error ?? (rampCheck.error ? `${rampText.label}: ${rampCheck.error}` : null)));
   const id = `jog-${mode}-amount`;
   const cap = drive.pt_speed_limit;
 
@@ -158,12 +162,14 @@ export function HoldJog({
           label={`◀ Hold −${size || ""} ${text.unit}`}
           transport={backward}
           disabled={why !== null}
+          title={why ?? undefined}
           onChange={setHold}
         />
         <HoldButton
           label={`Hold +${size || ""} ${text.unit} ▶`}
           transport={forward}
           disabled={why !== null}
+          title={why ?? undefined}
           onChange={setHold}
         />
         <span className="hold-live" role="status" data-testid={`jog-${mode}-status`}>

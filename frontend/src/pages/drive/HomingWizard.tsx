@@ -3,6 +3,7 @@ import { useEffect, useRef, useState, type ReactNode } from "react";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { home, homingMethods } from "./driveApi";
 import { HomingDiagram } from "./HomingDiagram";
 import { HomingTimeline } from "./HomingTimeline";
@@ -47,6 +48,7 @@ export function HomingWizard({
 }): ReactNode {
   const methods = useApi((signal) => homingMethods(node, signal), `homing:${node}`);
   const [picked, setPicked] = useState<number | null>(null);
+  const operate = useMay("operate");
   const [fast, setFast] = useState("100");
   const [slow, setSlow] = useState("20");
   const [accel, setAccel] = useState("500");
@@ -134,7 +136,9 @@ export function HomingWizard({
         <button
           type="button"
           className="primary"
-          disabled={!method || !valid || !enabled || !mayCommand || start.busy || running}
+          {...operate.gate("home the drive", {
+            disabled: !method || !valid || !enabled || !mayCommand || start.busy || running,
+          })}
           onClick={() =>
             method &&
             void start.run({

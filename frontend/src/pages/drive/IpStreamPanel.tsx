@@ -3,6 +3,7 @@ import { useState, type ReactNode } from "react";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { ipStream } from "./driveApi";
 import type { DriveState, IpStreamResult, IpTrajectory } from "./types";
 import { checkRange, formatInc, formatMs, formatRev } from "./units";
@@ -40,6 +41,7 @@ export function IpStreamPanel({
   });
   const enabled = drive.state === "operation_enabled";
   const ok = dist.value !== null && dur.value !== null && enabled && mayCommand;
+  const operate = useMay("operate");
 
   return (
     <div className="ip-stream">
@@ -91,7 +93,7 @@ export function IpStreamPanel({
         <button
           type="button"
           className="primary"
-          disabled={!ok || run.busy}
+          {...operate.gate("stream a trajectory", { disabled: !ok || run.busy })}
           onClick={() => void run.run()}
         >
           Run stream

@@ -2,6 +2,7 @@ import { useState, type ReactNode } from "react";
 
 import { ErrorText } from "../../components/ErrorText";
 import { useAction } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { putLimits } from "./driveApi";
 import type { MotionLimits } from "./types";
 import { checkRange, formatPct, formatRev, formatRpm } from "./units";
@@ -30,6 +31,7 @@ export function LimitsCard({
   mayCommand: boolean;
 }): ReactNode {
   const [draft, setDraft] = useState<Record<Field, string> | null>(null);
+  const operate = useMay("operate");
   const save = useAction(async (next: MotionLimits) => {
     await putLimits(node, next);
     setDraft(null);
@@ -43,7 +45,7 @@ export function LimitsCard({
           <button
             type="button"
             className="small"
-            disabled={!mayCommand}
+            {...operate.gate("change the limits", { disabled: !mayCommand })}
             onClick={() =>
               setDraft({
                 max_velocity_rpm: text(limits.max_velocity_rpm),
@@ -118,7 +120,7 @@ export function LimitsCard({
         <button
           type="button"
           className="primary"
-          disabled={!ok || save.busy}
+          {...operate.gate("change the limits", { disabled: !ok || save.busy })}
           onClick={() =>
             void save.run({
               max_velocity_rpm: checks.max_velocity_rpm.value ?? limits.max_velocity_rpm,

@@ -2,6 +2,7 @@ import { useState, type ReactNode } from "react";
 
 import { ErrorText } from "../../components/ErrorText";
 import { useAction } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { move, moveQueue } from "./driveApi";
 import type { DriveState, MoveRequest } from "./types";
 import { checkRange, formatInc, formatRev } from "./units";
@@ -41,6 +42,8 @@ export function PpJog({
   const valid = pos.value !== null && vel.value !== null && acc.value !== null;
   const enabled = drive.state === "operation_enabled";
   const allowed = valid && enabled && mayCommand && !go.busy;
+  const operate = useMay("operate");
+  const moveGate = operate.gate("move the drive", { disabled: !allowed });
 
   const request = (positionRev: number, rel: boolean): MoveRequest => ({
     mode: "pp",
@@ -104,16 +107,16 @@ export function PpJog({
         </label>
       </div>
       <div className="button-row">
-        <button type="button" disabled={!allowed} onClick={() => void go.run(request(-step, true))}>
+        <button type="button" {...moveGate} onClick={() => void go.run(request(-step, true))}>
           ◀ Step −{step}
         </button>
-        <button type="button" disabled={!allowed} onClick={() => void go.run(request(step, true))}>
+        <button type="button" {...moveGate} onClick={() => void go.run(request(step, true))}>
           Step +{step} ▶
         </button>
         <button
           type="button"
           className="primary"
-          disabled={!allowed}
+          {...moveGate}
           onClick={() => void go.run(request(pos.value ?? 0, relative))}
         >
           {relative ? "Move by" : "Go to"} {formatRev(pos.value)}
@@ -155,7 +158,9 @@ export function PpJog({
             <button
               type="button"
               className="primary"
-              disabled={!enabled || !mayCommand || runQueue.busy}
+              {...operate.gate("move the drive", {
+                disabled: !enabled || !mayCommand || runQueue.busy,
+              })}
               onClick={() => void runQueue.run()}
             >
               Run sequence ({queue.length})

@@ -3,6 +3,7 @@ import type { ReactNode } from "react";
 import { api, call } from "../../api/client";
 import { ErrorText } from "../../components/ErrorText";
 import { useAction } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import type { EnableBlockedError } from "./driveApi";
 
 const NMT_CODES: ReadonlySet<string> = new Set(["nmt_stopped", "nmt_not_operational"]);
@@ -30,6 +31,7 @@ export function WhyBlocked({
     );
     onRetry();
   });
+  const configure = useMay("configure");
   const nmt = blocked.reasons.some((r) => NMT_CODES.has(r.code));
   return (
     <section className="why-blocked" role="alert" aria-labelledby="why-blocked-heading">
@@ -47,7 +49,11 @@ export function WhyBlocked({
       )}
       {nmt && (
         <div className="button-row">
-          <button type="button" disabled={start.busy} onClick={() => void start.run()}>
+          <button
+            type="button"
+            onClick={() => void start.run()}
+            {...configure.gate("start the node", { disabled: start.busy })}
+          >
             Start node {node} (NMT Operational) and {retry}
           </button>
           <ErrorText error={start.error} inline />

@@ -3,6 +3,7 @@ import { useState, type ReactNode } from "react";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { errorCode, resetFault } from "./faultsApi";
 import { FaultDetails } from "./FaultDetails";
 import { errorCodeParts, faultCode, faultName } from "./faultText";
@@ -53,6 +54,7 @@ export function ActiveFaultCard({
   onReset: () => void;
 }): ReactNode {
   const [result, setResult] = useState<string | null>(null);
+  const operate = useMay("operate");
   const reset = useAction(async () => {
     setResult(null);
     const answer = await resetFault(node);
@@ -76,7 +78,7 @@ export function ActiveFaultCard({
         <button
           type="button"
           className={active ? "primary" : undefined}
-          disabled={reset.busy}
+          {...operate.gate("reset faults", { disabled: reset.busy })}
           onClick={() => void reset.run()}
         >
           Fault reset

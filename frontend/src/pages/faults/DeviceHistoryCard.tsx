@@ -5,6 +5,7 @@ import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { clearDeviceHistory, deviceHistory } from "./faultsApi";
 import { errorRegisterText, faultCode, faultName, hasNoObject } from "./faultText";
 import type { DeviceHistoryEntry } from "./types";
@@ -56,6 +57,7 @@ export function DeviceHistoryCard({ node }: { node: number }): ReactNode {
   const history = useApi((signal) => deviceHistory(node, signal), `device-history-${node}`);
   const [asking, setAsking] = useState(false);
   const [message, setMessage] = useState<string | null>(null);
+  const configure = useMay("configure");
   const clear = useAction(async () => {
     const answer = await clearDeviceHistory(node);
     setMessage(answer.message);
@@ -78,7 +80,9 @@ export function DeviceHistoryCard({ node }: { node: number }): ReactNode {
           <button
             type="button"
             className="danger"
-            disabled={entries.length === 0 || clear.busy}
+            {...configure.gate("clear the error history", {
+              disabled: entries.length === 0 || clear.busy,
+            })}
             onClick={() => {
               clear.clearError();
               setMessage(null);

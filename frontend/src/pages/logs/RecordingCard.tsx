@@ -3,6 +3,7 @@ import { useState, type ReactNode } from "react";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { usePoll } from "../faults/usePoll";
 import {
   recordingStatus,
@@ -36,6 +37,7 @@ export function RecordingCard({ onDecode }: { onDecode: (file: File) => void }):
     active,
   );
   const [format, setFormat] = useState<RecordingFormat>("blf");
+  const operate = useMay("operate");
   const [file, setFile] = useState<RecordedFile | null>(null);
   const start = useAction(async () => {
     setFile(null);
@@ -80,7 +82,7 @@ export function RecordingCard({ onDecode }: { onDecode: (file: File) => void }):
           <button
             type="button"
             className="primary"
-            disabled={stop.busy}
+            {...operate.gate("stop the recording", { disabled: stop.busy })}
             onClick={() => void stop.run()}
           >
             Stop and download
@@ -89,7 +91,7 @@ export function RecordingCard({ onDecode }: { onDecode: (file: File) => void }):
           <button
             type="button"
             className="primary"
-            disabled={start.busy || !data}
+            {...operate.gate("record the bus", { disabled: start.busy || !data })}
             onClick={() => void start.run()}
           >
             Start recording

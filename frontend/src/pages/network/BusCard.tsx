@@ -6,6 +6,7 @@ import { ErrorText } from "../../components/ErrorText";
 import { formatBitrate } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
+import { useMay } from "../../session/context";
 import { ConnectForm } from "./ConnectForm";
 
 const STATE_LABELS: Readonly<Record<BusState, string>> = {
@@ -52,6 +53,7 @@ function BusFacts({ bus }: { bus: BusStatus }): ReactNode {
 export function BusCard({ onConnected }: { onConnected: () => void }): ReactNode {
   const bus = useLive((s) => s.bus);
   const store = useLiveStore();
+  const configure = useMay("configure");
   const action = useAction(async (kind: "disconnect" | "reconnect") => {
     const status =
       kind === "disconnect"
@@ -78,15 +80,17 @@ export function BusCard({ onConnected }: { onConnected: () => void }): ReactNode
           <div className="button-row">
             <button
               type="button"
-              disabled={action.busy || !connected}
               onClick={() => void action.run("disconnect")}
+              {...configure.gate("disconnect the bus", { disabled: action.busy || !connected })}
             >
               Disconnect
             </button>
             <button
               type="button"
-              disabled={action.busy || bus?.interface == null}
               onClick={() => void action.run("reconnect")}
+              {...configure.gate("reconnect the bus", {
+                disabled: action.busy || bus?.interface == null,
+              })}
             >
               Reconnect
             </button>

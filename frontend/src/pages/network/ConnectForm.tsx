@@ -7,6 +7,7 @@ import { Spinner } from "../../components/Spinner";
 import { formatBitrate } from "../../lib/format";
 import { useAction, useApi } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
+import { useMay } from "../../session/context";
 import { parseBusOptions } from "./busOptions";
 
 // CiA 301 bit timing table (plus 800k, which CiA 301 lists as well).
@@ -50,6 +51,7 @@ export function ConnectForm({
 
   const list = interfaces.data ?? [];
   const chosen = list.find((i) => i.name === iface) ?? list[0];
+  const configure = useMay("configure");
   const connect = useAction(async (config: BusConfig) => {
     const status = await call(api.POST("/api/bus/connect", { body: config }));
     store.apply({ type: "bus", bus: status });
@@ -160,7 +162,11 @@ export function ConnectForm({
         />
       </div>
       <div className="button-row">
-        <button type="submit" className="primary" disabled={connect.busy}>
+        <button
+          type="submit"
+          className="primary"
+          {...configure.gate("connect the bus", { disabled: connect.busy })}
+        >
           Connect
         </button>
         {connect.busy && <Spinner label="Connecting" />}

@@ -3,6 +3,7 @@ import { useState, type SubmitEvent, type ReactNode } from "react";
 import { api, call } from "../../api/client";
 import { ErrorText } from "../../components/ErrorText";
 import { useAction, useApi } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 
 /** The node's heartbeat producer time (1017h): read on show, written on Set. Below 10 ms the
  * server asks first (the node alone would put 100+ frames/s on the bus); "Set anyway" confirms. */
@@ -14,6 +15,7 @@ export function HeartbeatEditor({ node }: { node: number }): ReactNode {
   );
   const [text, setText] = useState<string | null>(null);
   const [inputError, setInputError] = useState<string | null>(null);
+  const configure = useMay("configure");
   const save = useAction(async (producer_ms: number, confirm: boolean) => {
     const result = await call(
       api.PUT("/api/nodes/{node}/heartbeat", {
@@ -53,7 +55,11 @@ export function HeartbeatEditor({ node }: { node: number }): ReactNode {
         onChange={(e) => setText(e.target.value)}
       />
       <span className="unit">ms</span>
-      <button type="submit" className="small" disabled={save.busy || text === null}>
+      <button
+        type="submit"
+        className="small"
+        {...configure.gate("change the heartbeat", { disabled: save.busy || text === null })}
+      >
         Set
       </button>
       {inputError ? (
@@ -65,7 +71,7 @@ export function HeartbeatEditor({ node }: { node: number }): ReactNode {
         <button
           type="button"
           className="small danger"
-          disabled={save.busy}
+          disabled={save.busy || !configure.allowed}
           onClick={() => void save.run(Number(shown), true)}
         >
           Set anyway

@@ -1,6 +1,7 @@
 import { useRef, type ReactNode } from "react";
 
 import type { NmtCommandName } from "../../api/types";
+import { useMay } from "../../session/context";
 
 export const NMT_COMMANDS: readonly { command: NmtCommandName; label: string }[] = [
   { command: "start", label: "Start" },
@@ -20,9 +21,15 @@ interface Props {
 /** A compact dropdown of the five NMT commands (details/summary: keyboard works natively). */
 export function NmtMenu({ label, disabled = false, onCommand }: Props): ReactNode {
   const details = useRef<HTMLDetailsElement>(null);
+  // NMT changes what the node does on the bus: an engineer's command
+  const gate = useMay("configure").gate("send NMT commands", { disabled });
   return (
     <details className="menu" ref={details}>
-      <summary aria-label={label} className={disabled ? "disabled" : undefined}>
+      <summary
+        aria-label={label}
+        className={gate.disabled ? "disabled" : undefined}
+        title={gate.title}
+      >
         NMT ▾
       </summary>
       <div className="menu-items" role="group" aria-label={label}>
@@ -30,7 +37,7 @@ export function NmtMenu({ label, disabled = false, onCommand }: Props): ReactNod
           <button
             key={command}
             type="button"
-            disabled={disabled}
+            {...gate}
             onClick={() => {
               if (details.current) details.current.open = false;
               onCommand(command);

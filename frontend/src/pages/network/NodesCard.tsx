@@ -11,6 +11,7 @@ import { formatAge, hex } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
 import { nodeUrl } from "../../nav/routes";
+import { useMay } from "../../session/context";
 import { QuickStopAllButton, QuickStopButton } from "../drive/QuickStopButton";
 import { HeartbeatEditor } from "./HeartbeatEditor";
 import { NMT_COMMANDS, NmtMenu } from "./NmtMenu";
@@ -97,6 +98,7 @@ const NodeRow = memo(function NodeRow({ info }: { info: NodeInfo }): ReactNode {
 });
 
 function BroadcastNmt(): ReactNode {
+  const configure = useMay("configure");
   const send = useAction((command: NmtCommandName) =>
     call(api.POST("/api/nmt", { body: { command } })),
   );
@@ -108,7 +110,7 @@ function BroadcastNmt(): ReactNode {
           key={command}
           type="button"
           className="small"
-          disabled={send.busy}
+          {...configure.gate("send NMT commands", { disabled: send.busy })}
           aria-label={`Broadcast ${label}`}
           onClick={() => void send.run(command)}
         >

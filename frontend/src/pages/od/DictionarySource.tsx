@@ -9,6 +9,7 @@ import { Spinner } from "../../components/Spinner";
 import { shortPath } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
+import { useMay } from "../../session/context";
 import { OD_FILE_TYPES } from "../tools/EdsCheckPanel";
 
 interface Props {
@@ -32,6 +33,7 @@ export function DictionarySource({ node, tree, onChanged }: Props): ReactNode {
     store.upsertInfo(await call(api.GET("/api/nodes/{node}", { params: { path: { node } } })));
   }
 
+  const configure = useMay("configure");
   const load = useAction(async (file: File) => {
     const summary = await call(
       api.POST("/api/nodes/{node}/od", { params: { path: { node } }, ...uploadBody(file) }),
@@ -54,13 +56,15 @@ export function DictionarySource({ node, tree, onChanged }: Props): ReactNode {
         <FilePicker
           label="Load EDS…"
           accept={OD_FILE_TYPES}
-          disabled={busy}
+          {...configure.gate("load an object dictionary", { disabled: busy })}
           onFile={(f) => void load.run(f)}
         />
         <button
           type="button"
-          disabled={busy || tree?.source !== "upload"}
           onClick={() => void revert.run()}
+          {...configure.gate("change the object dictionary", {
+            disabled: busy || tree?.source !== "upload",
+          })}
         >
           Use profile dictionary
         </button>

@@ -8,6 +8,7 @@ import { typeClass } from "../../lib/dataTypes";
 import { formatValue, odAddress } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { parseValue, rangeHint } from "../../lib/valueInput";
+import { useMay } from "../../session/context";
 
 const ACCESS_LABELS: Readonly<Record<string, string>> = {
   ro: "read only",
@@ -55,6 +56,7 @@ interface Props {
 /** One entry: what the dictionary says about it, and read / write against the device. */
 export function OdDetails({ node, entry, onValue }: Props): ReactNode {
   const inputId = useId();
+  const configure = useMay("configure");
   const [last, setLast] = useState<SdoValue | null>(null);
   const [text, setText] = useState("");
   const [inputError, setInputError] = useState<string | null>(null);
@@ -154,7 +156,11 @@ export function OdDetails({ node, entry, onValue }: Props): ReactNode {
                 setInputError(null);
               }}
             />
-            <button type="submit" className="primary" disabled={write.busy}>
+            <button
+              type="submit"
+              className="primary"
+              {...configure.gate("write to the object dictionary", { disabled: write.busy })}
+            >
               Write
             </button>
             {write.busy && <Spinner label="Writing" />}

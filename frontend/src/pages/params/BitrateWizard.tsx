@@ -8,6 +8,7 @@ import { Spinner } from "../../components/Spinner";
 import { formatBitrate } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
+import { useMay } from "../../session/context";
 
 /** Change the node's CAN bitrate, then offer to reconnect the tool at the new rate. Only the
  * rates the node's profile can set are offered; a drive that sets its bitrate elsewhere says
@@ -55,6 +56,8 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
     if (status.state === "connected") setOpen(false);
   });
 
+  const configure = useMay("configure");
+
   function close(): void {
     setOpen(false);
     setResult(null);
@@ -70,6 +73,7 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
           setOpen(true);
           void fetchOptions.run();
         }}
+        {...configure.gate("change the bitrate")}
       >
         Change bitrate…
       </button>

@@ -12,6 +12,8 @@ interface Props {
   explanation: ReactNode;
   confirmLabel: string;
   disabled?: boolean;
+  /** The opening button's tooltip (why it is disabled, when it is). */
+  title?: string | undefined;
   /** Runs on confirm; returns the server's message, or null when the page shows the outcome. */
   onConfirm: () => Promise<string | null>;
 }
@@ -22,6 +24,7 @@ export function ConfirmAction({
   explanation,
   confirmLabel,
   disabled = false,
+  title,
   onConfirm,
 }: Props): ReactNode {
   const [open, setOpen] = useState(false);
@@ -35,6 +38,7 @@ export function ConfirmAction({
       <button
         type="button"
         disabled={disabled}
+        title={title}
         onClick={() => {
           action.clearError();
           setOpen(true);

@@ -9,6 +9,7 @@ import { useAction } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
 import { refreshNodes } from "../../live/nodes";
 import { nodeUrl } from "../../nav/routes";
+import { useMay } from "../../session/context";
 
 export interface StepsNotice {
   title: string;
@@ -48,6 +49,8 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
     void navigate(nodeUrl(result.new_node), { state: { notice } });
   });
 
+  const configure = useMay("configure");
+
   function submit(event: SubmitEvent): void {
     event.preventDefault();
     const value = Number(text.trim());
@@ -65,7 +68,7 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
 
   return (
     <>
-      <button type="button" onClick={() => setOpen(true)}>
+      <button type="button" onClick={() => setOpen(true)} {...configure.gate("change the node ID")}>
         Change node ID…
       </button>
       {open && (

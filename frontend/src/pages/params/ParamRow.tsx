@@ -6,6 +6,7 @@ import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { formatValue } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { parseParamValue, TAKES_EFFECT_LABELS } from "./paramInput";
 
 interface Props {
@@ -23,6 +24,8 @@ function choiceText(param: Param, value: number | null | undefined): string {
 /** One catalogue parameter: its value editable in place, the server's answer beside it. */
 export const ParamRow = memo(function ParamRow({ node, param, onWritten }: Props): ReactNode {
   const inputId = useId();
+  const configure = useMay("configure");
+  const why = configure.because("write parameters");
   const [text, setText] = useState<string | null>(null);
   const [inputError, setInputError] = useState<string | null>(null);
   const [message, setMessage] = useState<string | null>(null);
@@ -77,6 +80,8 @@ export const ParamRow = memo(function ParamRow({ node, param, onWritten }: Props
                 aria-label={label}
                 aria-describedby={labelCellId}
                 value={shown}
+                disabled={!configure.allowed}
+                title={why}
                 onChange={(e) => setText(e.target.value)}
               >
                 {param.value == null && <option value="">—</option>}
@@ -97,6 +102,8 @@ export const ParamRow = memo(function ParamRow({ node, param, onWritten }: Props
                 aria-describedby={labelCellId}
                 inputMode="numeric"
                 value={shown}
+                readOnly={!configure.allowed}
+                title={why}
                 aria-invalid={inputError !== null}
                 onChange={(e) => {
                   setText(e.target.value);
@@ -107,7 +114,7 @@ export const ParamRow = memo(function ParamRow({ node, param, onWritten }: Props
             <button
               type="submit"
               className="small"
-              disabled={write.busy || !dirty}
+              {...configure.gate("write parameters", { disabled: write.busy || !dirty })}
               aria-label={`Write ${param.name}`}
             >
               Write

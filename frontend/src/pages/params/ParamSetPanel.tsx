@@ -9,6 +9,7 @@ import { FilePicker } from "../../components/FilePicker";
 import { Spinner } from "../../components/Spinner";
 import { formatValue, odAddress } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { CompareTable } from "./CompareTable";
 import { LoadDcfDialog } from "./LoadDcfDialog";
 
@@ -169,6 +170,7 @@ export function ParamSetPanel({ node }: { node: number }): ReactNode {
     setCompareOpen(false);
   });
   const busy = save.busy || preview.busy || load.busy || compare.busy;
+  const configure = useMay("configure");
 
   return (
     <section className="card" aria-labelledby="paramset-heading">
@@ -180,7 +182,7 @@ export function ParamSetPanel({ node }: { node: number }): ReactNode {
         <FilePicker
           label="Load DCF…"
           accept={DCF_TYPES}
-          disabled={busy}
+          {...configure.gate("load a DCF onto the node", { disabled: busy })}
           onFile={(f) => void preview.run(f)}
         />
         <button type="button" disabled={busy} onClick={() => setCompareOpen(true)}>

@@ -6,6 +6,7 @@ import type { ParamWriteResult } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useApi } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { BitrateWizard } from "./BitrateWizard";
 import { ConfirmAction } from "./ConfirmAction";
 import { NodeIdWizard, type StepsNotice } from "./NodeIdWizard";
@@ -49,6 +50,7 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
     [setData],
   );
   const [restored, setRestored] = useState(false);
+  const configure = useMay("configure");
   const list = params.data;
   const generic = list !== undefined && list.length === 0;
 
@@ -68,6 +70,7 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
             <ConfirmAction
               label="Store parameters"
               confirmLabel="Store"
+              {...configure.gate("store parameters")}
               explanation={
                 <p>
                   Writes "save" to 1010h:01: node {node} copies its current parameters into
@@ -89,6 +92,7 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
             <ConfirmAction
               label="Restore defaults"
               confirmLabel="Restore defaults"
+              {...configure.gate("restore the defaults")}
               explanation={
                 <p>
                   Writes "load" to 1011h:01: node {node} replaces its stored parameters with the

@@ -1,6 +1,7 @@
 import type { ReactNode } from "react";
 
 import { api, call } from "../../api/client";
+import { useMay } from "../../session/context";
 import { ConfirmAction } from "./ConfirmAction";
 
 const BOOT_WAIT_MS = 8000;
@@ -19,6 +20,7 @@ export function ResetAfterRestore({
   node: number;
   onBack: () => void;
 }): ReactNode {
+  const configure = useMay("configure");
   async function reset(): Promise<string> {
     await call(
       api.POST("/api/nodes/{node}/nmt", {
@@ -55,6 +57,7 @@ export function ResetAfterRestore({
       <ConfirmAction
         label={`Reset node ${node} now`}
         confirmLabel="Reset node"
+        {...configure.gate("reset the node")}
         explanation={
           <p>
             Sends NMT "reset node" to node {node}: the drive restarts with the restored defaults.

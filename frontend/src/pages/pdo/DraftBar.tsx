@@ -6,6 +6,7 @@ import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { draftChanges, isSynchronous, pdoLabel } from "./model";
 import { applyPdos, type ApplyOutcome } from "./pdoApi";
 import { SyncControl } from "./SyncControl";
@@ -50,6 +51,7 @@ export function DraftBar({
   onOutcome,
   onDiscard,
 }: Props): ReactNode {
+  const configure = useMay("configure");
   const [confirming, setConfirming] = useState(false);
   const changes = draftChanges(device, draft);
   const apply = useAction(async () => {
@@ -82,7 +84,7 @@ export function DraftBar({
         <button
           type="button"
           className="primary"
-          disabled={changes.length === 0}
+          {...configure.gate("apply a PDO mapping", { disabled: changes.length === 0 })}
           onClick={() => {
             apply.clearError();
             setConfirming(true);

@@ -5,6 +5,7 @@ import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { odAddress } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { formatCobId, formatRate, isSynchronous, pdoLabel } from "./model";
 import { SyncControl } from "./SyncControl";
 import type { LivePdo, LiveValue, Pdo } from "./types";
@@ -57,6 +58,7 @@ export function LiveCheck({ node, device }: { node: number; device: readonly Pdo
   const live = useLiveCapture(node);
   const needsSync = device.some((p) => p.valid && isSynchronous(p.transmission_type));
 
+  const configure = useMay("configure");
   const startAll = useAction(async () => {
     await call(
       api.POST("/api/nodes/{node}/nmt", {
@@ -91,8 +93,8 @@ export function LiveCheck({ node, device }: { node: number; device: readonly Pdo
           <button
             type="button"
             className="primary"
-            disabled={startAll.busy}
             onClick={() => void startAll.run()}
+            {...configure.gate("start the node", { disabled: startAll.busy })}
           >
             Start node and watch PDOs
           </button>

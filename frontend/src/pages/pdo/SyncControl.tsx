@@ -4,11 +4,13 @@ import { api, call } from "../../api/client";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 
 /** For a synchronous mapping: whether SYNC is produced, and a way to start it. */
 export function SyncControl(): ReactNode {
   const sync = useApi((signal) => call(api.GET("/api/sync", { signal })), "sync");
   const [periodMs, setPeriodMs] = useState("10");
+  const configure = useMay("configure");
   const produce = useAction(async () => {
     const answer = await call(
       api.PUT("/api/sync", {
@@ -44,8 +46,10 @@ export function SyncControl(): ReactNode {
       <span className="small">ms</span>
       <button
         type="button"
-        disabled={!periodOk || produce.busy || sync.loading}
         onClick={() => void produce.run()}
+        {...configure.gate("start SYNC", {
+          disabled: !periodOk || produce.busy || sync.loading,
+        })}
       >
         Produce SYNC
       </button>

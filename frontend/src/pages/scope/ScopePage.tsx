@@ -5,6 +5,7 @@ import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useLive } from "../../live/context";
 import { useAction, useApi } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { usePoll } from "../faults/usePoll";
 import { CaptureCard } from "./CaptureCard";
 import { CaptureList } from "./CaptureList";
@@ -117,7 +118,8 @@ export function ScopePage(): ReactNode {
     ended();
   });
 
-  const reason = startReason(built, plan, current);
+  const operate = useMay("operate");
+  const reason = operate.because("start a capture") ?? startReason(built, plan, current);
   const rows = useMemo(() => {
     const captures = list.data;
     if (!captures || !current) return captures;
@@ -161,6 +163,7 @@ export function ScopePage(): ReactNode {
                 type="button"
                 className="primary"
                 disabled={reason !== null || start.busy}
+                title={reason ?? undefined}
                 aria-describedby={reason ? "scope-start-reason" : undefined}
                 onClick={() => void start.run()}
               >

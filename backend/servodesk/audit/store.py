@@ -1,0 +1,291 @@
+"""The audit log on disk: SQLite (`<data_dir>/audit.sqlite`, WAL, synchronous FULL), append-only.
+
+An entry is two rows: its begin row, written before the write is sent, and its result row,
+written after. Neither is ever changed or deleted: triggers refuse UPDATE and DELETE, and a
+result row's primary key is its entry, so no entry gets a second result. An entry whose result
+row is missing at start-up (the server died mid-write) gets the result "unknown".
+
+Blocking SQLite calls run on this store's one thread, in the order they were submitted; a
+stop submits its begin row without waiting for it (`begin(..., wait=False)`).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import sqlite3
+import time
+from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from servodesk.audit.entry import AuditValue, Outcome, Pending
+
+FILENAME = "audit.sqlite"
+CRASHED = "the server stopped before this write completed: check the drive's value"
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS entries (
+    id INTEGER PRIMARY KEY,
+    time REAL NOT NULL,
+    user TEXT NOT NULL,
+    role TEXT NOT NULL,
+    client TEXT,
+    node INTEGER,
+    action TEXT NOT NULL,
+    what TEXT NOT NULL,
+    new TEXT,
+    undo_of INTEGER
+);
+CREATE TABLE IF NOT EXISTS results (
+    entry INTEGER PRIMARY KEY REFERENCES entries(id),
+    time REAL NOT NULL,
+    result TEXT NOT NULL,
+    what TEXT NOT NULL,
+    obj_index INTEGER,
+    obj_subindex INTEGER,
+    old TEXT,
+    new TEXT,
+    abort_code TEXT,
+    error TEXT,
+    message TEXT,
+    undoable INTEGER NOT NULL
+);
+CREATE INDEX IF NOT EXISTS entries_node ON entries(node, id);
+CREATE INDEX IF NOT EXISTS entries_time ON entries(time);
+CREATE TRIGGER IF NOT EXISTS entries_append_only_u BEFORE UPDATE ON entries
+    BEGIN SELECT RAISE(ABORT, 'the audit log is append-only'); END;
+CREATE TRIGGER IF NOT EXISTS entries_append_only_d BEFORE DELETE ON entries
+    BEGIN SELECT RAISE(ABORT, 'the audit log is append-only'); END;
+CREATE TRIGGER IF NOT EXISTS results_append_only_u BEFORE UPDATE ON results
+    BEGIN SELECT RAISE(ABORT, 'the audit log is append-only'); END;
+CREATE TRIGGER IF NOT EXISTS results_append_only_d BEFORE DELETE ON results
+    BEGIN SELECT RAISE(ABORT, 'the audit log is append-only'); END;
+"""
+
+_SELECT = """
+SELECT e.id, e.time, r.time, e.user, e.role, e.client, e.node, e.action,
+       COALESCE(r.what, e.what), r.obj_index, r.obj_subindex, r.old, COALESCE(r.new, e.new),
+       COALESCE(r.result, 'pending'), r.abort_code, r.error, r.message, e.undo_of,
+       COALESCE(r.undoable, 0)
+FROM entries e LEFT JOIN results r ON r.entry = e.id
+"""
+CSV_COLUMNS = (
+    "id",
+    "time",
+    "finished",
+    "user",
+    "role",
+    "client",
+    "node",
+    "action",
+    "what",
+    "index",
+    "subindex",
+    "old",
+    "new",
+    "result",
+    "abort_code",
+    "error",
+    "message",
+    "undo_of",
+)
+
+
+@dataclass(frozen=True)
+class AuditRow:
+    id: int
+    time: float
+    finished: float | None
+    user: str
+    role: str
+    client: str | None
+    node: int | None
+    action: str
+    what: str
+    index: int | None
+    subindex: int | None
+    old: AuditValue
+    new: AuditValue
+    result: str
+    abort_code: str | None
+    error: str | None
+    message: str | None
+    undo_of: int | None
+    undoable: bool
+
+
+@dataclass(frozen=True)
+class AuditFilter:
+    node: int | None = None
+    since: float | None = None  # unix time, inclusive
+    until: float | None = None
+    user: str | None = None
+    action: str | None = None
+    before: int | None = None  # ids below this one (paging back)
+    limit: int = 100
+
+    def where(self) -> tuple[str, list[Any]]:
+        terms: list[str] = []
+        args: list[Any] = []
+        for column, value in (
+            ("e.node = ?", self.node),
+            ("e.time >= ?", self.since),
+            ("e.time <= ?", self.until),
+            ("e.user = ?", self.user),
+            ("e.action = ?", self.action),
+            ("e.id < ?", self.before),
+        ):
+            if value is not None:
+                terms.append(column)
+                args.append(value)
+        return (" WHERE " + " AND ".join(terms)) if terms else "", args
+
+
+def _dump(value: AuditValue) -> str | None:
+    return None if value is None else json.dumps(value)
+
+
+def _load(text: str | None) -> AuditValue:
+    if text is None:
+        return None
+    value = json.loads(text)
+    return value if isinstance(value, int | float | str) else str(value)
+
+
+def _row(raw: tuple[Any, ...]) -> AuditRow:
+    (id_, begun, finished, user, role, client, node, action, what, index, subindex, old, new,
+     result, abort_code, error, message, undo_of, undoable) = raw  # fmt: skip
+    return AuditRow(
+        id_, begun, finished, user, role, client, node, action, what, index, subindex,
+        _load(old), _load(new), result, abort_code, error, message, undo_of, bool(undoable),
+    )  # fmt: skip
+
+
+class AuditStore:
+    def __init__(self, data_dir: Path) -> None:
+        self.path = data_dir / FILENAME
+        self._thread = ThreadPoolExecutor(max_workers=1, thread_name_prefix="audit")
+        self._db: sqlite3.Connection | None = None
+
+    # --- on the store's thread -------------------------------------------------------------
+
+    def _open(self) -> int:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        db = sqlite3.connect(self.path, check_same_thread=False, isolation_level=None)
+        db.execute("PRAGMA journal_mode = WAL")
+        db.execute("PRAGMA synchronous = FULL")  # an entry is on disk before its write is sent
+        db.executescript(_SCHEMA)
+        self._db = db
+        orphans = db.execute(
+            "SELECT e.id, e.what, e.new FROM entries e LEFT JOIN results r ON r.entry = e.id "
+            "WHERE r.entry IS NULL"
+        ).fetchall()
+        now = time.time()
+        db.executemany(
+            "INSERT INTO results (entry, time, result, what, new, message, undoable) "
+            "VALUES (?, ?, 'unknown', ?, ?, ?, 0)",
+            [(id_, now, what, new, CRASHED) for id_, what, new in orphans],
+        )
+        return len(orphans)
+
+    def _conn(self) -> sqlite3.Connection:
+        if self._db is None:
+            raise RuntimeError("the audit log is not open")  # a bug of ours, not the user's
+        return self._db
+
+    def _begin(self, entry: Pending, when: float) -> int:
+        actor = entry.actor
+        cursor = self._conn().execute(
+            "INSERT INTO entries (time, user, role, client, node, action, what, new, undo_of) "
+            "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
+            (when, actor.user, actor.role.label, actor.client, entry.node, entry.action,
+             entry.what, _dump(entry.new), entry.undo_of),
+        )  # fmt: skip
+        if cursor.lastrowid is None:
+            raise RuntimeError("SQLite gave the audit entry no id")
+        return cursor.lastrowid
+
+    def _finish(self, entry: Pending, outcome: Outcome, when: float) -> None:
+        self._conn().execute(
+            "INSERT INTO results (entry, time, result, what, obj_index, obj_subindex, old, new, "
+            "abort_code, error, message, undoable) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+            (entry.row.result(), when, outcome.result, entry.what, entry.index, entry.subindex,
+             _dump(entry.old), _dump(entry.new), outcome.abort_code, outcome.error,
+             outcome.message, int(outcome.result == "ok" and entry.undoable)),
+        )  # fmt: skip
+
+    def _query(self, filters: AuditFilter) -> list[AuditRow]:
+        where, args = filters.where()
+        sql = f"{_SELECT}{where} ORDER BY e.id DESC LIMIT ?"
+        return [_row(r) for r in self._conn().execute(sql, [*args, filters.limit])]
+
+    def _get(self, entry_id: int) -> AuditRow | None:
+        raw = self._conn().execute(f"{_SELECT} WHERE e.id = ?", (entry_id,)).fetchone()
+        return None if raw is None else _row(raw)
+
+    def _csv_chunk(self, filters: AuditFilter, after: int) -> tuple[str, int | None]:
+        """Up to 1000 rows (oldest first) past id `after`, as CSV text; the last id or None."""
+        where, args = filters.where()
+        joiner = " AND " if where else " WHERE "
+        sql = f"{_SELECT}{where}{joiner}e.id > ? ORDER BY e.id LIMIT 1000"
+        rows = [_row(r) for r in self._conn().execute(sql, [*args, after])]
+        out = io.StringIO()
+        writer = csv.writer(out)
+        for row in rows:
+            writer.writerow(
+                [row.id, _iso(row.time), _iso(row.finished), row.user, row.role, row.client,
+                 row.node, row.action, row.what, _hex(row.index, 4), _hex(row.subindex, 2),
+                 row.old, row.new, row.result, row.abort_code, row.error, row.message,
+                 row.undo_of]
+            )  # fmt: skip
+        return out.getvalue(), rows[-1].id if rows else None
+
+    # --- the async side --------------------------------------------------------------------
+
+    def submit_open(self) -> Future[int]:
+        return self._thread.submit(self._open)
+
+    def submit_begin(self, entry: Pending) -> Future[int]:
+        return self._thread.submit(self._begin, entry, time.time())
+
+    def submit_finish(self, entry: Pending, outcome: Outcome) -> Future[None]:
+        return self._thread.submit(self._finish, entry, outcome, time.time())
+
+    def submit_query(self, filters: AuditFilter) -> Future[list[AuditRow]]:
+        return self._thread.submit(self._query, filters)
+
+    def submit_get(self, entry_id: int) -> Future[AuditRow | None]:
+        return self._thread.submit(self._get, entry_id)
+
+    def submit_csv_chunk(self, filters: AuditFilter, after: int) -> Future[tuple[str, int | None]]:
+        return self._thread.submit(self._csv_chunk, filters, after)
+
+    def close(self) -> None:
+        """After everything submitted so far (the last results) is written."""
+
+        def shut() -> None:
+            if self._db is not None:
+                self._db.close()
+                self._db = None
+
+        self._thread.submit(shut)
+        self._thread.shutdown(wait=True)
+
+
+def csv_header() -> str:
+    out = io.StringIO()
+    csv.writer(out).writerow(CSV_COLUMNS)
+    return out.getvalue()
+
+
+def _iso(when: float | None) -> str:
+    if when is None:
+        return ""
+    return time.strftime("%Y-%m-%dT%H:%M:%S", time.gmtime(when)) + f".{int(when % 1 * 1000):03d}Z"
+
+
+def _hex(value: int | None, digits: int) -> str:
+    return "" if value is None else f"{value:0{digits}X}"

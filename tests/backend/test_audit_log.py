@@ -1,0 +1,209 @@
+"""The audit log through the API with the simulated drives: every write has an entry with who,
+from where, the object, old → new and the result (abort code and meaning when the drive
+refused); entries are filtered, exported as CSV, survive a restart, are never rewritten; a
+parameter or OD write is undone from its entry, and the undo is audited itself."""
+
+from __future__ import annotations
+
+import csv
+import io
+import sqlite3
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from fastapi.testclient import TestClient
+
+from servodesk.access.actor import Actor, Role, acting
+from servodesk.app import create_app
+from servodesk.audit import AuditFilter, AuditLog
+from servodesk.settings import Settings
+
+
+def make_client(data_dir: Path, **settings: Any) -> TestClient:
+    return TestClient(
+        create_app(Settings(simulated=True, data_dir=data_dir, **settings), static_dir=None)
+    )
+
+
+@pytest.fixture
+def client(tmp_path: Path) -> Iterator[TestClient]:
+    with make_client(tmp_path) as test_client:
+        yield test_client
+
+
+def newest(client: TestClient, **query: Any) -> dict[str, Any]:
+    entries = client.get("/api/audit", params={"limit": 1, **query}).json()
+    assert entries, "no audit entry"
+    entry: dict[str, Any] = entries[0]
+    return entry
+
+
+def test_an_od_write_is_recorded_with_old_and_new(client: TestClient) -> None:
+    before = client.get("/api/nodes/1/sdo/6081/0").json()["value"]
+    started = time.time()
+    assert client.put("/api/nodes/1/sdo/6081/0", json={"value": 2500}).status_code == 200
+    entry = newest(client)
+    assert entry["action"] == "sdo-write"
+    assert (entry["node"], entry["index"], entry["subindex"]) == (1, 0x6081, 0)
+    assert (entry["old"], entry["new"]) == (before, 2500)
+    assert entry["result"] == "ok"
+    assert (entry["user"], entry["role"]) == ("local", "engineer")
+    assert entry["client"].startswith("testclient")
+    assert started - 1 <= entry["time"] <= entry["finished"] <= time.time() + 1
+    assert entry["undoable"] is True
+    assert "6081h:00h" in entry["what"]
+
+
+def test_a_refused_write_names_the_abort_code_and_its_meaning(client: TestClient) -> None:
+    response = client.put("/api/nodes/1/sdo/6041/0", json={"value": 6})
+    assert response.status_code == 409
+    entry = newest(client)
+    assert entry["result"] == "failed"
+    assert entry["abort_code"] == "0x06010002"
+    assert entry["message"] == "Attempt to write a read-only object"
+    assert entry["error"] == "sdo_abort"
+    assert entry["undoable"] is False
+
+
+def test_a_parameter_write_is_recorded_by_name(client: TestClient) -> None:
+    old = client.get("/api/nodes/1/params/PA-14").json()["value"]
+    new = 4 if old != 4 else 0
+    assert client.put("/api/nodes/1/params/PA-14", json={"value": new}).status_code == 200
+    entry = newest(client)
+    assert entry["action"] == "param"
+    assert "PA-14" in entry["what"]
+    assert (entry["old"], entry["new"]) == (old, new)
+
+
+@pytest.mark.parametrize(
+    ("method", "path", "body", "action"),
+    [
+        ("POST", "/api/nodes/3/nmt", {"command": "pre-operational"}, "nmt"),
+        ("POST", "/api/nodes/3/drive/enable", None, "drive-enable"),
+        ("POST", "/api/nodes/3/drive/disable", None, "drive-disable"),
+        ("POST", "/api/nodes/3/drive/quick-stop", None, "quick-stop"),
+        ("POST", "/api/nodes/3/faults/reset", None, "fault-reset"),
+        ("POST", "/api/nodes/3/store", {"confirm": True}, "store"),
+        ("DELETE", "/api/nodes/3/faults/device-history", None, "clear-history"),
+    ],
+)
+def test_commands_are_recorded(
+    client: TestClient, method: str, path: str, body: Any, action: str
+) -> None:
+    response = client.request(method, path, json=body)
+    entry = newest(client)
+    assert entry["action"] == action
+    assert entry["node"] == 3
+    assert entry["result"] == ("ok" if response.status_code < 400 else "failed")
+    assert path in entry["what"]
+
+
+def test_undo_writes_the_old_value_back_and_is_audited(client: TestClient) -> None:
+    before = client.get("/api/nodes/2/sdo/6081/0").json()["value"]
+    client.put("/api/nodes/2/sdo/6081/0", json={"value": 1111})
+    written = newest(client)
+    undo = client.post(f"/api/audit/{written['id']}/undo")
+    assert undo.status_code == 200, undo.text
+    entry = undo.json()
+    assert entry["action"] == "undo"
+    assert entry["undo_of"] == written["id"]
+    assert (entry["old"], entry["new"]) == (1111, before)
+    assert entry["result"] == "ok"
+    assert client.get("/api/nodes/2/sdo/6081/0").json()["value"] == before
+    assert newest(client)["id"] == entry["id"]
+
+
+def test_undo_refuses_when_the_value_changed_since_unless_forced(client: TestClient) -> None:
+    client.put("/api/nodes/2/sdo/6083/0", json={"value": 3000})
+    first = newest(client)
+    client.put("/api/nodes/2/sdo/6083/0", json={"value": 4000})
+    refused = client.post(f"/api/audit/{first['id']}/undo")
+    assert refused.status_code == 409
+    assert refused.json()["error"] == "changed_since"
+    assert "4000" in refused.json()["message"]
+    assert client.get("/api/nodes/2/sdo/6083/0").json()["value"] == 4000  # nothing written
+    forced = client.post(f"/api/audit/{first['id']}/undo", json={"force": True})
+    assert forced.status_code == 200
+    assert client.get("/api/nodes/2/sdo/6083/0").json()["value"] == first["old"]
+
+
+def test_what_cannot_be_undone_says_why(client: TestClient) -> None:
+    client.post("/api/nodes/3/drive/quick-stop")
+    stop = newest(client)
+    refused = client.post(f"/api/audit/{stop['id']}/undo")
+    assert refused.status_code == 409
+    assert refused.json()["error"] == "not_undoable"
+    assert "only those can be undone" in refused.json()["message"]
+    client.put("/api/nodes/1/sdo/6041/0", json={"value": 6})
+    failed = newest(client)
+    assert "did not complete" in client.post(f"/api/audit/{failed['id']}/undo").json()["message"]
+    missing = client.post("/api/audit/999999/undo")
+    assert missing.status_code == 404
+
+
+def test_filters_and_paging(client: TestClient) -> None:
+    for node, value in ((1, 1001), (2, 1002), (3, 1003), (1, 1004)):
+        client.put(f"/api/nodes/{node}/sdo/6081/0", json={"value": value})
+    node1 = client.get("/api/audit", params={"node": 1}).json()
+    assert [e["new"] for e in node1] == [1004, 1001]
+    page = client.get("/api/audit", params={"limit": 2}).json()
+    older = client.get("/api/audit", params={"limit": 2, "before": page[-1]["id"]}).json()
+    assert [e["new"] for e in page + older] == [1004, 1003, 1002, 1001]
+    assert client.get("/api/audit", params={"since": time.time() + 60}).json() == []
+    assert len(client.get("/api/audit", params={"action": "sdo-write"}).json()) == 4
+    assert client.get("/api/audit", params={"user": "nobody"}).json() == []
+
+
+def test_csv_export(client: TestClient) -> None:
+    client.put("/api/nodes/1/sdo/6081/0", json={"value": 2024})
+    client.put("/api/nodes/1/sdo/6041/0", json={"value": 6})
+    response = client.get("/api/audit/export", params={"format": "csv", "node": 1})
+    assert response.status_code == 200
+    assert response.headers["content-type"].startswith("text/csv")
+    assert "servodesk-audit.csv" in response.headers["content-disposition"]
+    rows = list(csv.DictReader(io.StringIO(response.text)))
+    assert [r["new"] for r in rows] == ["2024", "6"]  # oldest first
+    assert rows[0]["index"] == "6081"
+    assert rows[0]["result"] == "ok"
+    assert rows[1]["abort_code"] == "0x06010002"
+    assert rows[1]["result"] == "failed"
+    assert rows[0]["time"].endswith("Z")
+
+
+def test_the_log_survives_a_restart_and_is_never_rewritten(tmp_path: Path) -> None:
+    with make_client(tmp_path) as client:
+        client.put("/api/nodes/1/sdo/6081/0", json={"value": 3333})
+        before = client.get("/api/audit").json()
+    with make_client(tmp_path) as client:
+        assert client.get("/api/audit").json() == before
+    db = sqlite3.connect(tmp_path / "audit.sqlite")
+    for statement in (
+        "UPDATE entries SET user = 'someone else'",
+        "DELETE FROM entries",
+        "UPDATE results SET result = 'ok'",
+        "DELETE FROM results",
+        "INSERT INTO results (entry, time, result, what, undoable) "
+        f"VALUES ({before[0]['id']}, 0, 'ok', 'x', 0)",  # a second result for an entry
+    ):
+        with pytest.raises(sqlite3.DatabaseError):
+            db.execute(statement)
+    db.close()
+
+
+@pytest.mark.anyio
+async def test_a_write_cut_off_by_a_crash_is_marked_unknown(tmp_path: Path) -> None:
+    audit = AuditLog(tmp_path)
+    await audit.open()
+    with acting(Actor("alice", Role.ENGINEER, "10.0.0.5:4000")):
+        await audit.begin("sdo-write", 1, "write node 1 6081h:00h", new=5)
+    await audit.close()  # no result row: as if the server died mid-write
+    reopened = AuditLog(tmp_path)
+    await reopened.open()
+    (row,) = await reopened.entries(AuditFilter())
+    await reopened.close()
+    assert (row.user, row.client, row.result) == ("alice", "10.0.0.5:4000", "unknown")
+    assert row.message is not None
+    assert "server stopped" in row.message

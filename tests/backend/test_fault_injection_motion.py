@@ -1,0 +1,72 @@
+"""A drive's heartbeat lost while a PV jog runs through the API: the server stops the jog by
+itself, says why, the timeline shows the loss, and the axis comes to a standstill."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+from tests.backend.fault_rig import FaultyApp, faulty_app, heartbeat_of
+
+NODE = 3  # the CiA 402 drive
+PAGE = {"X-Client-Id": "page-a", "X-Client-Name": "Alice"}
+WIDE = 1000 * 131072  # limit switches out of the way (motor increments)
+
+
+def ok(answer: Any, status: int = 200) -> Any:
+    assert answer.status_code == status, answer.json()
+    return answer.json()
+
+
+def drive(app: FaultyApp) -> dict[str, Any]:
+    state: dict[str, Any] = ok(app.client.get(f"/api/nodes/{NODE}/drive"))
+    return state
+
+
+def test_heartbeat_lost_during_a_jog_stops_it(tmp_path: Path) -> None:
+    """Expected: node 3 produces heartbeats every 100 ms and jogs at 300 rpm, kept alive by
+    the page; its heartbeats stop reaching the tool: the server stops the jog with reason
+    "heartbeat lost" (keep-alives then answer 409 `jog_stopped`), the timeline has a
+    node-lost event for node 3, and the axis comes to a standstill (velocity 0)."""
+    with faulty_app(tmp_path) as app:
+        client = app.client
+        ok(client.put(f"/api/nodes/{NODE}/heartbeat", json={"producer_ms": 100}))
+        for sub, value in (("5FF1/0", -WIDE), ("5FF2/0", WIDE)):  # SIM limit switches
+            ok(client.put(f"/api/nodes/{NODE}/sdo/{sub}", json={"value": value}))
+        ok(client.post(f"/api/nodes/{NODE}/drive/enable", headers=PAGE))
+        body = {"mode": "pv", "velocity_rpm": 300, "keepalive_ms": 500}
+        jog = ok(client.post(f"/api/nodes/{NODE}/jog", headers=PAGE, json=body))
+        keepalive = f"/api/jog/{jog['jog_id']}/keepalive"
+        deadline = time.monotonic() + 5
+        while drive(app)["velocity_rpm"] < 150:  # moving (kept alive meanwhile)
+            assert time.monotonic() < deadline, "the drive does not jog"
+            ok(client.post(keepalive))
+        lost_before = len(ok(client.get(f"/api/events?node={NODE}&kind=node-lost"))["events"])
+
+        rule = app.rig.drop("rx", heartbeat_of(NODE))
+        deadline = time.monotonic() + 5
+        while True:  # the page is still there: only the lost heartbeat may stop the jog
+            answer = client.post(keepalive)
+            if answer.status_code != 200:
+                break
+            assert time.monotonic() < deadline, "the jog was not stopped"
+            time.sleep(0.02)
+        assert rule.hits >= 1
+        refused = answer.json()
+        assert (answer.status_code, refused["error"]) == (409, "jog_stopped"), refused
+        info = ok(client.get(f"/api/jog/{jog['jog_id']}"))
+        assert info["state"] == "stopped"
+        assert info["stop_reason"] == "heartbeat lost"
+        lost = ok(client.get(f"/api/events?node={NODE}&kind=node-lost"))["events"]
+        assert len(lost) > lost_before
+        assert "heartbeat" in lost[0]["message"], lost[0]
+        app.eventually(lambda: drive(app)["velocity_rpm"] == 0, what="standstill")
+
+        app.rig.remove(rule)  # the heartbeats come back: the node is back, nothing restarts
+        app.eventually(
+            lambda: bool(ok(client.get(f"/api/events?node={NODE}&kind=node-back"))["events"]),
+            what="node-back event",
+        )
+        assert drive(app)["velocity_rpm"] == 0
+        assert ok(client.get(f"/api/jog/{jog['jog_id']}"))["state"] == "stopped"
