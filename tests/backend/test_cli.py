@@ -5,8 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from pydantic import SecretStr
 
-from servodesk.cli import build_parser, main
+from servodesk.cli import build_parser, main, serve_refusal
+from servodesk.settings import Settings
 
 SHARED_EDS = Path(__file__).resolve().parents[2] / ".." / "shared" / "eds"
 
@@ -138,3 +140,25 @@ def test_debug_shows_the_traceback(capsys: pytest.CaptureFixture[str]) -> None:
     err = capsys.readouterr().err
     assert "Traceback" in err
     assert err.strip().endswith("servodesk: node 5: no answer to identify node 5 (read 1000h)")
+
+
+def test_serve_checks_tokens_and_tls_before_starting(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    tokens = tmp_path / "tokens"
+    tokens.write_text("alice:engineer=alice-token-0123\nbob:admin=bob-token-0123456\n")
+    assert main(["serve", "--sim", "--tokens-file", str(tokens)]) == 2
+    assert f"{tokens}:2: unknown role 'admin'" in capsys.readouterr().err
+    assert main(["serve", "--sim", "--tls-cert", str(tokens)]) == 2
+    assert "needs both --tls-cert and --tls-key" in capsys.readouterr().err
+    missing = tmp_path / "missing.pem"
+    assert main(["serve", "--sim", "--tls-cert", str(missing), "--tls-key", str(missing)]) == 2
+    assert "is not a readable file" in capsys.readouterr().err
+
+
+def test_serving_beyond_loopback_with_tokens_is_allowed() -> None:
+    with_tokens = Settings(bind="0.0.0.0", tokens=SecretStr("engineer=eng-token-0123456"))
+    assert serve_refusal(with_tokens) is None
+    refused = serve_refusal(Settings(bind="10.1.2.3"))
+    assert refused is not None
+    assert "SERVODESK_TOKENS" in refused

@@ -121,6 +121,7 @@ def test_the_run_was_large_enough_and_every_write_is_audited(base_url: str) -> N
                 break
             entries += page
             before = page[-1]["id"]
+    print(f"schemathesis: {SENT['requests']} requests, {SENT['audited']} audited writes")
     assert len(entries) == SENT["audited"], SENT
     assert all(entry["result"] != "pending" for entry in entries)
     assert {entry["user"] for entry in entries} == {"engineer"}

@@ -3,10 +3,10 @@ undo of a parameter or OD write (docs/security.md, "Audit log")."""
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
+from dataclasses import replace
 from typing import Annotated, Literal
 
-from fastapi import APIRouter, Path, Query
+from fastapi import APIRouter, Depends, Path, Query
 from fastapi.responses import StreamingResponse
 
 from servodesk.api.audited import AuditedRoute, outcome_of
@@ -30,23 +30,30 @@ UNDO_ERRORS: dict[int | str, dict[str, object]] = {
 }
 
 
-@router.get("")
-async def audit_entries(
-    services: ServicesDep,
+def _filters(
     node: Annotated[int | None, Query(ge=1, le=127)] = None,
     since: Annotated[float | None, Query(ge=0, le=1e11, description="unix time (s)")] = None,
     until: Annotated[float | None, Query(ge=0, le=1e11, description="unix time (s)")] = None,
     user: Annotated[str | None, Query(max_length=100)] = None,
     action: Annotated[str | None, Query(max_length=40)] = None,
+) -> AuditFilter:
+    return AuditFilter(node, since, until, user, action)
+
+
+Filters = Annotated[AuditFilter, Depends(_filters)]
+
+
+@router.get("")
+async def audit_entries(
+    services: ServicesDep,
+    filters: Filters,
     before: Annotated[
         int | None, Query(ge=1, le=2**62, description="entries older than this id")
     ] = None,
     limit: Annotated[int, Query(ge=1, le=1000)] = 100,
 ) -> list[AuditEntry]:
     """The entries, newest first."""
-    rows = await services.audit.entries(
-        AuditFilter(node, since, until, user, action, before, limit)
-    )
+    rows = await services.audit.entries(replace(filters, before=before, limit=limit))
     return [AuditEntry.of(row) for row in rows]
 
 
@@ -57,17 +64,12 @@ async def audit_entries(
 )
 async def export_audit(
     services: ServicesDep,
+    filters: Filters,
     format: Literal["csv"] = "csv",  # the query parameter's name
-    node: Annotated[int | None, Query(ge=1, le=127)] = None,
-    since: Annotated[float | None, Query(ge=0, le=1e11)] = None,
-    until: Annotated[float | None, Query(ge=0, le=1e11)] = None,
-    user: Annotated[str | None, Query(max_length=100)] = None,
-    action: Annotated[str | None, Query(max_length=40)] = None,
 ) -> StreamingResponse:
     """Every matching entry as CSV, oldest first."""
-    rows: AsyncIterator[str] = services.audit.csv(AuditFilter(node, since, until, user, action))
     return StreamingResponse(
-        rows,
+        services.audit.csv(filters),
         media_type="text/csv; charset=utf-8",
         headers={"Content-Disposition": 'attachment; filename="servodesk-audit.csv"'},
     )

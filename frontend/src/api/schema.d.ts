@@ -3471,6 +3471,9 @@ export interface operations {
     audit_entries_api_audit_get: {
         parameters: {
             query?: {
+                /** @description entries older than this id */
+                before?: number | null;
+                limit?: number;
                 node?: number | null;
                 /** @description unix time (s) */
                 since?: number | null;
@@ -3478,9 +3481,6 @@ export interface operations {
                 until?: number | null;
                 user?: string | null;
                 action?: string | null;
-                /** @description entries older than this id */
-                before?: number | null;
-                limit?: number;
             };
             header?: never;
             path?: never;
@@ -3522,7 +3522,9 @@ export interface operations {
             query?: {
                 format?: "csv";
                 node?: number | null;
+                /** @description unix time (s) */
                 since?: number | null;
+                /** @description unix time (s) */
                 until?: number | null;
                 user?: string | null;
                 action?: string | null;
