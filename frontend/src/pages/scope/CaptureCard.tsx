@@ -4,6 +4,7 @@ import type { ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { formatClock, odAddress } from "../../lib/format";
+import { useMay } from "../../session/context";
 import { formatReading, isActive, signalKey, triggerText } from "./model";
 import { Sparkline } from "./Sparkline";
 import type { History } from "./sparkline";
@@ -42,6 +43,7 @@ export function CaptureCard({
   error: ApiError | null;
 }): ReactNode {
   const id = useId();
+  const operate = useMay("operate");
   const active = isActive(capture);
   const seconds = elapsed(capture, now);
   const values = history.capture === capture.id ? history.values : {};
@@ -62,7 +64,12 @@ export function CaptureCard({
         </span>
         <span className="spacer" />
         {active && (
-          <button type="button" className="danger" disabled={stopping} onClick={onStop}>
+          <button
+            type="button"
+            className="danger"
+            {...operate.gate("stop the capture", { disabled: stopping })}
+            onClick={onStop}
+          >
             ■ Stop
           </button>
         )}

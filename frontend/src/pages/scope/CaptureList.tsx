@@ -6,6 +6,7 @@ import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { odAddress } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
+import { useMay } from "../../session/context";
 import { formatBytes, formatDateTime, isActive, triggerText } from "./model";
 import { exportUrl, stopOrDeleteCapture } from "./scopeApi";
 import type { Capture, ExportFormat } from "./types";
@@ -40,6 +41,7 @@ export function CaptureList({
   onDeleted: (id: number) => void;
 }): ReactNode {
   const id = useId();
+  const operate = useMay("operate");
   const [asking, setAsking] = useState<Capture | null>(null);
   const remove = useAction(async (capture: Capture) => {
     await stopOrDeleteCapture(capture.id);
@@ -134,8 +136,10 @@ export function CaptureList({
                         <button
                           type="button"
                           className="small danger"
-                          disabled={active}
-                          title={active ? "Stop it first" : undefined}
+                          {...operate.gate("delete a capture", {
+                            disabled: active,
+                            title: active ? "Stop it first" : undefined,
+                          })}
                           aria-label={`Delete capture ${capture.id}`}
                           onClick={() => {
                             remove.clearError();
