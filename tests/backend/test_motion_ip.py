@@ -87,7 +87,11 @@ async def test_a_stalled_stream_surfaces_the_lost_sync_alarm() -> None:
         streaming = asyncio.create_task(
             r.motion.ip_stream(node, "sine", period_ms=10, distance_rev=0.2, duration_s=1.0)
         )
-        await asyncio.sleep(0.3)
+        # stall only once the drive interpolates (the start takes longer on a loaded host)
+        deadline = time.monotonic() + 10
+        while (r.motion.stream_points_sent(node) or 0) < 10:
+            assert time.monotonic() < deadline, "the stream did not start"
+            await asyncio.sleep(0.01)
         await stall()
         result = await streaming
         assert result.stalled

@@ -273,6 +273,11 @@ class IpOps(MoveOps):
             state=state,
         )
 
+    def stream_points_sent(self, node: int) -> int | None:
+        """How many set-points the running stream of `node` has sent; None when none runs."""
+        stream = self._streams.get(node)
+        return None if stream is None else stream.sent
+
     def cancel_stream(self, node: int) -> None:
         """Stop feeding set-points (the stop paths call it; the drive then holds or faults)."""
         stream = self._streams.get(node)
