@@ -9,10 +9,11 @@ import csv
 import io
 import sqlite3
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
+import can
 import pytest
 from fastapi.testclient import TestClient
 
@@ -20,6 +21,10 @@ from servodesk.access.actor import Actor, Role, acting
 from servodesk.app import create_app
 from servodesk.audit import AuditFilter, AuditLog
 from servodesk.settings import Settings
+from tests.backend.fault_rig import SDO_RX, faulty_app
+
+UPLOAD = 0x40  # ccs 2 (bits 7–5): initiate upload request
+DOWNLOAD = 0x20  # ccs 1: initiate download request
 
 
 def make_client(data_dir: Path, **settings: Any) -> TestClient:
@@ -76,6 +81,39 @@ def test_a_parameter_write_is_recorded_by_name(client: TestClient) -> None:
     assert entry["action"] == "param"
     assert "PA-14" in entry["what"]
     assert (entry["old"], entry["new"]) == (old, new)
+
+
+def test_a_parameter_write_reads_the_parameter_once_before_and_once_after(
+    tmp_path: Path,
+) -> None:
+    """The audit entry and the timeline share one read of the old value: on the bus, an
+    audited PA-14 write is upload (old), download, upload (read-back) and nothing more."""
+    pa14 = (0x2000, 0x0F)
+
+    def request_to(node: int, command: int) -> Callable[[can.Message], bool]:
+        def match(msg: can.Message) -> bool:
+            data = bytes(msg.data)
+            return (
+                msg.arbitration_id == SDO_RX + node
+                and data[0] & 0xE0 == command
+                and (int.from_bytes(data[1:3], "little"), data[3]) == pa14
+            )
+
+        return match
+
+    with faulty_app(tmp_path) as app:
+        sent: list[str] = []
+        app.rig.on("tx", request_to(1, UPLOAD), lambda _m: sent.append("upload"))
+        app.rig.on("tx", request_to(1, DOWNLOAD), lambda _m: sent.append("download"))
+        old = app.client.get("/api/nodes/1/params/PA-14").json()["value"]
+        sent.clear()
+        new = 4 if old != 4 else 0
+        assert app.client.put("/api/nodes/1/params/PA-14", json={"value": new}).status_code == 200
+        assert sent == ["upload", "download", "upload"]
+        entry = newest(app.client)
+        assert (entry["old"], entry["new"]) == (old, new)
+        timeline = app.client.get("/api/events", params={"node": 1}).json()["events"]
+        assert any(f"{old} → {new}" in event["message"] for event in timeline), timeline
 
 
 @pytest.mark.parametrize(

@@ -106,9 +106,15 @@ class ParamService:
         parameter = self._parameter(node, name)
         number = resolve_value(parameter, value)
         index, subindex = parameter.object
-        old = await self._old_value(node, parameter) if self._publish is not None else None
-        written = await self._sdo.write(node, index, subindex, number)
         entry = current_entry()
+        audited = entry is not None and entry.records_object()
+        # an audited write reads the old value once, for its entry; the timeline takes it there
+        old = None
+        if self._publish is not None and not audited:
+            old = await self._old_value(node, parameter)
+        written = await self._sdo.write(node, index, subindex, number)
+        if audited and entry is not None and isinstance(entry.old, int):
+            old = entry.old
         if entry is not None and entry.action == "param":
             was = f"{entry.old} → " if entry.old is not None else ""
             entry.what = (
