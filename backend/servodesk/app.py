@@ -34,6 +34,7 @@ from servodesk.api import (
     ws,
 )
 from servodesk.api import events as events_api
+from servodesk.api.audited import outcome_of
 from servodesk.api.errors import install_error_handlers
 from servodesk.api.schema import install_schema
 from servodesk.api.security import HostGuard, SameOriginGuard, ServedHosts
@@ -72,7 +73,7 @@ def create_app(
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        services = build_services(settings, bus_factory=bus_factory)
+        services = build_services(settings, bus_factory=bus_factory, describe_error=outcome_of)
         app.state.services = services
         await services.open()
         services.start()

@@ -6,7 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import partial
 
-from servodesk.audit import AuditLog
+from servodesk.audit import AuditLog, Outcome
+from servodesk.audit.log import Describe
 from servodesk.bus.connection import BusFactory, BusManager
 from servodesk.events.bus import EventBus
 from servodesk.events.sources import PublishingSdoService, registry_events
@@ -91,7 +92,14 @@ class Services:
         await self.audit.close()  # last: the results of the stops made on the way out
 
 
-def build_services(settings: Settings, *, bus_factory: BusFactory | None = None) -> Services:
+def build_services(
+    settings: Settings,
+    *,
+    bus_factory: BusFactory | None = None,
+    describe_error: Describe = Outcome.of_error,
+) -> Services:
+    """Every service, wired; `describe_error` gives an error's kind and words for the audit log
+    (the app passes the API's own, so tool-made entries read like a request's)."""
     bus = BusManager(settings, bus_factory=bus_factory)
     registry = NodeRegistry(bus, settings)
     jobs = JobManager(registry)
@@ -115,7 +123,8 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
     motion = MotionService(
         registry, settings, pdos, sync=sync, on_statusword=faults.observe_statusword
     )
-    safety = MotionSafety(motion, bus, registry, settings)
+    audit = AuditLog(settings.data_dir, describe=describe_error)
+    safety = MotionSafety(motion, bus, registry, settings, record=audit.by_tool)
     live = LiveHub(bus, registry, safety)
     # the timeline and the active faults on the WebSocket (subscribed after the store: ids)
     live.follow_diagnostics(events, storage.id_of, faults.add_listener, faults.all_active)
@@ -153,7 +162,7 @@ def build_services(settings: Settings, *, bus_factory: BusFactory | None = None)
         recorder=Recorder(partial(bus.add_frame_listener, sent=True), settings.data_dir),
         viewer=viewer,
         scope=scope,
-        audit=AuditLog(settings.data_dir),
+        audit=audit,
     )
 
 

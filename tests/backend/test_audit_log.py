@@ -245,3 +245,41 @@ async def test_a_write_cut_off_by_a_crash_is_marked_unknown(tmp_path: Path) -> N
     assert (row.user, row.client, row.result) == ("alice", "10.0.0.5:4000", "unknown")
     assert row.message is not None
     assert "server stopped" in row.message
+
+
+@pytest.mark.anyio
+async def test_a_write_the_server_makes_by_itself_is_by_servodesk(tmp_path: Path) -> None:
+    """Whoever's request armed the timer, the server's own stop is entered as "servodesk";
+    a stop that fails has its error as the result."""
+    audit = AuditLog(tmp_path)
+    await audit.open()
+    with acting(Actor("alice", Role.OPERATOR, "10.0.0.5:4000")):
+        async with audit.by_tool("jog-stop", 3, "stop the jog of node 3: heartbeat lost"):
+            pass
+        with pytest.raises(TimeoutError):
+            async with audit.by_tool("jog-stop", 2, "stop the jog of node 2: EMCY 8611h"):
+                raise TimeoutError("node 2 did not answer")
+    failed, stopped = await audit.entries(AuditFilter())
+    await audit.close()
+    assert (stopped.user, stopped.client, stopped.node, stopped.result) == (
+        "servodesk",
+        None,
+        3,
+        "ok",
+    )
+    assert (failed.user, failed.result, failed.message) == (
+        "servodesk",
+        "failed",
+        "node 2 did not answer",
+    )
+
+
+@pytest.mark.anyio
+async def test_a_closed_log_never_holds_back_a_stop(tmp_path: Path) -> None:
+    audit = AuditLog(tmp_path)
+    await audit.open()
+    await audit.close()
+    sent: list[str] = []
+    async with audit.by_tool("jog-stop", 1, "stop the jog of node 1: ServoDesk is shutting down"):
+        sent.append("stop")
+    assert sent == ["stop"]

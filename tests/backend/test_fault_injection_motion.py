@@ -24,6 +24,47 @@ def drive(app: FaultyApp) -> dict[str, Any]:
     return state
 
 
+def tool_stop(app: FaultyApp, node: int) -> dict[str, Any]:
+    """The newest audit entry of a stop the server made by itself (user "servodesk")."""
+    entries: list[dict[str, Any]] = []
+
+    def found() -> bool:
+        entries[:] = ok(
+            app.client.get("/api/audit", params={"node": node, "action": "jog-stop", "limit": 5})
+        )
+        return any(entry["user"] == "servodesk" and entry["result"] for entry in entries)
+
+    app.eventually(found, what="the stop's audit entry")
+    entry: dict[str, Any] = next(e for e in entries if e["user"] == "servodesk")
+    return entry
+
+
+def test_missed_keepalives_stop_the_jog_and_the_audit_log_says_who(tmp_path: Path) -> None:
+    """Expected: a PV jog started by Alice's page gets no keep-alive: after 300 ms the server
+    stops it by itself; the audit log has Alice's jog start and, after it, a jog-stop entry by
+    "servodesk" (not by Alice, whose request armed the timer) naming the missed keep-alive,
+    with result ok."""
+    with faulty_app(tmp_path) as app:
+        client = app.client
+        for sub, value in (("5FF1/0", -WIDE), ("5FF2/0", WIDE)):
+            ok(client.put(f"/api/nodes/{NODE}/sdo/{sub}", json={"value": value}))
+        ok(client.post(f"/api/nodes/{NODE}/drive/enable", headers=PAGE))
+        body = {"mode": "pv", "velocity_rpm": 100, "keepalive_ms": 300}
+        jog = ok(client.post(f"/api/nodes/{NODE}/jog", headers=PAGE, json=body))
+        app.eventually(
+            lambda: ok(client.get(f"/api/jog/{jog['jog_id']}"))["state"] == "stopped",
+            what="the jog stopped",
+        )
+        stop = tool_stop(app, NODE)
+        assert "keep-alive missed for 300 ms" in stop["what"], stop
+        assert (stop["role"], stop["result"]) == ("engineer", "ok"), stop
+        started = ok(client.get("/api/audit", params={"node": NODE, "action": "jog"}))
+        assert started, "no audit entry for the jog start"
+        assert started[0]["user"] == "local", started
+        assert started[0]["id"] < stop["id"]
+        app.eventually(lambda: drive(app)["velocity_rpm"] == 0, what="standstill")
+
+
 def test_heartbeat_lost_during_a_jog_stops_it(tmp_path: Path) -> None:
     """Expected: node 3 produces heartbeats every 100 ms and jogs at 300 rpm, kept alive by
     the page; its heartbeats stop reaching the tool: the server stops the jog with reason
@@ -62,6 +103,9 @@ def test_heartbeat_lost_during_a_jog_stops_it(tmp_path: Path) -> None:
         assert len(lost) > lost_before
         assert "heartbeat" in lost[0]["message"], lost[0]
         app.eventually(lambda: drive(app)["velocity_rpm"] == 0, what="standstill")
+        stop = tool_stop(app, NODE)
+        assert "heartbeat lost" in stop["what"], stop
+        assert stop["result"] == "ok", stop
 
         app.rig.remove(rule)  # the heartbeats come back: the node is back, nothing restarts
         app.eventually(

@@ -121,7 +121,13 @@ def test_the_run_was_large_enough_and_every_write_is_audited(base_url: str) -> N
                 break
             entries += page
             before = page[-1]["id"]
-    print(f"schemathesis: {SENT['requests']} requests, {SENT['audited']} audited writes")
-    assert len(entries) == SENT["audited"], SENT
+    # the server's own writes (a jog it stopped when the keep-alives stopped) are by "servodesk"
+    requested = [entry for entry in entries if entry["user"] != "servodesk"]
+    by_tool = len(entries) - len(requested)
+    print(
+        f"schemathesis: {SENT['requests']} requests, {SENT['audited']} audited writes, "
+        f"{by_tool} entries by the server itself"
+    )
+    assert len(requested) == SENT["audited"], SENT
     assert all(entry["result"] != "pending" for entry in entries)
-    assert {entry["user"] for entry in entries} == {"engineer"}
+    assert {entry["user"] for entry in requested} == {"engineer"}

@@ -27,6 +27,12 @@ class Outcome:
     def ok(cls) -> Outcome:
         return cls("ok")
 
+    @classmethod
+    def of_error(cls, error: BaseException) -> Outcome:
+        """An error in words, where no API names its kind (the app passes its own)."""
+        code = getattr(error, "code_hex", None)
+        return cls("failed", code if isinstance(code, str) else None, None, str(error))
+
 
 @dataclass
 class Pending:

@@ -9,7 +9,7 @@ from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from pathlib import Path
 
-from servodesk.access.actor import current_actor
+from servodesk.access.actor import SYSTEM, acting, current_actor
 from servodesk.audit.entry import AuditValue, Outcome, Pending, enter, leave
 from servodesk.audit.store import AuditFilter, AuditRow, AuditStore, csv_header
 
@@ -19,8 +19,9 @@ Describe = Callable[[BaseException], Outcome]
 
 
 class AuditLog:
-    def __init__(self, data_dir: Path) -> None:
+    def __init__(self, data_dir: Path, *, describe: Describe = Outcome.of_error) -> None:
         self._store = AuditStore(data_dir)
+        self._describe = describe  # an error's kind and words, as the API gives them
 
     async def open(self) -> None:
         orphans = await asyncio.wrap_future(self._store.submit_open())
@@ -82,6 +83,36 @@ class AuditLog:
         finally:
             leave(token)
         await self.finish(entry, Outcome.ok())
+
+    @asynccontextmanager
+    async def by_tool(
+        self, action: str, node: int | None, what: str
+    ) -> AsyncIterator[Pending | None]:
+        """A write the tool makes by itself, not for a request (a jog stopped because its
+        keep-alives stopped, the heartbeat consumer set again after a reboot): its entry is by
+        "servodesk", whoever's request armed the timer. These are mostly stops, so the log
+        never holds one back: the begin row is queued, not awaited, and a log that cannot
+        write (closed, disk full) is logged while the write goes ahead."""
+        try:
+            with acting(SYSTEM):
+                entry = await self.begin(action, node, what, wait=False)
+        except Exception:
+            log.exception("audit log unavailable; %s goes ahead unrecorded", what)
+            yield None
+            return
+        token = enter(entry)
+        outcome = Outcome.ok()
+        try:
+            yield entry
+        except BaseException as error:
+            outcome = self._describe(error)
+            raise
+        finally:
+            leave(token)
+            try:
+                await asyncio.shield(self.finish(entry, outcome))
+            except Exception:
+                log.exception("audit log: the result of %s could not be written", what)
 
     async def entries(self, filters: AuditFilter) -> list[AuditRow]:
         return await asyncio.wrap_future(self._store.submit_query(filters))

@@ -13,6 +13,7 @@ import logging
 import uuid
 from collections import OrderedDict
 from collections.abc import Callable
+from contextlib import AbstractAsyncContextManager, nullcontext
 from dataclasses import dataclass, field
 from typing import Literal, Protocol
 
@@ -46,6 +47,14 @@ class Stopper(Protocol):
     async def stop(self, node: int, *, reason: str) -> None: ...
 
 
+class ToolRecord(Protocol):
+    """An audit entry around a write the tool makes by itself (AuditLog.by_tool)."""
+
+    def __call__(
+        self, action: str, node: int | None, what: str
+    ) -> AbstractAsyncContextManager[object]: ...
+
+
 @dataclass(frozen=True, slots=True)
 class JogRamp:
     """How a jog ramps and what caps it, as MotionService.jog_start applied it."""
@@ -67,8 +76,9 @@ Stopped = Callable[[JogInfo], None]
 
 
 class JogWatchdog:
-    def __init__(self, motion: Stopper) -> None:
+    def __init__(self, motion: Stopper, *, record: ToolRecord | None = None) -> None:
         self._motion = motion
+        self._record = record
         self._jogs: OrderedDict[str, _Jog] = OrderedDict()
         self._listeners: list[Stopped] = []
         # nodes with a running jog, replaced (not mutated) so a notifier thread may read it
@@ -134,14 +144,19 @@ class JogWatchdog:
             await asyncio.wait({jog.stopping})
         return jog.info
 
-    def stop_node(self, node: int, reason: str) -> list[JogInfo]:
-        return [self._stop(jog, reason) for jog in self._running() if jog.info.node == node]
+    # `by_tool`: the tool stops the jog by itself (a trigger, not a user's request): the stop
+    # gets its own audit entry by "servodesk"; a request's stop is in the request's entry.
 
-    def stop_owner(self, owner: str, reason: str) -> list[JogInfo]:
-        return [self._stop(jog, reason) for jog in self._running() if jog.info.owner == owner]
+    def stop_node(self, node: int, reason: str, *, by_tool: bool = False) -> list[JogInfo]:
+        running = [jog for jog in self._running() if jog.info.node == node]
+        return [self._stop(jog, reason, by_tool=by_tool) for jog in running]
 
-    def stop_all(self, reason: str) -> list[JogInfo]:
-        return [self._stop(jog, reason) for jog in self._running()]
+    def stop_owner(self, owner: str, reason: str, *, by_tool: bool = False) -> list[JogInfo]:
+        running = [jog for jog in self._running() if jog.info.owner == owner]
+        return [self._stop(jog, reason, by_tool=by_tool) for jog in running]
+
+    def stop_all(self, reason: str, *, by_tool: bool = False) -> list[JogInfo]:
+        return [self._stop(jog, reason, by_tool=by_tool) for jog in self._running()]
 
     async def settled(self) -> None:
         """Wait until every stop in flight was sent (shutdown, tests)."""
@@ -166,7 +181,7 @@ class JogWatchdog:
 
     def _expired(self, jog: _Jog) -> None:
         if jog.info.state == "running":
-            self._stop(jog, f"{KEEPALIVE_MISSED} for {jog.info.keepalive_ms} ms")
+            self._stop(jog, f"{KEEPALIVE_MISSED} for {jog.info.keepalive_ms} ms", by_tool=True)
 
     def _end(self, jog: _Jog, reason: str) -> None:
         if jog.timer is not None:
@@ -177,18 +192,22 @@ class JogWatchdog:
         for fn in list(self._listeners):
             fn(jog.info)
 
-    def _stop(self, jog: _Jog, reason: str) -> JogInfo:
+    def _stop(self, jog: _Jog, reason: str, *, by_tool: bool = False) -> JogInfo:
         if jog.info.state != "running":
             return jog.info
         self._end(jog, reason)
         jog.stopping = asyncio.get_running_loop().create_task(
-            self._send_stop(jog.info.node, reason), name=f"jog stop node {jog.info.node}"
+            self._send_stop(jog.info.node, reason, by_tool), name=f"jog stop node {jog.info.node}"
         )
         return jog.info
 
-    async def _send_stop(self, node: int, reason: str) -> None:
+    async def _send_stop(self, node: int, reason: str, by_tool: bool) -> None:
+        entry: AbstractAsyncContextManager[object] = nullcontext()
+        if by_tool and self._record is not None:
+            entry = self._record("jog-stop", node, f"stop the jog of node {node}: {reason}")
         try:
-            await self._motion.stop(node, reason=reason)
+            async with entry:
+                await self._motion.stop(node, reason=reason)
             self.unsent.discard(node)
         except ServodeskError as error:
             self.unsent.add(node)

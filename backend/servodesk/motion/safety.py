@@ -13,6 +13,7 @@ import asyncio
 import logging
 from collections import Counter
 from collections.abc import Coroutine
+from contextlib import AbstractAsyncContextManager, nullcontext
 from typing import Any
 
 import can
@@ -21,7 +22,7 @@ from servodesk.bus.connection import BusManager
 from servodesk.errors import InvalidValueError, ServodeskError
 from servodesk.models import BusState, BusStatus, LiveEvent
 from servodesk.motion.heartbeat import HeartbeatGuard
-from servodesk.motion.jog import JogWatchdog
+from servodesk.motion.jog import JogWatchdog, ToolRecord
 from servodesk.motion.lease import Client, ControllerLease
 from servodesk.motion.safety_models import ControllerInfo, JogInfo, JogRequest, QuickStopResult
 from servodesk.motion.schemas import DriveCommand, DriveState
@@ -57,11 +58,19 @@ class _EmcyWatch(can.Listener):
 
 class MotionSafety:
     def __init__(
-        self, motion: MotionService, bus: BusManager, registry: NodeRegistry, settings: Settings
+        self,
+        motion: MotionService,
+        bus: BusManager,
+        registry: NodeRegistry,
+        settings: Settings,
+        *,
+        record: ToolRecord | None = None,
     ) -> None:
         self.motion = motion
         self.lease = ControllerLease()
-        self.jogs = JogWatchdog(motion)
+        # what the tool writes by itself (stops on a trigger, 1016h after a reboot) is audited
+        self._record = record
+        self.jogs = JogWatchdog(motion, record=record)
         self.heartbeat = HeartbeatGuard(
             registry,
             settings,
@@ -85,7 +94,7 @@ class MotionSafety:
     async def close(self) -> None:
         for unsubscribe in self._unsubscribe:
             unsubscribe()
-        self.jogs.stop_all("ServoDesk is shutting down")
+        self.jogs.stop_all("ServoDesk is shutting down", by_tool=True)
         await self.jogs.settled()
         for node in self.lease.nodes():
             self.lease.release(node)
@@ -127,10 +136,19 @@ class MotionSafety:
             await self._release(node, "control released")
         return self.controller(node, client)
 
-    async def _release(self, node: int, reason: str) -> None:
-        self.jogs.stop_node(node, reason)
+    async def _release(self, node: int, reason: str, *, by_tool: bool = False) -> None:
+        self.jogs.stop_node(node, reason, by_tool=by_tool)
         self.lease.release(node)
-        await self.heartbeat.unprotect(node)
+        entry = self._recorded(by_tool, "release", node, f"release node {node}: {reason}")
+        async with entry:
+            await self.heartbeat.unprotect(node)
+
+    def _recorded(
+        self, by_tool: bool, action: str, node: int, what: str
+    ) -> AbstractAsyncContextManager[object]:
+        if by_tool and self._record is not None:
+            return self._record(action, node, what)
+        return nullcontext()
 
     # ------------------------------------------------------------------ jogs and stops
 
@@ -206,31 +224,33 @@ class MotionSafety:
     def socket_closed(self, client_id: str) -> None:
         """A page's socket closed: its jogs stop; the last socket of a client releases the
         drives it holds (nobody is left to keep them, and the drive must not fault later)."""
-        self.jogs.stop_owner(client_id, "the page's connection closed")
+        self.jogs.stop_owner(client_id, "the page's connection closed", by_tool=True)
         self._sockets[client_id] -= 1
         if self._sockets[client_id] <= 0:
             del self._sockets[client_id]
             for node in self.lease.held_by(client_id):
-                self._spawn(self._release(node, "the controlling page closed"))
+                self._spawn(self._release(node, "the controlling page closed", by_tool=True))
 
     def page_hidden(self, client_id: str) -> list[JogInfo]:
-        return self.jogs.stop_owner(client_id, "the page was hidden")
+        return self.jogs.stop_owner(client_id, "the page was hidden", by_tool=True)
 
     def on_emcy(self, node: int, data: bytes) -> None:
         code = int.from_bytes(data[:2], "little")
-        self.jogs.stop_node(node, f"EMCY {code:04X}h from the drive")
+        self.jogs.stop_node(node, f"EMCY {code:04X}h from the drive", by_tool=True)
 
     def _on_bus(self, status: BusStatus) -> None:
         if status.state is not BusState.CONNECTED:
             why = f": {status.error}" if status.error else ""
-            self.jogs.stop_all(f"bus {status.state.value}{why}")
+            self.jogs.stop_all(f"bus {status.state.value}{why}", by_tool=True)
             return
         for node in list(self.jogs.unsent):  # the bus is back: send what could not be sent
             self._spawn(self._stop_again(node))
 
     async def _stop_again(self, node: int) -> None:
+        reason = "stop sent again after the bus came back"
         try:
-            await self.motion.stop(node, reason="stop sent again after the bus came back")
+            async with self._recorded(True, "jog-stop", node, f"stop node {node}: {reason}"):
+                await self.motion.stop(node, reason=reason)
             self.jogs.unsent.discard(node)
         except ServodeskError as error:
             log.warning("node %d: stop after reconnect failed: %s", node, error)
@@ -239,16 +259,18 @@ class MotionSafety:
         if event.node is None:
             return
         if event.kind == "node-lost":
-            self.jogs.stop_node(event.node, "heartbeat lost")
+            self.jogs.stop_node(event.node, "heartbeat lost", by_tool=True)
         elif event.kind == "boot-up":
-            self.jogs.stop_node(event.node, "the drive restarted")
+            self.jogs.stop_node(event.node, "the drive restarted", by_tool=True)
             if self.lease.holder(event.node) is not None:
                 # a reset reloads 1016h: set it again for the holder
                 self._spawn(self._reprotect(event.node))
 
     async def _reprotect(self, node: int) -> None:
         self.heartbeat.forget(node)
-        await self.heartbeat.protect(node)
+        what = f"protect node {node} again after its restart (heartbeat consumer 1016h)"
+        async with self._recorded(True, "heartbeat", node, what):
+            await self.heartbeat.protect(node)
 
     def _spawn(self, coro: Coroutine[Any, Any, None]) -> None:
         task = asyncio.get_running_loop().create_task(coro)
