@@ -15,6 +15,7 @@ from servodesk.errors import (
     InvalidValueError,
     NodeNotFoundError,
     SdoAbortError,
+    SdoProtocolError,
     ServodeskError,
 )
 
@@ -50,6 +51,16 @@ from servodesk.errors import (
             CommTimeoutError(5, "read 1008h:00h"),
             504,
             {"error": "timeout", "message": "node 5: no answer to read 1008h:00h", "node": 5},
+        ),
+        (
+            SdoProtocolError(5, "read 1008h:00h", "Toggle bit mismatch"),
+            502,
+            {
+                "error": "sdo_protocol",
+                "message": "node 5: read 1008h:00h failed: Toggle bit mismatch; "
+                "the transfer was aborted",
+                "node": 5,
+            },
         ),
         (
             NodeNotFoundError(9),

@@ -112,8 +112,7 @@ def test_a_segment_with_the_wrong_toggle_bit_aborts(app: FaultyApp) -> None:
 
         app.rig.replace("rx", segment_response(1), flip, times=1)
         status, body = read_name(app)
-        assert status == 504, body
-        assert body["node"] == 1
+        assert (status, body["error"], body["node"]) == (502, "sdo_protocol", 1), body
         message = str(body["message"])
         assert "1008h:00h" in message
         assert "toggle" in message.lower(), message
@@ -137,7 +136,7 @@ def test_a_repeated_segment_answer_instead_of_the_next_is_refused(app: FaultyApp
 
     app.rig.replace("rx", segment_response(1), repeat_first, times=2)
     status, body = read_name(app)
-    assert status == 504, body
+    assert (status, body["error"]) == (502, "sdo_protocol"), body
     assert "toggle" in str(body["message"]).lower(), body
     assert_name_reads(app)
 
@@ -150,8 +149,11 @@ def test_segment_answers_arriving_twice_never_mix_up_the_value(app: FaultyApp) -
         status, body = read_name(app)
         if status == 200:
             assert body["value"] == NAME, body
-        else:
-            assert (status, body["error"], body["node"]) == (504, "timeout", 1), body
+        else:  # a copy taken for the next answer: refused by its toggle bit, or lost in time
+            assert (status, body["error"], body["node"]) in {
+                (502, "sdo_protocol", 1),
+                (504, "timeout", 1),
+            }, body
             assert "1008h:00h" in str(body["message"])
         app.rig.remove(rule)
     time.sleep(0.3)

@@ -31,6 +31,7 @@ from servodesk.errors import (
     PdoInvalidError,
     RequestInterruptedError,
     SdoAbortError,
+    SdoProtocolError,
     ServodeskError,
     StateConflictError,
 )
@@ -113,6 +114,8 @@ def describe(error: ServodeskError) -> tuple[int, ErrorBody]:
         )
     if isinstance(error, NodeStoppedError):
         return 409, ErrorBody(error="node_stopped", message=str(error), node=error.node_id)
+    if isinstance(error, SdoProtocolError):  # before its base class, CommTimeoutError
+        return 502, ErrorBody(error="sdo_protocol", message=str(error), node=error.node_id)
     if isinstance(error, CommTimeoutError):
         return 504, ErrorBody(error="timeout", message=str(error), node=error.node_id)
     if isinstance(error, RequestInterruptedError):
@@ -222,6 +225,10 @@ def _error(description: str) -> dict[str, object]:
 NODE_ERRORS: dict[int | str, dict[str, object]] = {
     404: _error("Unknown node"),
     409: _error("SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped)"),
+    502: _error(
+        "sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's "
+        "toggle bit, another command); the transfer was aborted"
+    ),
     503: _error("Bus not connected, or the connection was renewed during the request"),
     504: _error("Node did not answer"),
 }

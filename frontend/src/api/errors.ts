@@ -5,6 +5,7 @@ export type ApiErrorKind =
   | "sdo_abort"
   | "node_stopped"
   | "timeout"
+  | "sdo_protocol"
   | "interrupted"
   | "node_not_found"
   | "bus_not_connected"
@@ -25,6 +26,7 @@ const KNOWN_KINDS: ReadonlySet<string> = new Set<ApiErrorKind>([
   "sdo_abort",
   "node_stopped",
   "timeout",
+  "sdo_protocol",
   "interrupted",
   "node_not_found",
   "bus_not_connected",

@@ -3642,6 +3642,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -4107,6 +4116,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -4185,6 +4203,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4742,6 +4769,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -4800,6 +4836,15 @@ export interface operations {
             };
             /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4884,6 +4929,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -4954,6 +5008,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5069,6 +5132,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -5177,6 +5249,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -5276,6 +5357,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -5346,6 +5436,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5461,6 +5560,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -5531,6 +5639,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5642,6 +5759,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -5717,6 +5843,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5828,6 +5963,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -5912,6 +6056,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6010,6 +6163,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -6101,6 +6263,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -6185,6 +6356,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6296,6 +6476,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -6366,6 +6555,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6477,6 +6675,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -6547,6 +6754,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6658,6 +6874,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -6755,6 +6980,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6866,6 +7100,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -6945,6 +7188,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -7073,6 +7325,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -7181,6 +7442,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -7272,6 +7542,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -7342,6 +7621,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -7457,6 +7745,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -7554,6 +7851,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -7660,6 +7966,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -7730,6 +8045,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -7836,6 +8160,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -7922,6 +8255,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -7992,6 +8334,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -8070,6 +8421,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -8177,6 +8537,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -8247,6 +8616,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -8353,6 +8731,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -8433,6 +8820,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -8503,6 +8899,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -8596,6 +9001,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -8675,6 +9089,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -8762,6 +9185,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -8832,6 +9264,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -8936,6 +9377,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -9051,6 +9501,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -9125,6 +9584,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -9228,6 +9696,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -9343,6 +9820,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -9422,6 +9908,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -9525,6 +10020,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -9592,6 +10096,15 @@ export interface operations {
             };
             /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -9832,6 +10345,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Bus not connected, or the connection was renewed during the request */
             503: {
                 headers: {
@@ -9950,6 +10472,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -10225,6 +10756,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
                 headers: {
                     [name: string]: unknown;
                 };
