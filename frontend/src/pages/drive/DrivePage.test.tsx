@@ -8,6 +8,7 @@ import { json, stubFetch, type Handler } from "../../test/fetchStub";
 import { renderPage } from "../../test/render";
 import { DrivePage } from "./DrivePage";
 import { CONTROLLER, DRIVE, ENABLED, METHODS } from "./fixtures";
+import type { DriveState } from "./types";
 
 afterEach(() => {
   vi.unstubAllGlobals();
@@ -18,6 +19,22 @@ const BASE: Record<string, Handler | object> = {
   "GET /api/nodes/1/drive/controller": CONTROLLER,
   "GET /api/nodes/1/drive/homing-methods": METHODS,
 };
+
+/** The drive as the server keeps it: an action's answer is also what the next polls read (the
+ * page polls every 200 ms, so a static GET answer would undo the action on screen). */
+function fakeDrive(initial: DriveState): {
+  get: () => DriveState;
+  answer: (state: DriveState) => () => DriveState;
+} {
+  let current = initial;
+  return {
+    get: () => current,
+    answer: (state) => () => {
+      current = state;
+      return state;
+    },
+  };
+}
 
 function render(routes: Record<string, Handler | object> = {}, store = new LiveStore()) {
   const fetch = stubFetch({ ...BASE, ...routes });
@@ -75,13 +92,40 @@ describe("DrivePage", () => {
   });
 
   it("enables and highlights the transition just taken", async () => {
-    const { fetch } = render({ "POST /api/nodes/1/drive/enable": ENABLED });
+    const drive = fakeDrive(DRIVE);
+    const { fetch } = render({
+      "GET /api/nodes/1/drive": drive.get,
+      "POST /api/nodes/1/drive/enable": drive.answer(ENABLED),
+    });
     await userEvent.click(await screen.findByRole("button", { name: "Enable" }));
     await screen.findByRole("img", { name: /Operation enabled, after transition 4/ });
     const arrow = document.querySelector('[data-transition="4"]');
     expect(arrow?.getAttribute("class")).toContain("active");
     expect(screen.getByTestId("drive-state").textContent).toBe("Operation enabled");
     expect(fetch.calls.some((c) => c.path === "/api/nodes/1/drive/enable")).toBe(true);
+  });
+
+  it("keeps an action's answer when a poll sent before it answers after it", async () => {
+    let polls = 0;
+    let release: (() => void) | undefined;
+    render({
+      // the first poll answers; the second is held back until the enable was answered, and
+      // then answers the state from before; later polls never answer
+      "GET /api/nodes/1/drive": () => {
+        polls += 1;
+        if (polls === 1) return DRIVE;
+        if (polls === 2) return new Promise((resolve) => (release = () => resolve(DRIVE)));
+        return new Promise(() => undefined);
+      },
+      "POST /api/nodes/1/drive/enable": ENABLED,
+    });
+    const enable = await screen.findByRole("button", { name: "Enable" });
+    await waitFor(() => expect(release).toBeDefined());
+    await userEvent.click(enable);
+    await screen.findByRole("img", { name: /Operation enabled, after transition 4/ });
+    release?.();
+    await new Promise((resolve) => setTimeout(resolve, 50));
+    expect(screen.getByTestId("drive-state").textContent).toBe("Operation enabled");
   });
 
   it("sends the tab's client id with every call", async () => {
@@ -97,12 +141,14 @@ describe("DrivePage", () => {
   });
 
   it("quick stops in one click", async () => {
+    const drive = fakeDrive(DRIVE);
     const { fetch } = render({
-      "POST /api/nodes/1/drive/quick-stop": {
+      "GET /api/nodes/1/drive": drive.get,
+      "POST /api/nodes/1/drive/quick-stop": drive.answer({
         ...ENABLED,
         state: "quick_stop_active",
         statusword: 0x0217,
-      },
+      }),
     });
     await userEvent.click(screen.getByRole("button", { name: "Quick stop node 1" }));
     expect(await screen.findByText("Quick stop active", { selector: ".badge" })).toBeTruthy();
@@ -243,19 +289,21 @@ describe("DrivePage", () => {
 
   it("sends every transition button through the drive command route", async () => {
     let commands = 0;
+    const drive = fakeDrive(ENABLED);
+    const switchedOn = drive.answer({
+      ...ENABLED,
+      state: "switched_on",
+      state_label: "Switched on",
+      statusword: 0x0233,
+      controlword: 0x0007,
+      last_transition: "disable operation (5)",
+    });
     const { fetch } = render({
-      "GET /api/nodes/1/drive": ENABLED,
+      "GET /api/nodes/1/drive": drive.get,
       // the first command (disable operation) takes transition 5, the second is refused
       "POST /api/nodes/1/drive/command": () =>
         (commands += 1) === 1
-          ? {
-              ...ENABLED,
-              state: "switched_on",
-              state_label: "Switched on",
-              statusword: 0x0233,
-              controlword: 0x0007,
-              last_transition: "disable operation (5)",
-            }
+          ? switchedOn()
           : json(
               {
                 error: "enable_blocked",
@@ -281,12 +329,13 @@ describe("DrivePage", () => {
   });
 
   it("draws each homing method and starts the picked one", async () => {
+    const drive = fakeDrive(ENABLED);
     const { fetch } = render({
-      "GET /api/nodes/1/drive": ENABLED,
-      "POST /api/nodes/1/drive/home": {
+      "GET /api/nodes/1/drive": drive.get,
+      "POST /api/nodes/1/drive/home": drive.answer({
         ...ENABLED,
         homing: { method: 35, phase: "attained", message: "", position_inc: 0 },
-      },
+      }),
     });
     const diagram17 = await screen.findByTestId("homing-diagram-17");
     expect(diagram17.getAttribute("aria-label")).toContain(

@@ -1,6 +1,7 @@
 // The drive's live state for the Drive tab: pushed on the WebSocket after a `watch_drive`
 // where the server offers that, polled at ~5 Hz (only while the page is visible) whenever no
-// push has arrived for a second. An action's answer replaces the state at once.
+// push has arrived for a second. An action's answer replaces the state at once, and a poll sent
+// before it was answered does not undo it.
 import { useCallback, useEffect, useRef, useState } from "react";
 
 import { asApiError, type ApiError } from "../../api/errors";
@@ -21,6 +22,12 @@ function newer<T>(a: Stamped<T> | null, b: Stamped<T> | null): T | undefined {
   if (!a) return b?.value;
   if (!b) return a.value;
   return a.at >= b.at ? a.value : b.value;
+}
+
+/** A polled answer is as old as its request: an action answered meanwhile stays on screen. */
+function polled<T>(value: T, sent: number) {
+  return (current: Stamped<T> | null): Stamped<T> =>
+    current && current.at >= sent ? current : { value, at: sent };
 }
 
 function pageVisible(): boolean {
@@ -54,11 +61,12 @@ export function useDrive(node: number): {
       const at = store.getSnapshot().drivesAt[node] ?? 0;
       if (!force && Date.now() - at < PUSH_FRESH_MS) return;
       inFlight.current = true;
+      const sent = Date.now();
       getDrive(node, controller.signal).then(
         (state) => {
           inFlight.current = false;
           if (controller.signal.aborted) return;
-          setLocal({ value: state, at: Date.now() });
+          setLocal(polled(state, sent));
           setError(null);
         },
         (caught: unknown) => {
@@ -99,10 +107,11 @@ export function useController(node: number): {
     const controller = new AbortController();
     const load = (force: boolean): void => {
       if (!force && !pageVisible()) return;
+      const sent = Date.now();
       getController(node, controller.signal).then(
         (info) => {
           if (controller.signal.aborted) return;
-          setLocal({ value: info, at: Date.now() });
+          setLocal(polled(info, sent));
           setError(null);
         },
         (caught: unknown) => {
