@@ -11,7 +11,7 @@ from servodesk.audit.log import Describe
 from servodesk.bus.connection import BusFactory, BusManager
 from servodesk.events.bus import EventBus
 from servodesk.events.sources import PublishingSdoService, registry_events
-from servodesk.events.tool_writes import pdo_applied
+from servodesk.events.tool_writes import jog_stopped, pdo_applied
 from servodesk.faults.collector import FrameTap, quiet_short_emcy
 from servodesk.faults.service import FaultService
 from servodesk.live import LiveHub
@@ -125,6 +125,7 @@ def build_services(
     )
     audit = AuditLog(settings.data_dir, describe=describe_error)
     safety = MotionSafety(motion, bus, registry, settings, record=audit.by_tool)
+    safety.jogs.add_listener(partial(jog_stopped, events.publish))
     live = LiveHub(bus, registry, safety)
     # the timeline and the active faults on the WebSocket (subscribed after the store: ids)
     live.follow_diagnostics(events, storage.id_of, faults.add_listener, faults.all_active)

@@ -43,7 +43,7 @@ def test_missed_keepalives_stop_the_jog_and_the_audit_log_says_who(tmp_path: Pat
     """Expected: a PV jog started by Alice's page gets no keep-alive: after 300 ms the server
     stops it by itself; the audit log has Alice's jog start and, after it, a jog-stop entry by
     "servodesk" (not by Alice, whose request armed the timer) naming the missed keep-alive,
-    with result ok."""
+    with result ok; the timeline says the jog stopped and why."""
     with faulty_app(tmp_path) as app:
         client = app.client
         for sub, value in (("5FF1/0", -WIDE), ("5FF2/0", WIDE)):
@@ -63,6 +63,11 @@ def test_missed_keepalives_stop_the_jog_and_the_audit_log_says_who(tmp_path: Pat
         assert started[0]["user"] == "local", started
         assert started[0]["id"] < stop["id"]
         app.eventually(lambda: drive(app)["velocity_rpm"] == 0, what="standstill")
+        timeline = ok(client.get(f"/api/events?node={NODE}&kind=tool-write"))["events"]
+        stops = [e for e in timeline if e["data"]["action"] == "jog-stop"]
+        assert stops, timeline
+        assert stops[0]["message"] == f"node {NODE}: PV jog stopped (keep-alive missed for 300 ms)"
+        assert stops[0]["data"]["jog_id"] == jog["jog_id"]
 
 
 def test_heartbeat_lost_during_a_jog_stops_it(tmp_path: Path) -> None:

@@ -8,6 +8,8 @@ log that will build on it). Every one has `data.action` and, where there is one,
 - `pdo-apply`: the PDOs an apply changed (`pdos`: "RPDO1" …)
 - `store`, `restore-defaults`: 1010h / 1011h commands
 - `clear-history`: 1003h cleared
+- `jog-stop`: a jog ended (`jog_id`, `mode`, `reason`: "keep-alive missed for 300 ms",
+  "heartbeat lost", "stopped by the user" …), whoever stopped it
 
 NMT commands the tool sends keep their own kind, `nmt` (`data.command`, `data.tool` true).
 """
@@ -18,6 +20,8 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from servodesk.events.bus import BusEvent, EventKind, event
+from servodesk.motion.jog import REPLACED
+from servodesk.motion.safety_models import JogInfo
 from servodesk.pdo.model import PdoConfig
 
 Publish = Callable[[BusEvent], None]
@@ -49,3 +53,20 @@ def pdo_applied(
     else:
         text = f"applied PDOs of node {node}: nothing changed"
     publish(tool_write(node, text, "pdo-apply", pdos=changed, known_before=before is not None))
+
+
+def jog_stopped(publish: Publish, jog: JogInfo) -> None:
+    """A jog's end on the timeline with its reason, so "why did the axis stop?" has an answer
+    there too (a jog a new one took over did not stop the axis: no event)."""
+    if jog.stop_reason == REPLACED:
+        return
+    publish(
+        tool_write(
+            jog.node,
+            f"node {jog.node}: {jog.mode.upper()} jog stopped ({jog.stop_reason})",
+            "jog-stop",
+            jog_id=jog.jog_id,
+            mode=jog.mode,
+            reason=jog.stop_reason,
+        )
+    )

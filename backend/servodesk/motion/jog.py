@@ -24,6 +24,7 @@ log = logging.getLogger(__name__)
 
 KEEP_STOPPED = 50  # stopped jogs remembered, so a late keep-alive learns why it stopped
 KEEPALIVE_MISSED = "keep-alive missed"
+REPLACED = "replaced by a new jog"  # ended without a stop: the new jog drives the axis
 
 
 class JogNotFoundError(ServodeskError):
@@ -105,7 +106,7 @@ class JogWatchdog:
         ramp = ramp or JogRamp()
         for jog in self._running():
             if jog.info.node == node:
-                self._end(jog, "replaced by a new jog")
+                self._end(jog, REPLACED)
         info = JogInfo(
             jog_id=uuid.uuid4().hex,
             node=node,
