@@ -13,6 +13,8 @@ const KNOWN_ACTIONS = [
   "nmt",
   "drive-enable",
   "jog",
+  "jog-stop",
+  "quick-stop",
   "undo",
 ];
 
