@@ -4,6 +4,9 @@ import type { Permit } from "../../session/permit";
 import { changeText, formatDateTime, objectText, resultDetail, resultLabel } from "./auditText";
 import type { AuditEntry } from "./types";
 
+/** The user of what the server writes by itself (a jog stopped when its keep-alives stopped). */
+const SERVER_USER = "servodesk";
+
 function AuditRow({
   entry,
   fresh,
@@ -24,13 +27,15 @@ function AuditRow({
       </td>
       <td>
         {entry.user}
-        <span className="muted small block">{entry.role}</span>
+        <span className="muted small block">
+          {entry.user === SERVER_USER ? "by itself" : entry.role}
+        </span>
       </td>
       <td className="small">{entry.client ?? "—"}</td>
       <td className="num">{entry.node ?? "—"}</td>
       <td>
         <span className="badge audit-action">{entry.action}</span>
-        <span className="block">{entry.what}</span>
+        <span className="block audit-what">{entry.what}</span>
         {entry.undo_of !== null && (
           <span className="muted small block">undoes entry {entry.undo_of}</span>
         )}
