@@ -331,6 +331,33 @@ def test_a_clock_jump_counts_an_overrun_and_resyncs(make_sim: Callable[..., SimB
     assert len(node.poll_times) < 500
 
 
+def test_frames_queued_during_a_stall_are_all_heard_before_the_next_tick(
+    make_sim: Callable[..., SimBus], master: can.BusABC
+) -> None:
+    """The worker stalls inside a tick while five frames arrive (heartbeats, say): the next
+    tick runs only after the node heard all five, as a drive's CAN controller would have."""
+    node = PeriodicNode(4, every=1_000_000)
+    stalled, sent = threading.Event(), threading.Event()
+    heard_at_poll: list[int] = []
+
+    def stall(polls: int) -> None:
+        heard_at_poll.append(len(node.seen))
+        if polls == 3:
+            stalled.set()
+            sent.wait(WAIT)
+
+    node.on_poll = stall
+    sim = make_sim([node])
+    assert stalled.wait(WAIT)
+    for k in range(5):
+        master.send(msg(0x77F, "05") if k else msg(0x123, "01"))
+    time.sleep(0.05)  # the frames are in the worker's receive queue
+    sent.set()
+    wait_for(lambda: len(heard_at_poll) >= 4)
+    sim.stop()
+    assert heard_at_poll[3] - heard_at_poll[2] == 5, heard_at_poll
+
+
 def test_taps_see_every_frame_with_its_origin(
     make_sim: Callable[..., SimBus], drive_bus: can.BusABC, master: can.BusABC
 ) -> None:
