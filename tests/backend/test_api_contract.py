@@ -113,7 +113,11 @@ def test_every_error_status_in_the_schema_has_the_documented_shape(client: TestC
         ("post", "/api/nodes/{node}/store", {"409", "422", "428", "503", "504"}),
         ("post", "/api/nodes/{node}/restore-defaults", {"428"}),
         ("post", "/api/nodes/{node}/dcf", {"400", "422", "428"}),
-        ("put", "/api/nodes/{node}/sdo/{index}/{subindex}", {"400", "404", "409", "503", "504"}),
+        (
+            "put",
+            "/api/nodes/{node}/sdo/{index}/{subindex}",
+            {"400", "404", "409", "502", "503", "504"},
+        ),
         ("post", "/api/bus/connect", {"400", "422"}),
     ],
 )

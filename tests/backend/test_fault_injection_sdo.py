@@ -1,8 +1,9 @@
 """Frames lost, late or repeated on the SDO path (expedited transfers, through the API).
 
 Every request either answers the right value or fails with a clear domain error (504 `timeout`
-naming the node and the object, or 409 `sdo_abort` with its code) within a bounded time; never a
-hang, never a wrong value; once the faults stop, the next request works.
+naming the node and the object, 502 `sdo_protocol` when a repeated answer did not fit the
+transfer, or 409 `sdo_abort` with its code) within a bounded time; never a hang, never a wrong
+value; once the faults stop, the next request works.
 """
 
 from __future__ import annotations
@@ -61,7 +62,11 @@ def write(app: FaultyApp, node: int, obj: str, value: int) -> tuple[int, dict[st
 
 def assert_clear_error(status: int, body: dict[str, Any], node: int) -> None:
     """One of the documented failures, naming the node (and, for a timeout, what was asked)."""
-    assert (status, body["error"]) in {(504, "timeout"), (409, "sdo_abort")}, body
+    assert (status, body["error"]) in {
+        (504, "timeout"),
+        (502, "sdo_protocol"),
+        (409, "sdo_abort"),
+    }, body
     assert body["node"] == node, body
     assert body["message"], body
     if body["error"] == "sdo_abort":
