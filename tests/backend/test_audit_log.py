@@ -283,3 +283,19 @@ async def test_a_closed_log_never_holds_back_a_stop(tmp_path: Path) -> None:
     async with audit.by_tool("jog-stop", 1, "stop the jog of node 1: ServoDesk is shutting down"):
         sent.append("stop")
     assert sent == ["stop"]
+
+
+def test_shutting_down_releases_the_held_drives_and_says_so(tmp_path: Path) -> None:
+    """A page holds node 3 (its heartbeat consumer 1016h watches ServoDesk); the server stops:
+    1016h is written back, and the log has that write as the server's own, with its result."""
+    page = {"X-Client-Id": "page-a", "X-Client-Name": "Alice"}
+    with make_client(tmp_path) as client:
+        taken = client.post("/api/nodes/3/drive/controller", headers=page, json={})
+        assert taken.status_code == 200, taken.json()
+        assert taken.json()["protection"]["active"] is True, taken.json()
+    with make_client(tmp_path) as client:
+        entries = client.get("/api/audit", params={"node": 3, "action": "release"}).json()
+    assert entries, "no release entry"
+    assert entries[0]["user"] == "servodesk"
+    assert entries[0]["what"] == "release node 3: ServoDesk is shutting down"
+    assert entries[0]["result"] == "ok"

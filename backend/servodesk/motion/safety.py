@@ -94,10 +94,14 @@ class MotionSafety:
     async def close(self) -> None:
         for unsubscribe in self._unsubscribe:
             unsubscribe()
-        self.jogs.stop_all("ServoDesk is shutting down", by_tool=True)
+        why = "ServoDesk is shutting down"
+        self.jogs.stop_all(why, by_tool=True)
         await self.jogs.settled()
         for node in self.lease.nodes():
             self.lease.release(node)
+        for node in self.heartbeat.guarded():  # 1016h back as it was, each write audited
+            async with self._recorded(True, "release", node, f"release node {node}: {why}"):
+                await self.heartbeat.unprotect(node)
         await self.heartbeat.close()
 
     # ------------------------------------------------------------------ control (lease)
