@@ -171,7 +171,7 @@ def run_the_scope(page: Page, server: str) -> None:
     expect(sources.get_by_role("row", name=re.compile("606Ch:00"))).to_contain_text("TPDO")
     expect(page.get_by_role("meter", name="Bus load during the capture")).to_be_visible()
     start = page.get_by_role("button", name="● Start capture")
-    expect(start).to_be_enabled()
+    expect(start).to_be_enabled(timeout=30_000)  # the viewer's rendering slows the page
     shot(page, "scope_plan.png")
 
     with jogging(server, 1, JOG_RPM) as stops:
