@@ -192,7 +192,8 @@ def test_pt_jog_takes_its_slope_and_the_drive_caps_the_speed(client: TestClient)
     assert sdo(client, CIA402, 0x6087) == 10  # 0.1 %/ms
     started = time.monotonic()
     fastest = 0.0
-    while time.monotonic() - started < 1.0:
+    # a second at least, longer (up to 3 s) on a host too busy to get there in a second
+    while (elapsed := time.monotonic() - started) < 1.0 or (fastest < 190 and elapsed < 3.0):
         ok(client.post(f"/api/jog/{jog['jog_id']}/keepalive"))
         fastest = max(fastest, abs(ok(client.get(f"/api/nodes/{CIA402}/drive"))["velocity_rpm"]))
     assert 150 < fastest <= 201  # up at the limit, never past it
