@@ -134,12 +134,13 @@ def test_level_trigger_with_pre_trigger_captures_the_crossing(client: TestClient
     with jogging(client, 1):
         time.sleep(0.3)
         now = ok(client.get(f"/api/nodes/1/sdo/{POSITION:04X}/0"))["value"]
-        # six revolutions ahead: at 300 rpm reached 1.2 s later, after the capture is armed
-        # (arming maps TPDOs by SDO: 0.3–0.6 s on a busy machine, too close to 0.4 s)
-        capture, done = capture_crossing(client, now + 6 * USER_PER_REV)
+        # twelve revolutions ahead: at 300 rpm reached 2.4 s later, well after the capture is
+        # armed and its 100 ms pre-trigger buffer full (arming maps TPDOs by SDO: 0.3–0.6 s on
+        # a busy machine, over 1 s on a loaded CI host)
+        level = now + 12 * USER_PER_REV
+        capture, done = capture_crossing(client, level)
     assert done["state"] == "done", done
     assert done["trigger_time"] is not None
-    level = now + 6 * USER_PER_REV
     rows = signal_rows(samples_of(client, capture["id"]), 1, POSITION)
     t, raw = rows["time_s"].to_numpy(), rows["raw"].to_numpy()
     crossing = int(np.flatnonzero(t >= 0)[0])
@@ -243,6 +244,12 @@ def test_emcy_trigger_in_normal_mode_keeps_the_last_captures(client: TestClient)
     }
     first = ok(client.post("/api/scope/captures", json=request))
     for _ in range(3):  # three faults, each one capture
+        # the series' next capture armed and its 100 ms pre-trigger buffer full (re-arming maps
+        # TPDOs by SDO, which takes long on a loaded host)
+        deadline = time.monotonic() + 10
+        while not any(c["state"] == "armed" for c in ok(client.get("/api/scope/captures"))):
+            assert time.monotonic() < deadline, "the next capture did not arm"
+            time.sleep(0.02)
         time.sleep(0.3)
         ok(client.put("/api/nodes/2/sdo/5FF0/0", json={"value": 0x8611}))  # following error
         time.sleep(0.6)
