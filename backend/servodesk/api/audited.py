@@ -19,7 +19,9 @@ from starlette.exceptions import HTTPException
 from servodesk.api.errors import HTTP_ERRORS, describe, validation_message
 from servodesk.audit import AuditLog, Outcome
 from servodesk.audit.entry import enter, leave
+from servodesk.audit.log import URGENT_WAIT_S
 from servodesk.errors import SdoAbortError, ServodeskError
+from servodesk.models import ErrorBody
 
 CHANGES_STATE = frozenset({"POST", "PUT", "PATCH", "DELETE"})
 MAX_BODY = 16 * 1024  # bodies larger than this (uploads) are not copied into the entry
@@ -46,8 +48,19 @@ NOT_AUDITED = frozenset(
         "undo",
     }
 )
-# Stops: their entry is queued, never waited for (a stop must not wait for the disk).
-URGENT = frozenset({"quick_stop", "quick_stop_all", "stop_jog"})
+# Stops and disables: their entry is queued, never waited for; they go out whatever the log's
+# state, and an entry that cannot be written is reported beside the answer (AUDIT_HEADER).
+URGENT = frozenset({"quick_stop", "quick_stop_all", "stop_jog", "disable"})
+# POST …/drive/command: the controlword commands that take power from the motor are urgent too.
+URGENT_COMMANDS = frozenset({"shutdown", "disable_operation", "disable_voltage", "quick_stop"})
+# On an answer whose write went out but whose audit entry could not be written:
+# "audit_unavailable; <what was sent and why it is not recorded>" (docs/api.md).
+AUDIT_HEADER = "X-Audit-Error"
+AUDIT_UNAVAILABLE: dict[str, Any] = {
+    "model": ErrorBody,
+    "description": "audit_unavailable: the audit log cannot be written (no space left); "
+    "nothing was sent. Stops and disables answer with the X-Audit-Error header instead",
+}
 # The action an endpoint's entries carry, where it is not the endpoint's name in kebab-case.
 ACTIONS = {
     "write_entry": "sdo-write",
@@ -111,25 +124,47 @@ def _response_outcome(response: Response) -> Outcome:
     return Outcome("failed", None, str(error or response.status_code), message)
 
 
-async def _summary(request: Request) -> tuple[str, Any]:
-    """The request body as one short line, and its `value` when it names one."""
+async def _body(request: Request) -> Any:
+    """The JSON body, parsed; None when there is none (or it is too large to copy)."""
     if not request.headers.get("content-type", "").startswith("application/json"):
-        return "", None
+        return None
     try:
         if int(request.headers.get("content-length", "0")) > MAX_BODY:
-            return "", None
+            return None
     except ValueError:
-        return "", None
+        return None
     body = await request.body()  # Starlette caches it: the route reads the same bytes
     try:
-        parsed = json.loads(body)
+        return json.loads(body)
     except ValueError:
+        return None
+
+
+def _summary(parsed: Any) -> tuple[str, Any]:
+    """The request body as one short line, and its `value` when it names one."""
+    if parsed is None:
         return "", None
     text = json.dumps(parsed, ensure_ascii=False, separators=(",", ":"))
     value = parsed.get("value") if isinstance(parsed, dict) else None
     if not isinstance(value, int | float | str) or isinstance(value, bool):
         value = None
     return (text if len(text) <= 300 else text[:297] + "…"), value
+
+
+def _urgent(endpoint_name: str, parsed: Any) -> bool:
+    if endpoint_name in URGENT:
+        return True
+    return (
+        endpoint_name == "command"
+        and isinstance(parsed, dict)
+        and parsed.get("command") in URGENT_COMMANDS
+    )
+
+
+def _header_text(failure: BaseException) -> str:
+    # header values are Latin-1: the data directory's path may not be
+    text = f"audit_unavailable; {failure}"
+    return text.encode("ascii", "replace").decode("ascii")
 
 
 def _node(request: Request) -> int | None:
@@ -148,6 +183,7 @@ class AuditedRoute(APIRoute):
         if self.audited:
             # said in the schema too: API clients see which calls leave an audit entry
             kwargs["openapi_extra"] = {**(kwargs.get("openapi_extra") or {}), "x-audited": True}
+            kwargs["responses"] = {507: AUDIT_UNAVAILABLE, **(kwargs.get("responses") or {})}
         super().__init__(path, endpoint, **kwargs)
 
     def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
@@ -156,23 +192,32 @@ class AuditedRoute(APIRoute):
         if not self.audited:
             return handler
         action = action_of(name)
-        urgent = name in URGENT
 
         async def audited(request: Request) -> Response:
             audit: AuditLog = request.app.state.services.audit
-            summary, value = await _summary(request)
+            parsed = await _body(request)
+            summary, value = _summary(parsed)
+            urgent = _urgent(name, parsed)
             what = f"{request.method} {request.url.path}" + (f" {summary}" if summary else "")
+            # a write that is not urgent is refused here when its entry cannot be written
             entry = await audit.begin(action, _node(request), what, new=value, wait=not urgent)
+            wait = URGENT_WAIT_S if urgent else None
             token = enter(entry)
             try:
                 response = await handler(request)
             except BaseException as error:
-                await asyncio.shield(audit.finish(entry, outcome_of(error)))
+                await audit.settle(entry, outcome_of(error), wait=wait)
                 raise
             finally:
                 leave(token)
-            # an error the route answered itself rather than raising it counts as failed
-            await audit.finish(entry, _response_outcome(response))
+            # an error the route answered itself, or a success the route itself reported as a
+            # failure (a stalled IP stream), counts as failed
+            outcome = _response_outcome(response)
+            if entry.verdict is not None and outcome.result == "ok":
+                outcome = entry.verdict
+            failure = await audit.settle(entry, outcome, wait=wait)
+            if failure is not None:  # the write went out: say so, and that it is not recorded
+                response.headers[AUDIT_HEADER] = _header_text(failure)
             return response
 
         return audited

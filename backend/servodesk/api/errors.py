@@ -18,6 +18,7 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException
 
 from servodesk.api.schema import allowed_methods
+from servodesk.audit.errors import AuditUnavailableError
 from servodesk.errors import (
     BusNotConnectedError,
     CommTimeoutError,
@@ -94,6 +95,11 @@ def describe(error: ServodeskError) -> tuple[int, ErrorBody]:
     motion = _describe_motion(error)
     if motion is not None:
         return motion
+    if isinstance(error, AuditUnavailableError):
+        # 507 Insufficient Storage when the disk is full; another cause is 503
+        return (507 if error.full else 503), ErrorBody(
+            error="audit_unavailable", message=str(error)
+        )
     if isinstance(error, SdoAbortError):
         return 409, ErrorBody(
             error="sdo_abort",

@@ -51,6 +51,12 @@ class Pending:
     writes: int = 0  # single writes recorded so far
     # the entry's id, once its begin row is in the log (AuditLog.begin sets it)
     row: Future[int] = field(default_factory=Future)
+    # what the write itself says came of it, where its answer is a success that describes a
+    # failure (an IP stream that stalled answers 200 with the fault): it wins over "ok"
+    verdict: Outcome | None = None
+
+    def report(self, outcome: Outcome) -> None:
+        self.verdict = outcome
 
     def records_object(self) -> bool:
         """The first write of a single-write entry names its object; later writes (a DCF load

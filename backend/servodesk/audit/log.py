@@ -11,15 +11,21 @@ from pathlib import Path
 
 from servodesk.access.actor import SYSTEM, acting, current_actor
 from servodesk.audit.entry import AuditValue, Outcome, Pending, enter, leave
+from servodesk.audit.errors import AuditUnavailableError, unavailable
 from servodesk.audit.store import AuditFilter, AuditRow, AuditStore, csv_header
 
 log = logging.getLogger(__name__)
+
+# How long a stop's answer waits for its result row: the stop went out already; a slow disk
+# must not hold the answer (the row is still written, later).
+URGENT_WAIT_S = 0.5
 
 Describe = Callable[[BaseException], Outcome]
 
 
 class AuditLog:
     def __init__(self, data_dir: Path, *, describe: Describe = Outcome.of_error) -> None:
+        self._data_dir = data_dir
         self._store = AuditStore(data_dir)
         self._describe = describe  # an error's kind and words, as the API gives them
 
@@ -57,7 +63,26 @@ class AuditLog:
         return entry
 
     async def finish(self, entry: Pending, outcome: Outcome) -> None:
+        """Append the result row; AuditUnavailableError when it cannot be written."""
         await asyncio.wrap_future(self._store.submit_finish(entry, outcome))
+
+    async def settle(
+        self, entry: Pending, outcome: Outcome, *, wait: float | None = None
+    ) -> AuditUnavailableError | None:
+        """Append the result of a write that happened (or was tried) whatever the log's state:
+        never raises; returns why the entry is not recorded, for the answer to say so. With
+        `wait`, gives up waiting after that many seconds (the row is still queued)."""
+        done = asyncio.wrap_future(self._store.submit_finish(entry, outcome))
+        try:
+            await asyncio.wait_for(asyncio.shield(done), wait)
+        except TimeoutError:
+            log.warning("audit log: the result of %s is not written yet (slow disk)", entry.what)
+            return None
+        except Exception as error:
+            failure = unavailable(error, self._data_dir).after(entry.what)
+            log.error("audit log cannot be written: %s", failure)
+            return failure
+        return None
 
     @asynccontextmanager
     async def entry(
@@ -72,17 +97,26 @@ class AuditLog:
         wait: bool = True,
     ) -> AsyncIterator[Pending]:
         """One audited write: begin row, the write (the SDO path fills in object and old value
-        through `current_entry()`), result row — also when the write fails or is cancelled."""
+        through `current_entry()`), result row — also when the write fails or is cancelled.
+
+        With `wait` (the default) a log that cannot be written refuses the write before it is
+        sent (AuditUnavailableError). A stop passes wait=False: it goes out whatever the log's
+        state; when its entry could not be written, AuditUnavailableError is raised after it
+        went out, naming what was sent (the caller answers it beside the stop)."""
         entry = await self.begin(action, node, what, new=new, undo_of=undo_of, wait=wait)
         token = enter(entry)
         try:
             yield entry
         except BaseException as error:
-            await asyncio.shield(self.finish(entry, describe(error)))
+            await self.settle(entry, describe(error), wait=None if wait else URGENT_WAIT_S)
             raise
         finally:
             leave(token)
-        await self.finish(entry, Outcome.ok())
+        failure = await self.settle(
+            entry, entry.verdict or Outcome.ok(), wait=None if wait else URGENT_WAIT_S
+        )
+        if failure is not None:
+            raise failure
 
     @asynccontextmanager
     async def by_tool(
@@ -109,10 +143,7 @@ class AuditLog:
             raise
         finally:
             leave(token)
-            try:
-                await asyncio.shield(self.finish(entry, outcome))
-            except Exception:
-                log.exception("audit log: the result of %s could not be written", what)
+            await self.settle(entry, outcome, wait=URGENT_WAIT_S)  # logs a failure
 
     async def entries(self, filters: AuditFilter) -> list[AuditRow]:
         return await asyncio.wrap_future(self._store.submit_query(filters))

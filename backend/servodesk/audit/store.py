@@ -6,7 +6,8 @@ result row's primary key is its entry, so no entry gets a second result. An entr
 row is missing at start-up (the server died mid-write) gets the result "unknown".
 
 Blocking SQLite calls run on this store's one thread, in the order they were submitted; a
-stop submits its begin row without waiting for it (`begin(..., wait=False)`).
+stop submits its begin row without waiting for it (`begin(..., wait=False)`). A row that
+cannot be written (disk full, read-only, I/O error) fails its future with AuditUnavailableError.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from servodesk.audit.entry import AuditValue, Outcome, Pending
+from servodesk.audit.errors import unavailable
 
 FILENAME = "audit.sqlite"
 CRASHED = "the server stopped before this write completed: check the drive's value"
@@ -197,6 +199,12 @@ class AuditStore:
         return self._db
 
     def _begin(self, entry: Pending, when: float) -> int:
+        try:
+            return self._insert_begin(entry, when)
+        except (sqlite3.Error, OSError) as error:
+            raise unavailable(error, self.path.parent) from error
+
+    def _insert_begin(self, entry: Pending, when: float) -> int:
         actor = entry.actor
         cursor = self._conn().execute(
             "INSERT INTO entries (time, user, role, client, node, action, what, new, undo_of) "
@@ -209,10 +217,17 @@ class AuditStore:
         return cursor.lastrowid
 
     def _finish(self, entry: Pending, outcome: Outcome, when: float) -> None:
+        row = entry.row.result()  # a begin row that failed fails its result the same way
+        try:
+            self._insert_result(row, entry, outcome, when)
+        except (sqlite3.Error, OSError) as error:
+            raise unavailable(error, self.path.parent) from error
+
+    def _insert_result(self, row: int, entry: Pending, outcome: Outcome, when: float) -> None:
         self._conn().execute(
             "INSERT INTO results (entry, time, result, what, obj_index, obj_subindex, old, new, "
             "abort_code, error, message, undoable) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-            (entry.row.result(), when, outcome.result, entry.what, entry.index, entry.subindex,
+            (row, when, outcome.result, entry.what, entry.index, entry.subindex,
              _dump(entry.old), _dump(entry.new), outcome.abort_code, outcome.error,
              outcome.message, int(outcome.result == "ok" and entry.undoable)),
         )  # fmt: skip

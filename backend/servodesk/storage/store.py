@@ -209,7 +209,8 @@ class Storage:
             self._prune(db)
             db.execute("COMMIT")
         except BaseException:
-            db.execute("ROLLBACK")
+            if db.in_transaction:  # SQLite already rolled back a full disk's transaction
+                db.execute("ROLLBACK")
             raise
 
     def _prune(self, db: sqlite3.Connection) -> None:
