@@ -63,7 +63,8 @@ async def drive_state(node: NodeId, services: ServicesDep) -> DriveState:
 
 @router.post("/nodes/{node}/drive/enable")
 async def enable(node: NodeId, client: ClientDep, services: ServicesDep) -> DriveState:
-    """Walk the CiA 402 state machine to Operation enabled; 409 enable_blocked names why not."""
+    """Walk the CiA 402 state machine to Operation enabled; 409 enable_blocked names why not.
+    A fault is never reset here (409 naming it, nothing sent): fault-reset is its own act."""
     await services.safety.authorize(node, client)
     return await services.motion.enable(node)
 

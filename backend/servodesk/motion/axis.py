@@ -7,20 +7,25 @@ import asyncio
 from dataclasses import dataclass, field
 from typing import Literal
 
-from servodesk.motion.drive_io import Snapshot, Statics
+from servodesk.motion.drive_io import Snapshot, Statics, Travel
 from servodesk.motion.homing import homing_phase
 from servodesk.motion.schemas import (
+    DriveLimits,
     DriveState,
     FaultInfo,
     HomingProgress,
     MotionLimits,
     MoveProgress,
     SpeedLimit,
+    TravelEnds,
+    TravelInfo,
 )
 from servodesk.motion.units import DriveUnits
 from servodesk.motion.words import STATE_NAMES, mode_key, state_label, status_bits, transition
 from servodesk_data import DriveData
 from servodesk_protocol.cia402 import (
+    CW_HALT,
+    CW_QUICK_STOP,
     SW_MODE_BIT13,
     SW_REFERENCE_FOUND,
     SW_TARGET_REACHED,
@@ -37,12 +42,17 @@ INPUT_BITS = {"negative_limit": 0, "positive_limit": 1, "home_switch": 2}  # 60F
 @dataclass
 class Axis:
     node: int
-    limits: MotionLimits
+    limits: MotionLimits  # in force: the user's choice under the drive's own
     statics: Statics | None = None
+    chosen_limits: MotionLimits | None = None  # what PUT …/drive/limits set; None: the drive's
+    drive_limits: DriveLimits | None = None  # the drive's own as last read
+    limits_read_at: float = 0.0  # time.monotonic() of the last read of the drive's limits
+    sim_switches: bool = True  # still ask for the simulator's switch objects 5FF1h/5FF2h
     last: Snapshot | None = None
     state: Cia402State | None = None
     last_transition: str | None = None
     homing_method: int | None = None
+    homing: HomingProgress | None = None  # the last run's progress, final once it ended
     homed: bool = False
     move: MoveProgress | None = None
     target_user: int | None = None  # the last accepted PP target, for relative moves
@@ -127,11 +137,12 @@ def build_state(
         for name, bit in INPUT_BITS.items()
     }
     bit15 = data is not None and data.quirks.homing_reference_found_bit15
-    homing = _homing(axis, snap, position_inc)
+    fault = fault_info(snap.error_code, state in _FAULTED, data, fault_source)
+    homing = _homing(axis, snap, state, position_inc, fault)
     if homing is not None and homing.phase == "attained":
         axis.homed = True
     homed: bool | None = bool(sw & SW_REFERENCE_FOUND) if bit15 else (axis.homed or None)
-    move = _move(axis, snap, state)
+    move = _move(axis, snap, state, fault)
     supported_keys = [k for m in sorted(supported) if (k := mode_key(m)) is not None]
     return DriveState(
         node=axis.node,
@@ -157,47 +168,84 @@ def build_state(
         homing=homing,
         move=move,
         target_reached=bool(sw & SW_TARGET_REACHED),
-        fault=fault_info(snap.error_code, state in _FAULTED, data, fault_source),
+        fault=fault,
         nmt_state=nmt_state,
         counts_per_rev=units.counts_per_rev,
         gear_ratio=axis.statics.gear if axis.statics else None,
         limits=axis.limits,
         pt_speed_limit=pt_speed_limit if "pt" in supported_keys else None,
+        drive_limits=axis.drive_limits,
+        travel=travel_info(axis.statics.travel, units) if axis.statics else None,
     )
 
 
 _FAULTED = (Cia402State.FAULT, Cia402State.FAULT_REACTION_ACTIVE)
 
 
-def _homing(axis: Axis, snap: Snapshot, position_inc: int) -> HomingProgress | None:
-    if axis.homing_method is None:
-        return None
+def _homing(
+    axis: Axis,
+    snap: Snapshot,
+    state: Cia402State,
+    position_inc: int,
+    fault: FaultInfo | None,
+) -> HomingProgress | None:
+    """The run's progress from statusword bits 10/12/13 while the drive homes; once the run
+    has ended (attained, error, interrupted) that stays what the card shows until the next
+    run — the drive leaving homing mode afterwards (to PP, say) does not undo it."""
+    last = axis.homing
+    if axis.homing_method is None or (last is not None and last.phase != "running"):
+        return last
     if snap.mode_display != OperationMode.HOMING:
-        return HomingProgress(
+        progress = HomingProgress(
             method=axis.homing_method,
             phase="interrupted",
-            message="the drive left homing mode",
+            message=f"the drive left homing mode before it was attained ({_mode_text(snap)})",
             position_inc=None,
         )
-    phase, message = homing_phase(snap.statusword)
-    return HomingProgress(
-        method=axis.homing_method,
-        phase=phase,
-        message=message,
-        position_inc=position_inc if phase == "attained" else None,
-    )
+    elif state is not Cia402State.OPERATION_ENABLED:
+        progress = HomingProgress(
+            method=axis.homing_method,
+            phase="interrupted",
+            message=interruption(snap, state, fault),
+            position_inc=None,
+        )
+    else:
+        phase, message = homing_phase(snap.statusword)
+        progress = HomingProgress(
+            method=axis.homing_method,
+            phase=phase,
+            message=message,
+            position_inc=position_inc if phase == "attained" else None,
+        )
+    axis.homing = progress
+    return progress
 
 
-def _move(axis: Axis, snap: Snapshot, state: Cia402State) -> MoveProgress | None:
+def _mode_text(snap: Snapshot) -> str:
+    shown = mode_key(snap.mode_display)
+    return f"6061h shows {shown.upper()}" if shown else "6061h shows no mode"
+
+
+def _move(
+    axis: Axis, snap: Snapshot, state: Cia402State, fault: FaultInfo | None
+) -> MoveProgress | None:
+    """The last PP move's progress. Once it has ended (reached, error, interrupted) it stays
+    so until the next move: a later disable is not its error, a later enable does not
+    restart it."""
     move = axis.move
-    if move is None or axis.target_user is None:
-        return move
+    if move is None:
+        return None
     queued = len(axis.queued)
-    if move.phase == "reached" and queued == 0 and axis.queue_task is None:
-        return move  # stays reached until the next move (a later disable is not its error)
-    phase: Literal["moving", "reached", "error"]
-    if state is not Cia402State.OPERATION_ENABLED or snap.statusword & SW_MODE_BIT13:
-        phase = "error"
+    running = queued > 0 or axis.queue_task is not None
+    if move.phase != "moving" and not (move.phase == "reached" and running):
+        return move
+    phase: Literal["moving", "reached", "error", "interrupted"]
+    message = None
+    if state is not Cia402State.OPERATION_ENABLED or axis.target_user is None:
+        # a quick stop, a fault, a disable, or ServoDesk dropped the move (a jog, a stop)
+        phase, message = "interrupted", interruption(snap, state, fault)
+    elif snap.statusword & SW_MODE_BIT13:
+        phase, message = "error", "following error (statusword bit 13 in profile position)"
     elif (
         snap.statusword & SW_TARGET_REACHED
         and snap.position is not None
@@ -206,5 +254,57 @@ def _move(axis: Axis, snap: Snapshot, state: Cia402State) -> MoveProgress | None
         phase = "reached"
     else:
         phase = "moving"
-    axis.move = MoveProgress(target_inc=move.target_inc, phase=phase, queued=queued)
+    if phase == "interrupted":
+        queued = 0  # the rest of a sequence is dropped with it
+    axis.move = MoveProgress(
+        target_inc=move.target_inc, phase=phase, queued=queued, message=message
+    )
     return axis.move
+
+
+def interruption(snap: Snapshot, state: Cia402State, fault: FaultInfo | None) -> str:
+    """Why motion ended before its target, from what the drive shows (pure)."""
+    control = snap.controlword
+    if state in _FAULTED:
+        named = f" {fault.name}" if fault and fault.name else ""
+        code = f" {fault.code_hex}" if fault else ""
+        return f"stopped by fault{code}{named}"
+    quick = control is not None and control & 0x0002 and not control & CW_QUICK_STOP
+    if state is Cia402State.QUICK_STOP_ACTIVE or quick:
+        return f"stopped by quick stop (the drive is now {state_label(state)})"
+    if state is not Cia402State.OPERATION_ENABLED:
+        return f"stopped: the drive left Operation enabled (now {state_label(state)})"
+    if control is not None and control & CW_HALT:
+        return "halted (controlword bit 8) before its target"
+    return "stopped by ServoDesk before its target (another command took the axis)"
+
+
+SIM_SWITCH_NOTE = (
+    "the simulator's limit switches (simulator-only objects, docs/simulator.md), in motor "
+    "revolutions since the simulated drive started: the same as the position shown until a "
+    "homing moves its zero"
+)
+
+
+def travel_info(travel: Travel | None, units: DriveUnits) -> TravelInfo:
+    """Where the travel ends, in motor revolutions (pure)."""
+    switches = software = None
+    if travel is not None and travel.switches is not None:
+        low, high = travel.switches
+        switches = TravelEnds(
+            min_rev=None if low is None else units.inc_to_rev(low),
+            max_rev=None if high is None else units.inc_to_rev(high),
+            source="5FF1h / 5FF2h SIM limit switch positions",
+            simulator=True,
+            note=SIM_SWITCH_NOTE,
+        )
+    if travel is not None and travel.software_limit is not None:
+        low, high = travel.software_limit
+        switched_off = low == high == 0
+        software = TravelEnds(
+            min_rev=None if low is None or switched_off else units.user_to_rev(low),
+            max_rev=None if high is None or switched_off else units.user_to_rev(high),
+            source="607Dh Software position limit",
+            note="0 … 0: the drive checks no software limit" if switched_off else "",
+        )
+    return TravelInfo(switches=switches, software_limit=software)

@@ -2,7 +2,9 @@
 
 Every function here takes the canopen RemoteNode and runs inside `NodeSession.run` (or
 `priority`), never on the event loop (DESIGN rule 1). An object the drive does not have reads as
-None (its SDO abort is the answer, not an error); only the statusword must answer.
+None: one its dictionary (the profile's EDS or the user's import) lacks is not asked for at all
+(the drive's abort would show on the timeline as if the drive had a problem); one it has but the
+drive refuses answers None by its SDO abort. Only the statusword must answer.
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import canopen
+from canopen.objectdictionary import ODArray, ODRecord
 from canopen.sdo.exceptions import SdoAbortedError
 
 from servodesk_protocol.cia402 import CONTROLWORD, MODES_DISPLAY, MODES_OF_OPERATION, STATUSWORD
@@ -19,6 +22,7 @@ QUICK_STOP_OPTION = 0x605A  # Quick stop option code
 POSITION_ACTUAL = 0x6064  # Position actual value (user units)
 FOLLOWING_WINDOW = 0x6065  # Following error window
 POSITION_WINDOW = 0x6067  # Position window
+SOFTWARE_POSITION_LIMIT = 0x607D  # Software position limit (:01 min, :02 max, user units)
 VELOCITY_ACTUAL = 0x606C  # Velocity actual value
 TARGET_TORQUE = 0x6071  # Target torque
 MAX_TORQUE = 0x6072  # Max torque
@@ -40,13 +44,31 @@ FOLLOWING_ERROR = 0x60F4  # Following error actual value
 DIGITAL_INPUTS = 0x60FD  # Digital inputs (bit 0 N-OT, 1 P-OT, 2 home switch)
 TARGET_VELOCITY = 0x60FF  # Target velocity
 SUPPORTED_MODES = 0x6502  # Supported drive modes
+SIM_NEGATIVE_SWITCH = 0x5FF1  # SIM negative limit switch position (simulator only, motor inc)
+SIM_POSITIVE_SWITCH = 0x5FF2  # SIM positive limit switch position (simulator only, motor inc)
 
 # (size in bytes, signed) of what motion writes; reads take the answer's own length.
 I8, U8, I16, U16, I32, U32 = (1, True), (1, False), (2, True), (2, False), (4, True), (4, False)
 
 
+def has(remote: canopen.RemoteNode, index: int, sub: int = 0) -> bool:
+    """Whether the node's dictionary lists the entry; a node without one (empty) may have
+    anything, so it is asked."""
+    od = remote.object_dictionary
+    if not len(od):
+        return True
+    if index not in od:
+        return False
+    obj = od[index]
+    if isinstance(obj, ODRecord | ODArray):
+        return sub in obj.subindices
+    return sub == 0
+
+
 def read(remote: canopen.RemoteNode, index: int, sub: int = 0, *, signed: bool) -> int | None:
     """One entry as an integer, or None when the drive has no such object."""
+    if not has(remote, index, sub):
+        return None
     try:
         data = bytes(remote.sdo.upload(index, sub))
     except SdoAbortedError:
@@ -87,8 +109,27 @@ class Snapshot:
 
 
 @dataclass(frozen=True, slots=True)
+class Travel:
+    """Where the axis's travel ends, as the drive's objects say (None: not in its dictionary)."""
+
+    switches: tuple[int | None, int | None] | None  # 5FF1h / 5FF2h, motor increments
+    software_limit: tuple[int | None, int | None] | None  # 607Dh:01 / :02, user units
+
+
+@dataclass(frozen=True, slots=True)
+class Limits:
+    """The drive's own limits: parameters a user changes (MDi PA-103) while the axis is up,
+    so they are read again while the drive state is watched."""
+
+    overspeed_rpm: int | None
+    max_torque: int | None
+    travel: Travel
+
+
+@dataclass(frozen=True, slots=True)
 class Statics:
-    """What changes rarely: read on first contact and again at every enable."""
+    """What changes rarely: read on first contact and again at every enable (the limit objects
+    among them also while the drive state is watched, `read_limits`)."""
 
     supported_raw: int | None  # 6502h
     counts_per_rev: int | None  # 608Fh:01 / :02
@@ -97,6 +138,7 @@ class Statics:
     overspeed_rpm: int | None  # the profile's max speed object
     max_torque: int | None  # 6072h, 0.1 %
     position_window: int | None  # 6067h, user units
+    travel: Travel | None = None  # limit switches, 607Dh
 
 
 def read_snapshot(remote: canopen.RemoteNode) -> Snapshot:
@@ -114,17 +156,47 @@ def read_snapshot(remote: canopen.RemoteNode) -> Snapshot:
     )
 
 
-def read_statics(remote: canopen.RemoteNode, max_speed: tuple[int, int] | None) -> Statics:
+def read_statics(
+    remote: canopen.RemoteNode, max_speed: tuple[int, int] | None, *, switches: bool = False
+) -> Statics:
     counts = read(remote, ENCODER_RESOLUTION, 1, signed=False)
     revs = read(remote, ENCODER_RESOLUTION, 2, signed=False) if counts else None
     motor = read(remote, GEAR_RATIO, 1, signed=False)
     user = read(remote, GEAR_RATIO, 2, signed=False)
+    limits = read_limits(remote, max_speed, switches=switches)
     return Statics(
         supported_raw=read(remote, SUPPORTED_MODES, signed=False),
         counts_per_rev=counts // revs if counts and revs else counts,
         gear=(motor, user) if motor and user else None,
         quick_stop_option=read(remote, QUICK_STOP_OPTION, signed=True),
+        overspeed_rpm=limits.overspeed_rpm,
+        max_torque=limits.max_torque,
+        position_window=read(remote, POSITION_WINDOW, signed=False),
+        travel=limits.travel,
+    )
+
+
+def read_limits(
+    remote: canopen.RemoteNode, max_speed: tuple[int, int] | None, *, switches: bool = False
+) -> Limits:
+    """`switches`: also the simulator's limit switch objects (only asked of the simulator)."""
+    ends = (
+        (
+            read(remote, SIM_NEGATIVE_SWITCH, signed=True),
+            read(remote, SIM_POSITIVE_SWITCH, signed=True),
+        )
+        if switches
+        else (None, None)
+    )
+    software = (
+        read(remote, SOFTWARE_POSITION_LIMIT, 1, signed=True),
+        read(remote, SOFTWARE_POSITION_LIMIT, 2, signed=True),
+    )
+    return Limits(
         overspeed_rpm=read(remote, *max_speed, signed=False) if max_speed else None,
         max_torque=read(remote, MAX_TORQUE, signed=False),
-        position_window=read(remote, POSITION_WINDOW, signed=False),
+        travel=Travel(
+            switches=ends if ends != (None, None) else None,
+            software_limit=software if software != (None, None) else None,
+        ),
     )

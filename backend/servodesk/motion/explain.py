@@ -5,7 +5,8 @@ Causes, in the order a user has to clear them:
 - NMT: Stopped answers no SDO at all (MDi-S1-C CANopen manual table 2.8); PDO control needs
   Operational;
 - another controller holds the axis (the controller lease);
-- a fault (statusword bit 3), named from 603Fh and the profile's fault table;
+- a fault (statusword bit 3), named from 603Fh and the profile's fault table (an enable never
+  resets it: that is the user's own act, Fault reset);
 - controlword bit 7 left high: every command needs it 0, so a master that holds fault reset
   cannot enable;
 - voltage not enabled (bit 4): main power is off or the drive is still starting;
@@ -150,12 +151,19 @@ def _mode_reasons(seen: Observed) -> list[EnableReason]:
     return []
 
 
+RESET_ON_PURPOSE = "nothing resets it by itself: remove its cause, then send Fault reset"
+
+
 def _fault_text(fault: FaultInfo | None) -> str:
     if fault is None:
-        return "the drive is in Fault (statusword bit 3): reset the fault after removing its cause"
+        return f"the drive is in Fault (statusword bit 3); {RESET_ON_PURPOSE}"
     name = f" {fault.name}" if fault.name else ""
+    source = f" ({fault.source})" if fault.source else ""
     check = f" — check: {fault.text}" if fault.text else ""
-    return f"fault {fault.code_hex}{name} is active (statusword bit 3){check}"
+    return (
+        f"fault {fault.code_hex}{name}{source} is active (statusword bit 3){check}; "
+        f"{RESET_ON_PURPOSE}"
+    )
 
 
 def _state_text(statusword: int) -> str:

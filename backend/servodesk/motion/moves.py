@@ -10,7 +10,8 @@ from typing import Literal
 
 from servodesk.errors import InvalidValueError, ServodeskError
 from servodesk.motion import drive_io as io
-from servodesk.motion.core import MotionCore, state_of
+from servodesk.motion.core import state_of
+from servodesk.motion.drive_limits import LimitOps
 from servodesk.motion.errors import EnableBlockedError, LimitError, MotionBusyError
 from servodesk.motion.homing import methods_for
 from servodesk.motion.jog import JogRamp
@@ -36,7 +37,7 @@ M = OperationMode
 DEFAULT_TORQUE_SLOPE = 100.0  # % rated torque per second: 6087h = 1, the drive's finest step
 
 
-class MoveOps(MotionCore):
+class MoveOps(LimitOps):
     # ------------------------------------------------------------------ profile position
 
     async def move(self, node: int, request: MoveRequest) -> DriveState:
@@ -264,6 +265,7 @@ class MoveOps(MotionCore):
         await self._controlword(node, make_enable_operation())
         await self._controlword(node, make_enable_operation(new_setpoint=True))
         axis.homing_method = request.method
+        axis.homing = None  # a new run: the last one's end is no longer shown
         axis.homed = False
         axis.target_user = None
         return await self.state(node)

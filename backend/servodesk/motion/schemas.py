@@ -86,9 +86,43 @@ class HomingProgress(BaseModel):
 
 
 class MoveProgress(BaseModel):
+    """The last PP move: moving until the drive reaches its target, or ended without reaching
+    it — `error` (statusword bit 13, following error) or `interrupted` (a quick stop, a halt,
+    a fault, the drive leaving Operation enabled, another command); `message` says why."""
+
     target_inc: int
-    phase: Literal["moving", "reached", "error"]
+    phase: Literal["moving", "reached", "error", "interrupted"]
     queued: int
+    message: str | None = None
+
+
+class DriveLimits(BaseModel):
+    """The drive's own limits as last read (at most a second old while the drive state is
+    watched): the limits in force never go above them."""
+
+    max_velocity_rpm: float
+    velocity_source: str  # e.g. "2006h:08 PA-103 Maximum speed"
+    max_torque_pct: float
+    torque_source: str  # e.g. "6072h Max torque"
+
+
+class TravelEnds(BaseModel):
+    """Where something ends the axis's travel, in motor revolutions (None: no end that side)."""
+
+    min_rev: float | None
+    max_rev: float | None
+    source: str  # the objects, e.g. "5FF1h / 5FF2h SIM limit switch positions"
+    simulator: bool = False  # simulator-only objects (5FF0h–5FFFh), never on a real drive
+    note: str = ""
+
+
+class TravelInfo(BaseModel):
+    """Where the axis's travel ends: the limit switches (the simulator's 5FF1h/5FF2h), the
+    drive's software position limit 607Dh where its dictionary has it. ServoDesk's own travel
+    limits are MotionLimits.min_position_rev / max_position_rev."""
+
+    switches: TravelEnds | None
+    software_limit: TravelEnds | None  # None: the drive has no 607Dh (or does not answer it)
 
 
 class SpeedLimit(BaseModel):
@@ -127,6 +161,8 @@ class DriveState(BaseModel):
     gear_ratio: tuple[int, int] | None  # 6091h:01 motor revolutions : 6091h:02 shaft
     limits: MotionLimits
     pt_speed_limit: SpeedLimit | None = None  # PT: the drive's own speed cap (pt supported)
+    drive_limits: DriveLimits | None = None  # the drive's own, which `limits` stay under
+    travel: TravelInfo | None = None  # where the travel ends (None before first contact)
 
 
 class EnableReason(BaseModel):

@@ -17,9 +17,8 @@ import canopen
 from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
-from servodesk.motion.errors import LimitError
 from servodesk.motion.ip import IpOps
-from servodesk.motion.schemas import DriveCommand, DriveState, EnableReason, MotionLimits
+from servodesk.motion.schemas import DriveCommand, DriveState, EnableReason
 from servodesk.motion.words import state_label
 from servodesk.network.sync import SyncService
 from servodesk.nodes.access import NodeAccess
@@ -43,7 +42,8 @@ from servodesk_protocol.cia402 import (
 S = Cia402State
 log = logging.getLogger(__name__)
 
-MAX_STEPS = 8  # the longest way to Operation enabled (from Fault) is 5 controlwords
+MAX_STEPS = 8  # the longest way to Operation enabled (from Quick stop active) is 4 steps
+FAULTED = (S.FAULT, S.FAULT_REACTION_ACTIVE)  # enable refuses these: a fault is reset on purpose
 # set-points a drive follows at once in Operation enabled (PV, PT): 0 before every enable
 ZEROED_ON_ENABLE = ((io.TARGET_VELOCITY, io.I32), (io.TARGET_TORQUE, io.I16))
 
@@ -66,29 +66,31 @@ class MotionService(IpOps):
     # ------------------------------------------------------------------ state machine
 
     async def enable(self, node: int) -> DriveState:
-        """To Operation enabled from whatever state the drive is in (enable_sequence: fault
-        reset on a real 0 → 1 edge of bit 7, quick stop left through Switch on disabled)."""
+        """To Operation enabled from whatever state the drive is in (enable_sequence; quick stop
+        left through Switch on disabled). A fault is never reset here: a drive in Fault (or
+        falling into it on the way) answers EnableBlockedError naming the fault, with nothing
+        sent — resetting it is its own act (fault_reset), after its cause is removed."""
         snap = await self._reachable(node)
+        state = state_of(snap.statusword)
+        if state in FAULTED:
+            raise await self._blocked(node)
         await self._refresh_statics(node)
+        if state is S.OPERATION_ENABLED:
+            return self._build(node, snap)  # nothing to do: a running move or jog runs on
         self._axis(node).target_user = None
         await self._zero_setpoints(node)
-        state = state_of(snap.statusword)
         for _ in range(MAX_STEPS):
             if state is S.OPERATION_ENABLED:
                 return await self.state(node)
+            if state in FAULTED:
+                break
             left = _leaves(state)
-            if state in (S.NOT_READY_TO_SWITCH_ON, S.FAULT_REACTION_ACTIVE):
-                # the drive leaves these by itself (transitions 1 and 14)
+            if state is S.NOT_READY_TO_SWITCH_ON:
+                # the drive leaves it by itself (transition 1)
                 ok, sw = await self._wait(node, left, self._transition_timeout(node))
             else:
-                word = enable_sequence(state)[0]
-                if state is S.FAULT:
-                    await self._controlword(node, make_disable_voltage())  # bit 7 to 0 first
-                    word = make_fault_reset()
-                await self._controlword(node, word)
+                await self._controlword(node, enable_sequence(state)[0])
                 ok, sw = await self._wait(node, left, self._transition_timeout(node))
-                if state is S.FAULT and ok:
-                    await self._controlword(node, make_disable_voltage())  # bit 7 back to 0
             if not ok:
                 raise await self._blocked(node)
             state = state_of(sw)
@@ -221,34 +223,6 @@ class MotionService(IpOps):
         """Write 6060h ("pp", "pv", "pt", "hm", "ip", …) and wait for 6061h to show it."""
         await self._set_mode(node, self._mode_value(node, mode))
         return await self.state(node)
-
-    # ------------------------------------------------------------------ limits
-
-    def limits(self, node: int) -> MotionLimits:
-        self._registry.info(node)  # NodeNotFoundError for an unknown node
-        return self._axis(node).limits
-
-    def set_limits(self, node: int, limits: MotionLimits) -> MotionLimits:
-        """Server-side limits for every later command of this node (never above the drive's
-        own overspeed object and 6072h)."""
-        drive = self._default_limits(node, self._axis(node).statics)
-        if limits.max_velocity_rpm > drive.max_velocity_rpm:
-            raise LimitError(
-                node,
-                f"{limits.max_velocity_rpm} rpm is above the drive's own limit "
-                f"{drive.max_velocity_rpm:g} rpm",
-            )
-        if limits.max_torque_pct > drive.max_torque_pct:
-            raise LimitError(
-                node,
-                f"{limits.max_torque_pct} % is above the drive's max torque "
-                f"{drive.max_torque_pct:g} % (6072h)",
-            )
-        low, high = limits.min_position_rev, limits.max_position_rev
-        if low is not None and high is not None and low >= high:
-            raise LimitError(node, f"travel limits {low} … {high} rev are empty")
-        self._axis(node).limits = limits
-        return limits
 
     # ------------------------------------------------------------------ helpers
 
