@@ -4,9 +4,14 @@ of the SDO requests that reach the simulated drive (never by time)."""
 from __future__ import annotations
 
 import asyncio
+import threading
+from collections.abc import Callable
 
+import canopen
 import pytest
 
+from servodesk.errors import RequestInterruptedError
+from servodesk.nodes.session import NodeSession
 from servodesk.sdo.jobs import JobManager
 from tests.backend.sim_nodes import SdoTap, SimNodes
 
@@ -82,3 +87,96 @@ async def test_priority_passes_an_upload_all_and_queued_reads(nodes: SimNodes) -
     # the job reads 1018h:01 once itself; none of the twenty queued reads went first
     assert before.count(VENDOR) <= 1
     assert seen.count(VENDOR) >= 20
+
+
+PROFILE_VELOCITY = (0x6081, 0)  # Profile velocity (writable, moves nothing by itself)
+
+
+def _held_call(
+    first: Callable[[canopen.RemoteNode], None],
+    then: Callable[[canopen.RemoteNode], None],
+    started: threading.Event,
+    go: threading.Event,
+) -> Callable[[canopen.RemoteNode], None]:
+    """A call on the worker that does `first`, waits until the test queued a stop, then `then`."""
+
+    def call(remote: canopen.RemoteNode) -> None:
+        first(remote)
+        started.set()
+        go.wait(5)
+        then(remote)
+
+    return call
+
+
+async def _stop_while_held(
+    session: NodeSession,
+    first: Callable[[canopen.RemoteNode], None],
+    then: Callable[[canopen.RemoteNode], None],
+) -> tuple[asyncio.Task[None], asyncio.Task[object]]:
+    started, go = threading.Event(), threading.Event()
+    running = asyncio.create_task(
+        session.run(_held_call(first, then, started, go), what="a long call")
+    )
+    await asyncio.to_thread(started.wait, 5)
+    stop = asyncio.create_task(
+        session.priority(lambda remote: remote.sdo.upload(*CONTROLWORD), what="quick stop")
+    )
+    await asyncio.sleep(0.01)  # queued in the urgent lane
+    go.set()
+    return running, stop
+
+
+async def test_a_stop_cuts_into_a_long_read(nodes: SimNodes) -> None:
+    """A call reading many entries (a state snapshot, a chunk of upload-all) lets a stop go
+    between two of its reads instead of finishing first."""
+    session = nodes.session(3)
+    tap = SdoTap(nodes, 3)
+
+    def more_reads(remote: canopen.RemoteNode) -> None:
+        for _ in range(5):
+            remote.sdo.upload(*VENDOR)
+
+    running, stop = await _stop_while_held(
+        session, lambda remote: remote.sdo.upload(*DEVICE_TYPE), more_reads
+    )
+    await asyncio.gather(running, stop)
+    tap.remove()
+    assert objects(tap) == [DEVICE_TYPE, CONTROLWORD] + [VENDOR] * 5
+
+
+async def test_a_call_does_not_write_after_a_stop_cut_in(nodes: SimNodes) -> None:
+    """What a call decided from reads made before a stop is not written after it: the call is
+    refused at its first write, and nothing of it reaches the drive after the stop."""
+    session = nodes.session(3)
+    tap = SdoTap(nodes, 3)
+
+    def read_then_write(remote: canopen.RemoteNode) -> None:
+        value = remote.sdo.upload(*PROFILE_VELOCITY)
+        remote.sdo.download(*PROFILE_VELOCITY, value)
+
+    running, stop = await _stop_while_held(
+        session, lambda remote: remote.sdo.upload(*DEVICE_TYPE), read_then_write
+    )
+    await stop
+    with pytest.raises(RequestInterruptedError, match="before its first write"):
+        await running
+    tap.remove()
+    assert objects(tap) == [DEVICE_TYPE, CONTROLWORD, PROFILE_VELOCITY]  # read, never written
+
+
+async def test_a_call_that_wrote_runs_whole_before_the_stop(nodes: SimNodes) -> None:
+    """A call that has written (a read-modify-write of a controlword, a PDO mapping) is one
+    step: the stop comes after it, never in its middle."""
+    session = nodes.session(3)
+    tap = SdoTap(nodes, 3)
+
+    def write(remote: canopen.RemoteNode) -> None:
+        remote.sdo.download(*PROFILE_VELOCITY, remote.sdo.upload(*PROFILE_VELOCITY))
+
+    running, stop = await _stop_while_held(
+        session, write, lambda remote: remote.sdo.upload(*VENDOR)
+    )
+    await asyncio.gather(running, stop)
+    tap.remove()
+    assert objects(tap) == [PROFILE_VELOCITY, PROFILE_VELOCITY, VENDOR, CONTROLWORD]

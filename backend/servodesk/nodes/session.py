@@ -10,9 +10,14 @@ it runs, other callers' requests wait at the session's gate and none slips in be
 (see `Transaction`).
 
 A stop must not wait behind any of that: `priority()` bypasses the gate and goes to the front of
-the worker's queue (the call in progress still finishes first: one SDO transfer at a time). If a
-transaction is open it then sees its step interrupted: the stop ran between two of its steps
-(`Transaction.interrupted` names it), and the drive it was configuring has been stopped.
+the worker's queue. Nor does it wait for a long call in progress (a chunk of an upload-all, a
+state snapshot of ten reads): while that call has only read so far, the stop runs on the same
+thread between two of its SDO transfers (never two transfers at once, never inside a segmented
+one). A call that would write after such a stop is refused instead (RequestInterruptedError): it
+wrote nothing, and nothing it decided before the stop is sent after it. A call that has written
+runs to its end before the stop, as a whole step. If a transaction is open it then sees its step
+interrupted: the stop ran between two of its steps (`Transaction.interrupted` names it), and the
+drive it was configuring has been stopped.
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ from collections import deque
 from collections.abc import AsyncIterator, Callable
 from concurrent.futures import Future
 from contextlib import asynccontextmanager
-from typing import TypeVar
+from typing import Any, TypeVar
 
 import can
 import canopen
@@ -101,15 +106,24 @@ class Transaction:
         return await self._live().write_and_read(index, subindex, data, read_back=read_back)
 
 
+class StopCutInError(Exception):
+    """Raised in a call that would write after a stop ran between its reads."""
+
+
 class _Worker:
     """One thread running submitted calls one at a time, with two lanes: priority items
-    (stops) are taken before every normal item queued so far; each lane is FIFO."""
+    (stops) are taken before every normal item queued so far; each lane is FIFO. A call in
+    progress lets them run between its SDO transfers while it has only read (`between`)."""
 
     def __init__(self, name: str) -> None:
         self._normal: deque[tuple[Callable[[], object], Future[object]]] = deque()
         self._urgent: deque[tuple[Callable[[], object], Future[object]]] = deque()
         self._ready = threading.Condition()
         self._shutdown = False
+        # what the call in progress did (worker thread only)
+        self._in_urgent = False
+        self._wrote = False
+        self._cut_in = False
         self._thread = threading.Thread(target=self._loop, name=name, daemon=True)
         self._thread.start()
 
@@ -130,6 +144,26 @@ class _Worker:
             self._shutdown = True
             self._ready.notify()
 
+    def between(self, writing: bool) -> None:
+        """Called before each SDO transfer of the running call. A read lets the stops queued
+        meanwhile run first; a write after such a stop raises StopCutInError."""
+        if threading.get_ident() != self._thread.ident or self._in_urgent:
+            return  # not a worker's call, or a stop itself: it runs whole
+        if writing:
+            if self._cut_in:
+                raise StopCutInError
+            self._wrote = True
+            return
+        if self._wrote:
+            return  # a call that wrote runs to its end: the stop comes after it
+        while True:
+            with self._ready:
+                if not self._urgent:
+                    return
+                fn, future = self._urgent.popleft()
+            self._cut_in = True
+            self._execute(fn, future, urgent=True)
+
     def _loop(self) -> None:
         while True:
             with self._ready:
@@ -137,18 +171,27 @@ class _Worker:
                     self._ready.wait()
                 if self._urgent:
                     fn, future = self._urgent.popleft()
+                    urgent = True
                 elif self._normal:
                     fn, future = self._normal.popleft()
+                    urgent = False
                 else:
                     return  # shut down and drained
-            if not future.set_running_or_notify_cancel():
-                continue
-            try:
-                result = fn()
-            except BaseException as error:  # handed to the awaiting caller
-                future.set_exception(error)
-            else:
-                future.set_result(result)
+            self._wrote = self._cut_in = False
+            self._execute(fn, future, urgent=urgent)
+
+    def _execute(self, fn: Callable[[], object], future: Future[object], *, urgent: bool) -> None:
+        if not future.set_running_or_notify_cancel():
+            return
+        self._in_urgent = urgent
+        try:
+            result = fn()
+        except BaseException as error:  # handed to the awaiting caller
+            future.set_exception(error)
+        else:
+            future.set_result(result)
+        finally:
+            self._in_urgent = False
 
 
 class NodeSession:
@@ -161,6 +204,7 @@ class NodeSession:
         self.remote = remote
         remote.sdo.RESPONSE_TIMEOUT = sdo_timeout
         self._worker = _Worker(f"node{remote.id}")
+        _announce_transfers(remote, self._worker)
         self._closed = False
         # Held by a transaction for its whole run; every other request passes it only to be
         # queued (FIFO, so requests keep their order). `priority()` does not wait here.
@@ -322,6 +366,10 @@ class NodeSession:
             self._let_late_answers_pass()
         try:
             return fn(self.remote)
+        except StopCutInError:
+            raise RequestInterruptedError(
+                self.node_id, f"a stop went to the drive during '{what}', before its first write"
+            ) from None
         except SdoAbortedError as abort:
             raise SdoAbortError(int(abort.code), self.node_id, index, subindex) from abort
         except SdoCommunicationError as error:
@@ -356,6 +404,22 @@ class NodeSession:
         RequestInterruptedError, and no new calls are accepted."""
         self._closed = True
         self._worker.shutdown()
+
+
+def _announce_transfers(remote: canopen.RemoteNode, worker: _Worker) -> None:
+    """Every SDO transfer of the node opens a stream (upload and download do too): the worker
+    hears of each before it starts, to let a stop cut in or refuse a write after one."""
+    sdo = remote.sdo
+    open_stream = sdo.open
+
+    @functools.wraps(open_stream)
+    def announced(
+        index: int, subindex: int = 0, mode: str = "rb", *args: Any, **kwargs: Any
+    ) -> Any:
+        worker.between(writing="w" in mode)
+        return open_stream(index, subindex, mode, *args, **kwargs)
+
+    sdo.open = announced
 
 
 def _on_a_bus(remote: canopen.RemoteNode) -> bool:
