@@ -53,6 +53,15 @@ class Settings(BaseSettings):
     heartbeat_consumer_ms: int = Field(default=300, ge=50, le=5000)
     tool_heartbeat_ms: int = Field(default=100, ge=10, le=1000)  # well inside the consumer time
     jog_keepalive_max_ms: int = 500  # hold-to-run: the longest keep-alive interval a jog may ask
+    # A jog's stop decelerates at least this hard (rpm/s), whatever ramp the client asked for,
+    # and at the drive's quick stop deceleration 6085h where that is steeper: a stop on lost
+    # control must not take minutes because a client chose a slow ramp.
+    jog_stop_deceleration_rpm_s: float = Field(default=1000.0, gt=0)
+    jog_rest_rpm: float = Field(default=5.0, gt=0)  # below this the axis counts as at rest
+    # ServoDesk's own speed cap of a torque jog (rpm) where the request names none; the jog
+    # is stopped when the axis passes it (no load: a small torque runs up to the drive's max)
+    jog_pt_speed_cap_rpm: float = Field(default=300.0, gt=0)
+    jog_watch_interval: float = Field(default=0.03, gt=0)  # s: velocity reads while jogging
 
     # Motion (CiA 402). Timeouts in s; `motion_transition_timeouts` overrides the transition
     # time per profile name ("mdi-s1c": 0.8) for drives that need longer to power their stage.

@@ -41,7 +41,7 @@ class SafetyRig(MotionRig):
         return info
 
     def keep(self, info: JogInfo) -> None:
-        self.safety.jogs.keepalive(info.jog_id)
+        self.safety.keepalive(info.jog_id, PAGE)
 
     async def stopped(self, info: JogInfo) -> tuple[JogInfo, DriveState]:
         """Wait for the jog to be stopped and the axis to stand still."""

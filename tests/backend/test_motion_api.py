@@ -100,8 +100,9 @@ def test_jog_routes(client: TestClient) -> None:
     assert jog["owner"] == "page-a"
     assert ok(client.post(f"/api/jog/{jog['jog_id']}/keepalive"))["state"] == "running"
     stopped = ok(client.delete(f"/api/jog/{jog['jog_id']}"))
-    assert stopped["state"] == "stopped"
+    assert stopped["state"] == "stopping"  # the stop went out; the axis still decelerates
     assert stopped["stop_reason"] == "stopped by the user"
+    assert stopped["stop_deceleration_rpm_s"] >= 1000  # never slower than ServoDesk's floor
     again = error_of(client.post(f"/api/jog/{jog['jog_id']}/keepalive"), 409)
     assert again["error"] == "jog_stopped"
     assert again["jog"]["jog_id"] == jog["jog_id"]

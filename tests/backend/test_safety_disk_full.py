@@ -51,7 +51,7 @@ def enable(client: TestClient, node: int) -> None:
 
 
 def audit_failure(response: httpx.Response) -> str:
-    error = response.headers.get("X-Audit-Error", "")
+    error: str = response.headers.get("X-Audit-Error", "")
     assert error.startswith("audit_unavailable"), dict(response.headers)
     return error
 

@@ -38,6 +38,7 @@ from servodesk.errors import (
 )
 from servodesk.models import ErrorBody
 from servodesk.motion.errors import EnableBlockedError, LimitError, MotionBusyError
+from servodesk.motion.ip_timing import SyncUnsafeError
 from servodesk.motion.jog import JogNotFoundError, JogStoppedError
 from servodesk.motion.lease import HeldByOtherError
 from servodesk.motion.safety_models import ControllerHolder, JogInfo
@@ -171,6 +172,8 @@ def _describe_motion(error: ServodeskError) -> tuple[int, ErrorBody] | None:
         return 404, ErrorBody(error="jog_not_found", message=str(error))
     if isinstance(error, LimitError):
         return 422, ErrorBody(error="invalid_value", message=str(error), node=error.node)
+    if isinstance(error, SyncUnsafeError):
+        return 409, MotionErrorBody(error="sync_unsafe", message=str(error), node=error.node)
     return None
 
 
@@ -258,7 +261,8 @@ MOTION_ERRORS: dict[int | str, dict[str, object]] = {
     **NODE_ERRORS,
     409: _motion_error(
         "held_by_other (holder): another client controls the drive, take over first; "
-        "enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped"
+        "enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: "
+        "this host does not keep the SYNC deadlines); or an SDO abort / node_stopped"
     ),
 }
 JOG_ERRORS: dict[int | str, dict[str, object]] = {

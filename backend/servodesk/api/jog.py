@@ -18,8 +18,10 @@ router = APIRouter(tags=["jog"], route_class=AuditedRoute)
 async def start_jog(
     node: NodeId, request: JogRequest, client: ClientDep, services: ServicesDep
 ) -> JogInfo:
-    """Start moving (pv: velocity_rpm, pt: torque_pct); send a keep-alive (REST or WebSocket
-    `jog_keepalive`) at least every keepalive_ms or the axis stops."""
+    """Start moving (pv: velocity_rpm, pt: torque_pct, capped at speed_cap_rpm); send a
+    keep-alive (REST or WebSocket `jog_keepalive`) at least every keepalive_ms or the axis
+    stops. A script without X-Client-Id gets an owner id of its own (`owner`) and the drive's
+    heartbeat protection until its jog's axis is at rest."""
     return await services.safety.start_jog(node, request, client)
 
 
@@ -29,12 +31,14 @@ async def get_jog(jog_id: str, services: ServicesDep) -> JogInfo:
 
 
 @router.post("/jog/{jog_id}/keepalive", responses=JOG_ERRORS)
-async def keepalive(jog_id: str, services: ServicesDep) -> JogInfo:
-    """Keep the jog moving; 409 jog_stopped once it was stopped (re-arming is explicit)."""
-    return services.safety.jogs.keepalive(jog_id)
+async def keepalive(jog_id: str, client: ClientDep, services: ServicesDep) -> JogInfo:
+    """Keep the jog moving; 409 jog_stopped once it was stopped (re-arming is explicit); 403
+    not_jog_owner from anyone but the login (and the X-Client-Id, where sent) that started it."""
+    return services.safety.keepalive(jog_id, client)
 
 
 @router.delete("/jog/{jog_id}", responses=JOG_ERRORS)
 async def stop_jog(jog_id: str, services: ServicesDep) -> JogInfo:
-    """Stop the jog (anyone may); answers once the stop was sent to the drive."""
+    """Stop the jog (anyone may); answers once the stop was sent to the drive, with state
+    "stopping" until the axis is at rest."""
     return await services.safety.jogs.stop(jog_id, "stopped by the user")

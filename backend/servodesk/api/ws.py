@@ -64,6 +64,7 @@ async def live(websocket: WebSocket) -> None:
         # first of all: jogs owned by this socket's client stop
         if not client.client.anonymous:
             services.safety.socket_closed(client.client.id)
+            services.safety.socket_idle(client.client.id)
         services.live.disconnect(client)
         sender.cancel()
         with contextlib.suppress(asyncio.CancelledError, WebSocketDisconnect, RuntimeError):
@@ -84,14 +85,17 @@ async def _handle(services: Services, client: LiveClient, raw: Any) -> dict[str,
             case PingMessage():
                 return dump(PongMessage())
             case HelloMessage(client_id=client_id, name=name):
+                named = Client(id=client_id, name=name)
+                safety.claim(named)  # another login's id is refused: no impersonation
                 if not client.client.anonymous:
                     safety.socket_closed(client.client.id)  # a second hello renames the owner
-                client.client = Client(id=client_id, name=name)
+                    safety.socket_idle(client.client.id)
+                client.client = named
                 safety.socket_opened(client_id)
                 for node in client.watching:
                     services.live.watch(client, node)  # "you" may have changed
             case JogKeepaliveMessage(jog_id=jog_id):
-                safety.jogs.keepalive(jog_id)
+                safety.keepalive(jog_id, client.client)  # only from the jog's owner
             case JogStopMessage(jog_id=jog_id):
                 async with services.audit.entry(
                     "jog-stop", None, f"stop jog {jog_id} (live channel)", outcome_of, wait=False

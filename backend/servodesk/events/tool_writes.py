@@ -9,7 +9,8 @@ log that will build on it). Every one has `data.action` and, where there is one,
 - `store`, `restore-defaults`: 1010h / 1011h commands
 - `clear-history`: 1003h cleared
 - `jog-stop`: a jog ended (`jog_id`, `mode`, `reason`: "keep-alive missed for 300 ms",
-  "heartbeat lost", "stopped by the user" …), whoever stopped it
+  "heartbeat lost", "stopped by the user" …), whoever stopped it: once when the stop went out
+  (`state` "stopping") and once when the axis is at rest (`state` "stopped")
 
 NMT commands the tool sends keep their own kind, `nmt` (`data.command`, `data.tool` true).
 """
@@ -58,15 +59,19 @@ def pdo_applied(
 def jog_stopped(publish: Publish, jog: JogInfo) -> None:
     """A jog's end on the timeline with its reason, so "why did the axis stop?" has an answer
     there too (a jog a new one took over did not stop the axis: no event)."""
-    if jog.stop_reason == REPLACED:
+    if (jog.stop_reason or "").endswith(REPLACED):
         return
+    # "stopping" when the stop went out, "at rest" once the axis stands: the timeline never
+    # says a jog stopped while the axis still runs
+    how = "stopping" if jog.state == "stopping" else "at rest"
     publish(
         tool_write(
             jog.node,
-            f"node {jog.node}: {jog.mode.upper()} jog stopped ({jog.stop_reason})",
+            f"node {jog.node}: {jog.mode.upper()} jog {how} ({jog.stop_reason})",
             "jog-stop",
             jog_id=jog.jog_id,
             mode=jog.mode,
             reason=jog.stop_reason,
+            state=jog.state,
         )
     )

@@ -8,8 +8,13 @@ be one period later. The stream runs on the node's worker thread in chunks of ab
 waits at most one chunk, and a stop cancels the rest. The tool's SYNC producer (SyncService) is
 paused meanwhile (two SYNC sources would double the drive's clock) and restarted afterwards.
 
-A stall (the tool not sending SYNC for more than 3 periods) shows as the drive's own SYNC-lost
-fault — MDi alarm 62, Kinco 6011h, CiA 402 8700h — which the result names.
+Before anything is sent, a thread sleeping to the stream's deadlines checks that this host
+keeps them (motion/ip_timing.py): a host that cannot is refused with 409 sync_unsafe naming the
+measured jitter. A stall (the tool not sending SYNC for more than 3 periods) shows as the
+drive's own SYNC-lost fault — MDi alarm 62, Kinco 6011h, CiA 402 8700h — which the result
+names, with the gap that stalled it among the measured intervals. A stream that stalled,
+faulted or was stopped is recorded as failed in the audit log (its answer is still the 200
+result).
 """
 
 from __future__ import annotations
@@ -23,10 +28,12 @@ from dataclasses import dataclass, field
 
 import canopen
 
+from servodesk.audit import Outcome, current_entry
 from servodesk.errors import InvalidValueError
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
 from servodesk.motion.errors import LimitError
+from servodesk.motion.ip_timing import SyncTiming, SyncUnsafeError, probe, sleep_until
 from servodesk.motion.moves import MoveOps
 from servodesk.motion.schemas import EnableReason, IpStreamResult
 from servodesk.motion.trajectory import Trajectory, peak_velocity, setpoints, sync_jitter
@@ -44,6 +51,7 @@ CHUNK_S = 0.02  # the longest a priority stop waits behind the stream
 LAG_SAMPLE_S = 0.01  # read 6064h about this often (each read takes bus time)
 SETTLE_PERIODS = 25  # SYNCs holding the end point before interpolation is switched off
 IP_EXPONENT_MS = -3  # 60C2h:02: the period in 10^-3 s
+SYNC_LOST = frozenset({62, 0x6011, 0x8700})  # MDi alarm 62, Kinco 6011h, CiA 402 8700h
 # SDO initiate download, expedited, 4 bytes, 60C1h:01 Interpolation data record (CiA 301)
 EXPEDITED_4 = bytes([0x23, 0xC1, 0x60, 0x01])
 
@@ -60,6 +68,7 @@ class _Stream:
     lags: list[int] = field(default_factory=list)  # |planned − actual| in user units
     cancelled: bool = False
     stalled: bool = False  # more than 3 periods without SYNC: the drive has dropped out
+    stall_gap: float = 0.0  # the interval that stalled it (no SYNC was sent at its end)
     unconfirmed: int = 0  # set-point writes sent whose confirmation was not read yet
 
     def chunk(self, remote: canopen.RemoteNode, count: int, sample_every: int) -> None:
@@ -72,9 +81,10 @@ class _Stream:
         try:
             while self.sent < end and not self.cancelled:
                 k = self.sent
-                now = _sleep_until(self.t0 + k * self.period)
+                now = sleep_until(self.t0 + k * self.period)
                 if self.syncs and now - self.syncs[-1] > 3 * self.period:
                     self.stalled = True  # the drives count SYNC lost after 3 periods
+                    self.stall_gap = now - self.syncs[-1]
                     return
                 network.sync.transmit()  # the drive takes point k, written after SYNC k - 1
                 self.syncs.append(now)
@@ -99,14 +109,6 @@ class _Stream:
         while self.unconfirmed:
             self.unconfirmed -= 1
             remote.sdo.read_response()  # SdoAbortedError / SdoCommunicationError
-
-
-def _sleep_until(deadline: float) -> float:
-    """Sleep in short naps (each gives the interpreter lock to the other threads) until
-    `deadline`; returns the time it woke."""
-    while (left := deadline - time.perf_counter()) > 0:
-        time.sleep(left - 0.001 if left > 0.002 else min(left, 0.0002))
-    return time.perf_counter()
 
 
 class IpOps(MoveOps):
@@ -155,6 +157,10 @@ class IpOps(MoveOps):
                 f"the path peaks at {peak_rpm:.0f} rpm, "
                 f"beyond {axis.limits.max_velocity_rpm:g} rpm",
             )
+        # off the node's worker thread, which a priority stop must find free: the same host
+        timing = await asyncio.to_thread(probe, period_ms / 1000)
+        if timing.unsafe:
+            raise SyncUnsafeError(node, timing)
         axis.cancel_queue()
         axis.move = None
         await self._require_enabled(node)
@@ -192,7 +198,11 @@ class IpOps(MoveOps):
         finally:
             self._streams.pop(node, None)
             await self._end_stream(node, paused)
-        return await self._result(node, trajectory, period_ms, duration_s, stream, start, plan)
+        result = await self._result(node, trajectory, period_ms, duration_s, stream, plan, timing)
+        entry = current_entry()
+        if entry is not None and (result.stalled or result.fault or stream.cancelled):
+            entry.report(Outcome("failed", None, "ip_stream_failed", result.message))
+        return result
 
     async def _feed(self, node: int, stream: _Stream) -> None:
         """The chunks, two queued at a time so the worker never waits for the event loop
@@ -236,16 +246,20 @@ class IpOps(MoveOps):
         period_ms: int,
         duration_s: float,
         stream: _Stream,
-        start: int,
         plan: list[int],
+        timing: SyncTiming,
     ) -> IpStreamResult:
         units = self._units(node)
         state = await self.state(node)
         actual = units.inc_to_user(state.position_inc)
         final_error = units.user_to_inc(abs(actual - plan[-1]))
         jitter, longest = sync_jitter(stream.syncs, stream.period)
+        if stream.stalled:  # the gap that stalled it is an interval too (its SYNC never went)
+            longest = max(longest, stream.stall_gap)
+            jitter = max(jitter, stream.stall_gap - stream.period)
         max_lag = units.user_to_inc(max(stream.lags, default=0))
-        stalled = stream.stalled or state.fault is not None or longest > 3 * stream.period
+        stalled_by_tool = stream.stalled or longest > 3 * stream.period
+        stalled = stalled_by_tool or state.fault is not None
         words = [f"{stream.sent} set-points at {period_ms} ms"]
         if state.fault is not None:
             words.append(
@@ -254,7 +268,19 @@ class IpOps(MoveOps):
         elif stream.cancelled:
             words.append("stopped before its end")
         if stream.stalled:
-            words.append("the stream stalled (no SYNC for more than 3 periods)")
+            words.append(
+                f"the stream stalled: no SYNC for {stream.stall_gap * 1000:.2f} ms, more than "
+                f"3 periods ({3 * period_ms} ms); this computer was too busy to keep time"
+            )
+        elif state.fault is not None and state.fault.code in SYNC_LOST and not stalled_by_tool:
+            words.append(
+                f"the tool's SYNC intervals stayed within {longest * 1000:.2f} ms: the drive "
+                "or the bus took them late"
+            )
+        if timing.marginal and stalled:
+            words.append(f"the check before the stream measured {timing.words()}")
+        elif timing.marginal:
+            words.append(f"SYNC timing was marginal before the stream ({timing.words()})")
         return IpStreamResult(
             node=node,
             trajectory=trajectory,

@@ -1,9 +1,13 @@
 """Hold-to-run jog (DESIGN: Motion safety): a jog moves only while keep-alives arrive.
 
-Each jog has a timer on the event loop, re-armed by every keep-alive (REST or WebSocket); when
-it fires, or when a stop trigger names the jog's node or owner (socket closed, page hidden, bus
-error, heartbeat lost, EMCY), the axis is stopped through MotionService.stop, which goes through
-the node session's priority lane. A stopped jog stays stopped: moving again needs a new jog.
+Each jog has a timer on the event loop, re-armed by every keep-alive from its owner (REST or
+WebSocket); when it fires, or when a stop trigger names the jog's node or owner (socket closed,
+page hidden, bus error, heartbeat lost, EMCY, a torque jog passing its speed cap), the axis is
+stopped through MotionService.stop on the node session's priority lane, with a deceleration
+ServoDesk bounds (never only the client's ramp). The jog is then "stopping" until the watchdog
+has read the axis at rest — a torque jog that coasts or a drive that ignores the halt gets a
+quick stop after the time its deceleration should have taken — and only then "stopped". A
+stopped jog stays stopped: moving again needs a new jog.
 """
 
 from __future__ import annotations
@@ -19,18 +23,34 @@ from typing import Literal, Protocol
 
 from servodesk.errors import ServodeskError
 from servodesk.motion.safety_models import JogInfo
+from servodesk.settings import Settings
 
 log = logging.getLogger(__name__)
 
 KEEP_STOPPED = 50  # stopped jogs remembered, so a late keep-alive learns why it stopped
 KEEPALIVE_MISSED = "keep-alive missed"
 REPLACED = "replaced by a new jog"  # ended without a stop: the new jog drives the axis
+REST_READINGS = 2  # consecutive readings below jog_rest_rpm: at rest
+STOP_MARGIN = 1.5  # × the time the deceleration should take, before a quick stop follows
+STOP_SLACK = 0.5  # s added to that (the first readings, a drive's own ramp start)
+WATCH_AFTER_QUICK_STOP = 10.0  # s: how long a quick-stopped axis is watched before giving up
 
 
 class JogNotFoundError(ServodeskError):
     def __init__(self, jog_id: str) -> None:
         self.jog_id = jog_id
         super().__init__(f"no jog {jog_id}")
+
+
+class NotJogOwnerError(ServodeskError):
+    """A keep-alive from someone other than the jog's owner: it must not keep the axis moving."""
+
+    def __init__(self, info: JogInfo) -> None:
+        self.info = info
+        super().__init__(
+            f"jog {info.jog_id} on node {info.node} belongs to another client: only the page "
+            "or script that started it keeps it moving (anyone may stop it)"
+        )
 
 
 class JogStoppedError(ServodeskError):
@@ -45,7 +65,17 @@ class JogStoppedError(ServodeskError):
 
 
 class Stopper(Protocol):
-    async def stop(self, node: int, *, reason: str) -> None: ...
+    async def stop(
+        self,
+        node: int,
+        *,
+        reason: str,
+        quick: bool = False,
+        deceleration_rpm_s: float | None = None,
+        drive_deceleration: bool = False,
+    ) -> str: ...
+
+    async def velocity_rpm(self, node: int) -> float: ...
 
 
 class ToolRecord(Protocol):
@@ -69,26 +99,35 @@ class JogRamp:
 @dataclass
 class _Jog:
     info: JogInfo
+    principal: str  # who started it (the login's user): only they keep it alive
     timer: asyncio.TimerHandle | None = None
+    sent: asyncio.Event = field(default_factory=asyncio.Event, repr=False)
     stopping: asyncio.Task[None] | None = field(default=None, repr=False)
+    watch: asyncio.Task[None] | None = field(default=None, repr=False)
 
 
-Stopped = Callable[[JogInfo], None]
+Changed = Callable[[JogInfo], None]
 
 
 class JogWatchdog:
-    def __init__(self, motion: Stopper, *, record: ToolRecord | None = None) -> None:
+    def __init__(
+        self, motion: Stopper, settings: Settings, *, record: ToolRecord | None = None
+    ) -> None:
         self._motion = motion
         self._record = record
+        self._floor = settings.jog_stop_deceleration_rpm_s
+        self._rest = settings.jog_rest_rpm
+        self._interval = settings.jog_watch_interval
         self._jogs: OrderedDict[str, _Jog] = OrderedDict()
-        self._listeners: list[Stopped] = []
+        self._listeners: list[Changed] = []
         # nodes with a running jog, replaced (not mutated) so a notifier thread may read it
         self.running_nodes: frozenset[int] = frozenset()
         # nodes whose stop could not be sent (bus gone): sent again when the bus is back
         self.unsent: set[int] = set()
 
-    def add_listener(self, fn: Stopped) -> None:
-        """`fn(info)` when a jog stops, whatever the reason (the page shows why)."""
+    def add_listener(self, fn: Changed) -> None:
+        """`fn(info)` when a jog ends ("stopping", whatever the reason: the page shows why) and
+        again when its axis is at rest ("stopped")."""
         self._listeners.append(fn)
 
     def register(
@@ -99,14 +138,24 @@ class JogWatchdog:
         keepalive_ms: int,
         owner: str,
         *,
+        principal: str,
         ramp: JogRamp | None = None,
+        speed_cap_rpm: float | None = None,
     ) -> JogInfo:
         """A jog whose axis was just started; its timer runs from now. Another running jog of
         the node is retired without stopping the axis (this one took it over)."""
         ramp = ramp or JogRamp()
-        for jog in self._running():
-            if jog.info.node == node:
-                self._end(jog, REPLACED)
+        for jog in list(self._jogs.values()):
+            if jog.info.node != node or jog.info.state == "stopped":
+                continue
+            if jog.info.state == "running":
+                self._retire(jog)
+            elif jog.stopping is not None and jog.sent.is_set():
+                # still watching the last jog slow down: the new one drives the axis now
+                jog.stopping.cancel()
+                self._update(
+                    jog, state="stopped", stop_reason=f"{jog.info.stop_reason}; {REPLACED}"
+                )
         info = JogInfo(
             jog_id=uuid.uuid4().hex,
             node=node,
@@ -119,10 +168,16 @@ class JogWatchdog:
             torque_slope_pct_s=ramp.torque_slope_pct_s,
             velocity_limit_rpm=ramp.velocity_limit_rpm,
             velocity_limit_source=ramp.velocity_limit_source,
+            speed_cap_rpm=speed_cap_rpm if mode == "pt" else None,
+            stop_deceleration_rpm_s=max(ramp.acceleration_rpm_s or 0.0, self._floor),
         )
-        jog = _Jog(info)
+        jog = _Jog(info, principal=principal)
         self._jogs[info.jog_id] = jog
         self._arm(jog)
+        if info.speed_cap_rpm is not None:
+            jog.watch = asyncio.get_running_loop().create_task(
+                self._watch_cap(jog, info.speed_cap_rpm), name=f"jog speed cap node {node}"
+            )
         self._nodes_changed()
         self._forget_old()
         return info
@@ -130,23 +185,29 @@ class JogWatchdog:
     def get(self, jog_id: str) -> JogInfo:
         return self._jog(jog_id).info
 
-    def keepalive(self, jog_id: str) -> JogInfo:
+    def keepalive(self, jog_id: str, *, client_id: str | None, principal: str) -> JogInfo:
+        """Re-arm the jog's timer. Only its owner counts: the same login, and the same client
+        id where the keep-alive names one (a script that sent none may keep its own jog)."""
         jog = self._jog(jog_id)
+        if principal != jog.principal or (client_id is not None and client_id != jog.info.owner):
+            raise NotJogOwnerError(jog.info)
         if jog.info.state != "running":
             raise JogStoppedError(jog.info)
         self._arm(jog)
         return jog.info
 
     async def stop(self, jog_id: str, reason: str) -> JogInfo:
-        """Stop one jog and wait until the stop was sent."""
+        """Stop one jog and wait until the stop was sent (not until the axis is at rest: the
+        answer says "stopping" while it decelerates)."""
         jog = self._jog(jog_id)
         self._stop(jog, reason)
         if jog.stopping is not None:
-            await asyncio.wait({jog.stopping})
+            await jog.sent.wait()
         return jog.info
 
     # `by_tool`: the tool stops the jog by itself (a trigger, not a user's request): the stop
-    # gets its own audit entry by "servodesk"; a request's stop is in the request's entry.
+    # gets its own audit entry by "servodesk" and brakes at least on the drive's quick stop
+    # deceleration; a request's stop is in the request's entry.
 
     def stop_node(self, node: int, reason: str, *, by_tool: bool = False) -> list[JogInfo]:
         running = [jog for jog in self._running() if jog.info.node == node]
@@ -159,11 +220,25 @@ class JogWatchdog:
     def stop_all(self, reason: str, *, by_tool: bool = False) -> list[JogInfo]:
         return [self._stop(jog, reason, by_tool=by_tool) for jog in self._running()]
 
+    def running_of(self, owner: str) -> list[JogInfo]:
+        return [jog.info for jog in self._running() if jog.info.owner == owner]
+
+    def moving_nodes(self) -> set[int]:
+        """Nodes whose jog is running or still stopping."""
+        return {j.info.node for j in self._jogs.values() if j.info.state != "stopped"}
+
     async def settled(self) -> None:
-        """Wait until every stop in flight was sent (shutdown, tests)."""
+        """Wait until every stop in flight was sent (tests)."""
+        waits = [j.sent.wait() for j in self._jogs.values() if j.stopping is not None]
+        if waits:
+            await asyncio.gather(*waits)
+
+    async def at_rest(self, timeout: float | None = None) -> None:
+        """Wait until every stopping axis was watched to rest (shutdown keeps the heartbeat
+        until then, or until `timeout`)."""
         tasks = {j.stopping for j in self._jogs.values() if j.stopping is not None}
         if tasks:
-            await asyncio.wait(tasks)
+            await asyncio.wait(tasks, timeout=timeout)
 
     def _running(self) -> list[_Jog]:
         return [jog for jog in self._jogs.values() if jog.info.state == "running"]
@@ -184,41 +259,128 @@ class JogWatchdog:
         if jog.info.state == "running":
             self._stop(jog, f"{KEEPALIVE_MISSED} for {jog.info.keepalive_ms} ms", by_tool=True)
 
-    def _end(self, jog: _Jog, reason: str) -> None:
+    def _disarm(self, jog: _Jog) -> None:
         if jog.timer is not None:
             jog.timer.cancel()
             jog.timer = None
-        jog.info = jog.info.model_copy(update={"state": "stopped", "stop_reason": reason})
+        watch, jog.watch = jog.watch, None
+        if watch is not None and watch is not asyncio.current_task():
+            watch.cancel()
+
+    def _update(self, jog: _Jog, **changes: object) -> None:
+        jog.info = jog.info.model_copy(update=changes)
         self._nodes_changed()
         for fn in list(self._listeners):
             fn(jog.info)
 
+    def _retire(self, jog: _Jog) -> None:
+        """Ended without a stop: a new jog of the node took the axis over."""
+        self._disarm(jog)
+        jog.sent.set()
+        self._update(jog, state="stopped", stop_reason=REPLACED)
+
     def _stop(self, jog: _Jog, reason: str, *, by_tool: bool = False) -> JogInfo:
         if jog.info.state != "running":
             return jog.info
-        self._end(jog, reason)
+        self._disarm(jog)
+        self._update(jog, state="stopping", stop_reason=reason)
         jog.stopping = asyncio.get_running_loop().create_task(
-            self._send_stop(jog.info.node, reason, by_tool), name=f"jog stop node {jog.info.node}"
+            self._bring_to_rest(jog, reason, by_tool), name=f"jog stop node {jog.info.node}"
         )
         return jog.info
 
-    async def _send_stop(self, node: int, reason: str, by_tool: bool) -> None:
+    async def _bring_to_rest(self, jog: _Jog, reason: str, by_tool: bool) -> None:
+        node = jog.info.node
+        try:
+            sent = await self._send_stop(jog, reason, by_tool)
+        finally:
+            jog.sent.set()
+        if not sent:
+            self._update(
+                jog,
+                state="stopped",
+                stop_reason=f"{reason}; the stop could not be sent: the drive's heartbeat "
+                "consumer is the backstop, check that the axis stands",
+            )
+            return
+        note = await self._watch_to_rest(jog, node)
+        update: dict[str, object] = {"state": "stopped"}
+        if note:
+            update["stop_reason"] = f"{reason}; {note}"
+        self._update(jog, **update)
+
+    async def _send_stop(self, jog: _Jog, reason: str, by_tool: bool) -> bool:
+        node = jog.info.node
         entry: AbstractAsyncContextManager[object] = nullcontext()
         if by_tool and self._record is not None:
             entry = self._record("jog-stop", node, f"stop the jog of node {node}: {reason}")
         try:
             async with entry:
-                await self._motion.stop(node, reason=reason)
-            self.unsent.discard(node)
+                await self._motion.stop(
+                    node,
+                    reason=reason,
+                    deceleration_rpm_s=jog.info.stop_deceleration_rpm_s,
+                    drive_deceleration=by_tool,
+                )
         except ServodeskError as error:
             self.unsent.add(node)
-            # nothing more the tool can send; the drive's own heartbeat consumer is the backstop
             log.warning("node %d: stopping the jog (%s) failed: %s", node, reason, error)
+            return False
+        self.unsent.discard(node)
+        return True
+
+    async def _watch_to_rest(self, jog: _Jog, node: int) -> str | None:
+        """Read 606Ch until the axis is at rest; a quick stop when it takes longer than its
+        deceleration allows. Returns a note for the stop reason when it did not end plainly."""
+        loop = asyncio.get_running_loop()
+        decel = jog.info.stop_deceleration_rpm_s or self._floor
+        deadline: float | None = None
+        quick_sent = False
+        still = 0
+        while True:
+            try:
+                rpm = await self._motion.velocity_rpm(node)
+            except ServodeskError as error:
+                return f"the speed could not be read while stopping ({error})"
+            jog.info = jog.info.model_copy(update={"velocity_rpm": rpm})
+            still = still + 1 if abs(rpm) < self._rest else 0
+            if still >= REST_READINGS:
+                return "quick stop sent: it did not slow down on the halt" if quick_sent else None
+            now = loop.time()
+            if deadline is None:
+                deadline = now + abs(rpm) / decel * STOP_MARGIN + STOP_SLACK
+            elif now > deadline and not quick_sent:
+                quick_sent = True
+                deadline = now + WATCH_AFTER_QUICK_STOP
+                log.warning("node %d: not at rest after the halt (%.0f rpm): quick stop", node, rpm)
+                try:
+                    await self._motion.stop(node, reason="not at rest after the halt", quick=True)
+                except ServodeskError as error:
+                    return f"still {rpm:.0f} rpm and the quick stop could not be sent ({error})"
+            elif now > deadline:
+                return f"still {rpm:.0f} rpm {WATCH_AFTER_QUICK_STOP:g} s after a quick stop"
+            await asyncio.sleep(self._interval)
+
+    async def _watch_cap(self, jog: _Jog, cap: float) -> None:
+        """A torque jog's own speed cap: read 606Ch while it runs, stop it past the cap."""
+        node = jog.info.node
+        while jog.info.state == "running":
+            try:
+                rpm = await self._motion.velocity_rpm(node)
+            except ServodeskError as error:  # the other triggers handle a lost bus or node
+                log.debug("node %d: speed cap reading failed: %s", node, error)
+            else:
+                jog.info = jog.info.model_copy(update={"velocity_rpm": rpm})
+                if abs(rpm) > cap and jog.info.state == "running":
+                    reason = f"speed cap {cap:g} rpm passed ({abs(rpm):.0f} rpm)"
+                    self._stop(jog, reason, by_tool=True)
+                    return
+            await asyncio.sleep(self._interval)
 
     def _nodes_changed(self) -> None:
         self.running_nodes = frozenset(jog.info.node for jog in self._running())
 
     def _forget_old(self) -> None:
-        stopped = [k for k, j in self._jogs.items() if j.info.state != "running"]
+        stopped = [k for k, j in self._jogs.items() if j.info.state == "stopped"]
         for key in stopped[: max(0, len(stopped) - KEEP_STOPPED)]:
             del self._jogs[key]

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import uuid
 from collections import Counter
 from collections.abc import Coroutine
 from contextlib import AbstractAsyncContextManager, nullcontext
@@ -18,9 +19,11 @@ from typing import Any
 
 import can
 
+from servodesk.access.actor import current_actor
 from servodesk.bus.connection import BusManager
 from servodesk.errors import InvalidValueError, ServodeskError
 from servodesk.models import BusState, BusStatus, LiveEvent
+from servodesk.motion.clients import ClientIds
 from servodesk.motion.heartbeat import HeartbeatGuard
 from servodesk.motion.jog import JogWatchdog, ToolRecord
 from servodesk.motion.lease import Client, ControllerLease
@@ -70,7 +73,13 @@ class MotionSafety:
         self.lease = ControllerLease()
         # what the tool writes by itself (stops on a trigger, 1016h after a reboot) is audited
         self._record = record
-        self.jogs = JogWatchdog(motion, record=record)
+        self.jogs = JogWatchdog(motion, settings, record=record)
+        self.jogs.add_listener(self._on_jog_changed)
+        self.clients = ClientIds()
+        # nodes held for a script's jog (no X-Client-Id): node -> (its client id, principal);
+        # released once the jog's axis is at rest
+        self._script_leases: dict[int, tuple[str, str]] = {}
+        self._pt_speed_cap = settings.jog_pt_speed_cap_rpm
         self.heartbeat = HeartbeatGuard(
             registry,
             settings,
@@ -115,17 +124,36 @@ class MotionSafety:
             protection=self.heartbeat.status(node),
         )
 
+    def claim(self, client: Client) -> None:
+        """The client id belongs to the acting login (motion/clients.py); ClientIdTakenError
+        when another login uses it."""
+        if not client.anonymous:
+            self.clients.claim(client.id, current_actor().user)
+
     async def authorize(self, node: int, client: Client) -> None:
         """Let `client`'s motion command through, or raise HeldByOtherError. A named client
-        commanding a node nobody holds takes it."""
+        commanding a node nobody holds takes it; a script (no client id) passes where its own
+        jog holds the node."""
         self._registry.info(node)
+        self.claim(client)
+        if client.anonymous and self._script_holder(node) is not None:
+            return
         if self.lease.check(node, client):
             await self.take(node, client, take_over=False)
+
+    def _script_holder(self, node: int) -> str | None:
+        """The client id of the acting login's script jog that holds `node`, if any."""
+        held = self._script_leases.get(node)
+        holder = self.lease.holder(node)
+        if held is None or holder is None or holder.client_id != held[0]:
+            return None
+        return held[0] if held[1] == current_actor().user else None
 
     async def take(self, node: int, client: Client, *, take_over: bool) -> ControllerInfo:
         self._registry.info(node)
         if client.anonymous:
             raise InvalidValueError("taking control needs a client id (X-Client-Id header)")
+        self.claim(client)
         previous = self.lease.take(node, client, take_over=take_over)
         if previous is not None:
             who = client.name or client.id
@@ -135,6 +163,7 @@ class MotionSafety:
 
     async def release(self, node: int, client: Client) -> ControllerInfo:
         self._registry.info(node)
+        self.claim(client)
         if self.lease.holder(node) is not None:
             self.lease.check(node, client)  # only the holder releases
             await self._release(node, "control released")
@@ -173,7 +202,8 @@ class MotionSafety:
             )
         if request.keepalive_ms > self._max_keepalive:
             raise InvalidValueError(f"keepalive_ms above {self._max_keepalive}")
-        await self.authorize(node, client)
+        cap = self._speed_cap(node, request)
+        owner = await self._jog_owner(node, client)
         await self.motion.jog_start(
             node,
             request.mode,
@@ -185,7 +215,71 @@ class MotionSafety:
             node, request.mode, request.acceleration_rpm_s, request.torque_slope_pct_s
         )
         return self.jogs.register(
-            node, request.mode, value, request.keepalive_ms, client.id, ramp=ramp
+            node,
+            request.mode,
+            value,
+            request.keepalive_ms,
+            owner.id,
+            principal=current_actor().user,
+            ramp=ramp,
+            speed_cap_rpm=cap,
+        )
+
+    def _speed_cap(self, node: int, request: JogRequest) -> float | None:
+        """A torque jog's own speed cap: the request's, else the settings', never above the
+        speed limit in force."""
+        if request.mode != "pt":
+            if request.speed_cap_rpm is not None:
+                raise InvalidValueError("speed_cap_rpm is for pt jogs; a pv jog has its speed")
+            return None
+        limit = self.motion.limits(node).max_velocity_rpm
+        cap = request.speed_cap_rpm or min(self._pt_speed_cap, limit)
+        if cap > limit:
+            raise InvalidValueError(
+                f"speed_cap_rpm {cap:g} is above the speed limit in force, {limit:g} rpm"
+            )
+        return cap
+
+    async def _jog_owner(self, node: int, client: Client) -> Client:
+        """Who owns the jog, with the lease and the drive-side heartbeat protection taken for
+        it. A script without a client id gets an id of its own for this node, held until its
+        jog's axis is at rest: a jog is never without the drive's own stop if ServoDesk dies."""
+        if not client.anonymous:
+            await self.authorize(node, client)
+            return client
+        self._registry.info(node)
+        held = self._script_holder(node)
+        if held is not None:
+            holder = self.lease.holder(node)
+            return Client(id=held, name=holder.name if holder else None)
+        user = current_actor().user
+        script = Client(id=f"script-{uuid.uuid4().hex[:8]}", name=f"script ({user})")
+        self.lease.check(node, client)  # HeldByOtherError where a page holds it
+        self.clients.claim(script.id, user)
+        self._script_leases[node] = (script.id, user)
+        await self.take(node, script, take_over=False)
+        return script
+
+    def _on_jog_changed(self, jog: JogInfo) -> None:
+        """A script's lease ends when its jog's axis is at rest (and no other jog runs)."""
+        if jog.state != "stopped":
+            return
+        held = self._script_leases.get(jog.node)
+        if held is None or held[0] != jog.owner or jog.node in self.jogs.moving_nodes():
+            return
+        holder = self.lease.holder(jog.node)
+        del self._script_leases[jog.node]
+        self.clients.forget(held[0])
+        if holder is not None and holder.client_id == held[0]:
+            self._spawn(self._release(jog.node, "the script's jog ended", by_tool=True))
+
+    def keepalive(self, jog_id: str, client: Client) -> JogInfo:
+        """A keep-alive counts only from the jog's owner (same login; same client id where
+        one is named)."""
+        return self.jogs.keepalive(
+            jog_id,
+            client_id=None if client.anonymous else client.id,
+            principal=current_actor().user,
         )
 
     async def command(self, node: int, command: DriveCommand, client: Client) -> DriveState:
@@ -237,6 +331,15 @@ class MotionSafety:
 
     def page_hidden(self, client_id: str) -> list[JogInfo]:
         return self.jogs.stop_owner(client_id, "the page was hidden", by_tool=True)
+
+    def socket_idle(self, client_id: str) -> None:
+        """After socket_closed: an id with no socket, no control and no jog is free again."""
+        if (
+            client_id not in self._sockets
+            and not self.lease.held_by(client_id)
+            and not self.jogs.running_of(client_id)
+        ):
+            self.clients.forget(client_id)
 
     def on_emcy(self, node: int, data: bytes) -> None:
         code = int.from_bytes(data[:2], "little")

@@ -53,9 +53,14 @@ class JogRequest(RequestBody):
         default=None, ge=MIN_TORQUE_SLOPE_PCT_S, le=MAX_TORQUE_SLOPE_PCT_S
     )
     keepalive_ms: JsonInt = Field(default=250, ge=20, le=500)
+    # pt: ServoDesk's own speed cap (rpm): the jog is stopped when the axis passes it
+    # (default: the settings' jog_pt_speed_cap_rpm, never above the speed limit in force)
+    speed_cap_rpm: StrictFloat | None = Field(default=None, gt=0)
 
 
-JogStateName = Literal["running", "stopped"]
+# running: keep-alives hold it; stopping: the stop was sent and the axis is still decelerating;
+# stopped: the axis is at rest (or could not be watched to rest: stop_reason says so)
+JogStateName = Literal["running", "stopping", "stopped"]
 
 
 class JogInfo(BaseModel):
@@ -68,10 +73,15 @@ class JogInfo(BaseModel):
     # pt: the speed the drive will not exceed, and the object that sets it
     velocity_limit_rpm: float | None = None
     velocity_limit_source: str | None = None
+    # pt: ServoDesk's own cap; passing it stops the jog
+    speed_cap_rpm: float | None = None
     keepalive_ms: int
     state: JogStateName
     stop_reason: str | None = None  # why it stopped: keep-alive missed, socket closed, EMCY …
-    owner: str | None = None  # the client id that started it
+    # the deceleration the stop uses (rpm/s): never below ServoDesk's floor, whatever the ramp
+    stop_deceleration_rpm_s: float | None = None
+    velocity_rpm: float | None = None  # the last speed read while it ran or stopped
+    owner: str | None = None  # the client id that started it (scripts get one of their own)
 
 
 class LimitsRequest(RequestBody):

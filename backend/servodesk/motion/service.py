@@ -12,22 +12,23 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 
-import canopen
-
 from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
 from servodesk.motion.ip import IpOps
 from servodesk.motion.schemas import DriveCommand, DriveState, EnableReason
+from servodesk.motion.stopping import (
+    QUICK_STOP_DECELERATION,
+    StopPlan,
+    quick_stop_axis,
+    stop_axis,
+)
 from servodesk.motion.words import state_label
 from servodesk.network.sync import SyncService
 from servodesk.nodes.access import NodeAccess
 from servodesk.pdo.service import PdoService
 from servodesk.settings import Settings
 from servodesk_protocol.cia402 import (
-    CW_FAULT_RESET,
-    CW_HALT,
-    CW_NEW_SETPOINT,
     Cia402State,
     enable_sequence,
     make_disable_operation,
@@ -194,30 +195,65 @@ class MotionService(IpOps):
         self._axis(node).last_transition = f"{name} ({number})"
         return await self.state(node)
 
-    async def stop(self, node: int, *, reason: str, quick: bool = False) -> None:
-        """Bring the axis to a stop without waiting behind queued work (priority lane).
+    async def stop(
+        self,
+        node: int,
+        *,
+        reason: str,
+        quick: bool = False,
+        deceleration_rpm_s: float | None = None,
+        drive_deceleration: bool = False,
+    ) -> str:
+        """Bring the axis to a stop without waiting behind queued work (priority lane); says
+        how ("halt", "halt in profile velocity", "quick stop", "nothing moves").
 
-        Default: the halt bit (8) in Operation enabled — the axis decelerates on its profile
-        deceleration and stays enabled, so a hold-to-run jog can be re-armed. `quick`, or a
-        drive not in Operation enabled: quick stop 0002h, which ramps as 605Ah says and never
-        enables anything. The read of 6041h and the write are one step on the node's thread.
+        Default: the halt bit (8) in Operation enabled — the axis decelerates and stays
+        enabled, so a hold-to-run jog can be re-armed; a torque jog is braked in profile
+        velocity (motion/stopping.py). `deceleration_rpm_s` bounds the ramp (6083h/6084h
+        written first), `drive_deceleration` takes the drive's 6085h where it is steeper.
+        `quick`: quick stop 0002h, which ramps as 605Ah says and never enables anything.
         """
         self._drop_tasks(node)
+        session = self._registry.session(node)
+        what = f"stop node {node}: {reason}"
+        if quick:
+            await session.priority(quick_stop_axis, what=what)
+            return "quick stop"
+        plan = self._stop_plan(node, deceleration_rpm_s, drive_deceleration)
+        outcome = await session.priority(lambda r: stop_axis(r, plan), what=what)
+        self._saw_statusword(node, outcome.statusword)
+        return outcome.how
 
-        def halt(remote: canopen.RemoteNode) -> int | None:
-            if quick:
-                io.write_controlword(remote, make_quick_stop())
-                return None
-            sw = io.read_statusword(remote)
-            if state_of(sw) is not S.OPERATION_ENABLED:
-                return sw  # nothing moves outside Operation enabled
-            cw = io.read(remote, 0x6040, signed=False) or 0x000F  # Controlword
-            io.write_controlword(remote, (cw | CW_HALT) & ~CW_NEW_SETPOINT & ~CW_FAULT_RESET)
-            return sw
+    def _stop_plan(
+        self, node: int, deceleration_rpm_s: float | None, drive_deceleration: bool
+    ) -> StopPlan:
+        od = self._registry.od(node)
+        axis = self._axis(node)
+        supported = axis.statics.supported_raw if axis.statics else None
+        pv = (
+            bool(supported >> 2 & 1)  # 6502h bit 2: profile velocity
+            if supported is not None
+            else od.get(io.TARGET_VELOCITY, 0) is not None
+        )
+        decel = None
+        if deceleration_rpm_s is not None:
+            decel = max(1, self._units(node).rpm_s_to_acceleration(deceleration_rpm_s))
+        ramps = (io.PROFILE_DECELERATION, io.PROFILE_ACCELERATION)
+        return StopPlan(
+            deceleration=decel,
+            use_drive_quick_stop_deceleration=drive_deceleration
+            and od.get(QUICK_STOP_DECELERATION, 0) is not None,
+            ramp_objects=tuple(i for i in ramps if od.get(i, 0) is not None),
+            pv_supported=pv,
+            has_target_torque=od.get(io.TARGET_TORQUE, 0) is not None,
+        )
 
-        read = await self._registry.session(node).priority(halt, what=f"stop node {node}: {reason}")
-        if read is not None:
-            self._saw_statusword(node, read)
+    async def velocity_rpm(self, node: int) -> float:
+        """606Ch now, in rpm (one upload on the node's queue: the jog watchdog's reading)."""
+        raw = await self._run(
+            node, lambda r: io.read(r, io.VELOCITY_ACTUAL, signed=True), "read 606Ch"
+        )
+        return self._units(node).actual_velocity_rpm(raw or 0)
 
     async def set_mode(self, node: int, mode: str) -> DriveState:
         """Write 6060h ("pp", "pv", "pt", "hm", "ip", …) and wait for 6061h to show it."""
