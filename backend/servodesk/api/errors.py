@@ -37,9 +37,10 @@ from servodesk.errors import (
     StateConflictError,
 )
 from servodesk.models import ErrorBody
+from servodesk.motion.clients import ClientIdTakenError
 from servodesk.motion.errors import EnableBlockedError, LimitError, MotionBusyError
 from servodesk.motion.ip_timing import SyncUnsafeError
-from servodesk.motion.jog import JogNotFoundError, JogStoppedError
+from servodesk.motion.jog import JogNotFoundError, JogStoppedError, NotJogOwnerError
 from servodesk.motion.lease import HeldByOtherError
 from servodesk.motion.safety_models import ControllerHolder, JogInfo
 from servodesk.motion.schemas import DriveState, EnableReason
@@ -170,6 +171,12 @@ def _describe_motion(error: ServodeskError) -> tuple[int, ErrorBody] | None:
         )
     if isinstance(error, JogNotFoundError):
         return 404, ErrorBody(error="jog_not_found", message=str(error))
+    if isinstance(error, NotJogOwnerError):
+        return 403, MotionErrorBody(
+            error="not_jog_owner", message=str(error), node=error.info.node, jog=error.info
+        )
+    if isinstance(error, ClientIdTakenError):
+        return 403, ErrorBody(error="client_id_taken", message=str(error))
     if isinstance(error, LimitError):
         return 422, ErrorBody(error="invalid_value", message=str(error), node=error.node)
     if isinstance(error, SyncUnsafeError):
@@ -259,6 +266,10 @@ def _motion_error(description: str) -> dict[str, object]:
 # Motion routes: a 409 may carry the holder, the enable reasons and the drive state.
 MOTION_ERRORS: dict[int | str, dict[str, object]] = {
     **NODE_ERRORS,
+    403: _error(
+        "Refused: the caller's role may not, another site's page, or client_id_taken (another "
+        "login uses this X-Client-Id)"
+    ),
     409: _motion_error(
         "held_by_other (holder): another client controls the drive, take over first; "
         "enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: "
@@ -266,6 +277,10 @@ MOTION_ERRORS: dict[int | str, dict[str, object]] = {
     ),
 }
 JOG_ERRORS: dict[int | str, dict[str, object]] = {
+    403: _motion_error(
+        "Refused: the caller's role may not, another site's page, or not_jog_owner (jog): only "
+        "the jog's owner keeps it moving"
+    ),
     404: _error("No such jog (jog_not_found)"),
     409: _motion_error("jog_stopped (jog): the jog was stopped; start a new one to move again"),
 }
