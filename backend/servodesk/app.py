@@ -41,6 +41,7 @@ from servodesk.api.security import HostGuard, SameOriginGuard, ServedHosts
 from servodesk.api.static import mount_frontend
 from servodesk.bus.connection import BusFactory
 from servodesk.errors import ServodeskError
+from servodesk.heap import settle_after_start
 from servodesk.models import BusConfig
 from servodesk.services import Services, build_services
 from servodesk.settings import Settings
@@ -78,6 +79,7 @@ def create_app(
         await services.open()
         services.start()
         await _connect_at_start(services)
+        settle_after_start()  # start-up's objects out of every later full collection
         try:
             yield
         finally:

@@ -17,6 +17,7 @@ from servodesk.faults.service import FaultService
 from servodesk.live import LiveHub
 from servodesk.logs.recording import Recorder
 from servodesk.logs.service import LogService
+from servodesk.loop_watch import LoopWatch
 from servodesk.motion.safety import MotionSafety
 from servodesk.motion.service import MotionService
 from servodesk.network.sync import SyncService
@@ -60,6 +61,7 @@ class Services:
     viewer: RerunServer  # the scope's rerun viewer and gRPC server (loopback, lazily started)
     scope: ScopeService
     audit: AuditLog  # every write to a drive: who, when, old → new, result
+    loop_watch: LoopWatch  # the event loop's lag (GET /api/health) and its stalls (the log)
 
     async def open(self) -> None:
         """The audit log, the event bus and the timeline store, before the bus connects
@@ -70,11 +72,13 @@ class Services:
         await self.scope.open()
 
     def start(self) -> None:
+        self.loop_watch.start()
         self.safety.start()
         self.live.start()
 
     async def close(self) -> None:
         self.od_parser.close()
+        self.logs.close()
         # first: a running capture puts the bus back (its TPDOs, SYNC, NMT states)
         await self.scope.close()
         await self.recorder.close()
@@ -90,6 +94,7 @@ class Services:
         self.faults.close()
         await self.storage.close()  # what the others published on the way out is kept
         await self.audit.close()  # last: the results of the stops made on the way out
+        await self.loop_watch.close()
 
 
 def build_services(
@@ -164,6 +169,7 @@ def build_services(
         viewer=viewer,
         scope=scope,
         audit=audit,
+        loop_watch=LoopWatch(),
     )
 
 

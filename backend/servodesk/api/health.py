@@ -6,6 +6,7 @@ from pydantic import BaseModel
 from servodesk import __version__
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
+from servodesk.loop_watch import LoopLag
 from servodesk.models import BusStatus
 
 router = APIRouter(tags=["health"], route_class=AuditedRoute)
@@ -15,8 +16,11 @@ class Health(BaseModel):
     status: str
     version: str
     bus: BusStatus
+    loop: LoopLag
 
 
 @router.get("/health")
 async def health(services: ServicesDep) -> Health:
-    return Health(status="ok", version=__version__, bus=services.bus.status())
+    return Health(
+        status="ok", version=__version__, bus=services.bus.status(), loop=services.loop_watch.lag()
+    )

@@ -1,5 +1,5 @@
-"""What the log routes use: an uploaded log decoded in a worker thread (a bounded number at a
-time), paged, exported; the stored results are LogStore's (store.py)."""
+"""What the log routes use: an uploaded log decoded in a worker process (a bounded number at a
+time, decode_worker.py), paged, exported; the stored results are LogStore's (store.py)."""
 
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import ParamSpec, TypeVar
 
 from servodesk.errors import InvalidValueError, NotFoundError
+from servodesk.logs.decode_worker import DecodePool, LogReadError
 from servodesk.logs.events import Event
 from servodesk.logs.export import ExportFormat, ParquetWriter, text_writer
 from servodesk.logs.reader import SUFFIXES
@@ -40,9 +41,14 @@ def _safe_name(name: str, fallback: str) -> str:
 class LogService:
     def __init__(self, data_dir: Path, *, max_concurrent: int) -> None:
         self.store = LogStore(data_dir)
+        self._data_dir = data_dir
         self._spool = data_dir / "uploads"
         self._max = max_concurrent
         self._slots: asyncio.Semaphore | None = None
+        self._workers = DecodePool(max_concurrent)
+
+    def close(self) -> None:
+        self._workers.close()
 
     async def decode(
         self, name: str, data: bytes, dcf: tuple[str, bytes] | None = None
@@ -57,24 +63,30 @@ class LogService:
         if self._slots is None:
             self._slots = asyncio.Semaphore(self._max)
         async with self._slots:
-            return await asyncio.to_thread(self._decode, name, data, dcf)
-
-    def _decode(self, name: str, data: bytes, dcf: tuple[str, bytes] | None) -> LogResult:
-        self._spool.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryDirectory(dir=self._spool) as tmp:
-            path = Path(tmp) / name
-            path.write_bytes(data)
-            dcf_path: Path | None = None
-            if dcf is not None:
-                dcf_path = Path(tmp) / ("dcf-" + _safe_name(dcf[0], "upload.dcf"))
-                dcf_path.write_bytes(dcf[1])
+            tmp, path, dcf_path = await asyncio.to_thread(self._spool_files, name, data, dcf)
             try:
-                return self.store.decode_file(path, dcf=dcf_path)
-            except Exception as error:  # any reader's complaint about a user's file
-                log.info("decoding %s failed: %r", name, error)
+                return await self._workers.decode(self._data_dir, path, dcf_path)
+            except LogReadError as error:
+                log.info("decoding %s failed: %s", name, error)
                 raise InvalidValueError(
                     f"{name}: could not be read as a CAN log: {error}"
                 ) from None
+            finally:
+                await asyncio.to_thread(tmp.cleanup)
+
+    def _spool_files(
+        self, name: str, data: bytes, dcf: tuple[str, bytes] | None
+    ) -> tuple[tempfile.TemporaryDirectory[str], Path, Path | None]:
+        """The upload (and its DCF) as files for the worker process."""
+        self._spool.mkdir(parents=True, exist_ok=True)
+        tmp = tempfile.TemporaryDirectory(dir=self._spool)
+        path = Path(tmp.name) / name
+        path.write_bytes(data)
+        dcf_path: Path | None = None
+        if dcf is not None:
+            dcf_path = Path(tmp.name) / ("dcf-" + _safe_name(dcf[0], "upload.dcf"))
+            dcf_path.write_bytes(dcf[1])
+        return tmp, path, dcf_path
 
     async def result(self, log_id: str) -> LogResult:
         return await asyncio.to_thread(self._guard, self.store.result, log_id)

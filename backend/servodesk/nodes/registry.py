@@ -29,6 +29,7 @@ from servodesk.errors import (
     NodeNotFoundError,
     NodeStoppedError,
 )
+from servodesk.heap import keep_long_lived
 from servodesk.models import (
     BusState,
     BusStatus,
@@ -317,6 +318,8 @@ class NodeRegistry:
                 dispose(old_od)
                 release_memory()
 
+        if source == "upload":
+            keep_long_lived()  # a large dictionary is never walked by a full collection
         if session is not None and network is not None:
             # Requests already queued for the node finish with the old dictionary; the new one
             # takes over after them on the node's own thread (no request is cut off).
