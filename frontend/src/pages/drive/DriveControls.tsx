@@ -34,12 +34,14 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
   // what the last refused request was, so "why" names it and the way out retries it
   const [refused, setRefused] = useState<{ label: string; retry: () => void } | null>(null);
 
-  async function run(label: string, work: () => Promise<DriveState>): Promise<void> {
+  /** One request; true when it was answered with the drive state. */
+  async function run(label: string, work: () => Promise<DriveState>): Promise<boolean> {
     setBusy(label);
     setError(null);
     setBlocked(null);
     try {
       show(await work());
+      return true;
     } catch (caught) {
       if (caught instanceof EnableBlockedError) {
         setBlocked(caught);
@@ -50,6 +52,7 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
       } else {
         setError(asApiError(caught));
       }
+      return false;
     } finally {
       setBusy(null);
     }
@@ -60,6 +63,10 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
    * and explains a transition that does not happen. */
   const command = (info: CommandInfo) => () => driveCommand(node, info.name);
   const enabled = drive.state === "operation_enabled";
+  /** Two acts, each its own request (and audit entry): the fault reset, then the enable. */
+  async function resetThenEnable(): Promise<void> {
+    if (await run("Fault reset", action("fault-reset"))) await run("enable", action("enable"));
+  }
 
   return (
     <div className="drive-controls">
@@ -98,6 +105,7 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
           }
           retry={refused && refused.label !== "enable" ? `send ${refused.label} again` : "enable"}
           onRetry={refused ? refused.retry : () => void run("enable", action("enable"))}
+          onResetFault={mayCommand && operate.allowed ? () => void resetThenEnable() : undefined}
         />
       )}
       <ErrorText error={error} />

@@ -72,7 +72,7 @@ export function DrivePage({ node }: { node: number }): ReactNode {
             <div className="drive-side">
               <StatusLamps drive={drive} />
               <DriveValues drive={drive} />
-              <LimitsCard node={node} limits={drive.limits} mayCommand={mayCommand} />
+              <LimitsCard node={node} drive={drive} mayCommand={mayCommand} />
             </div>
           </div>
           <JogPanel node={node} drive={drive} show={show} mayCommand={mayCommand} />

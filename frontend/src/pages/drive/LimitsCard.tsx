@@ -4,8 +4,9 @@ import { ErrorText } from "../../components/ErrorText";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import { putLimits } from "./driveApi";
-import type { MotionLimits } from "./types";
-import { checkRange, formatPct, formatRev, formatRpm } from "./units";
+import { limitsInsideSwitches, rangeText, travelRows } from "./motionWords";
+import type { DriveState, MotionLimits } from "./types";
+import { checkRange, formatPct, formatRpm } from "./units";
 
 type Field = "max_velocity_rpm" | "max_torque_pct" | "min_position_rev" | "max_position_rev";
 
@@ -20,22 +21,32 @@ function text(value: number | null | undefined): string {
   return value == null ? "" : String(value);
 }
 
-/** The limits every jog, move and homing run is checked against, editable. */
+/** The limits every jog, move and homing run is checked against, editable; the drive's own
+ * limits they stay under; and where the axis's travel ends. */
 export function LimitsCard({
   node,
-  limits,
+  drive,
   mayCommand,
 }: {
   node: number;
-  limits: MotionLimits;
+  drive: DriveState;
   mayCommand: boolean;
 }): ReactNode {
+  const limits = drive.limits;
+  const own = drive.drive_limits;
   const [draft, setDraft] = useState<Record<Field, string> | null>(null);
   const operate = useMay("operate");
   const save = useAction(async (next: MotionLimits) => {
     await putLimits(node, next);
     setDraft(null);
   });
+  const inside = limitsInsideSwitches(drive);
+  const offer =
+    inside &&
+    (inside.min_position_rev !== limits.min_position_rev ||
+      inside.max_position_rev !== limits.max_position_rev)
+      ? inside
+      : null;
 
   if (!draft) {
     return (
@@ -61,21 +72,79 @@ export function LimitsCard({
         <dl className="drive-facts">
           <div>
             <dt>Max velocity</dt>
-            <dd className="num">{formatRpm(limits.max_velocity_rpm)}</dd>
+            <dd className="num" data-testid="limit-velocity">
+              {formatRpm(limits.max_velocity_rpm)}
+            </dd>
+            {own && (
+              <dd className="muted small" title={own.velocity_source}>
+                drive&apos;s own {formatRpm(own.max_velocity_rpm)}
+              </dd>
+            )}
           </div>
           <div>
             <dt>Max torque</dt>
             <dd className="num">{formatPct(limits.max_torque_pct)}</dd>
-          </div>
-          <div>
-            <dt>Position range</dt>
-            <dd className="num">
-              {limits.min_position_rev == null && limits.max_position_rev == null
-                ? "unlimited"
-                : `${formatRev(limits.min_position_rev)} … ${formatRev(limits.max_position_rev)}`}
-            </dd>
+            {own && (
+              <dd className="muted small" title={own.torque_source}>
+                drive&apos;s own {formatPct(own.max_torque_pct)}
+              </dd>
+            )}
           </div>
         </dl>
+        {own && (
+          <p className="muted small" data-testid="drive-limits-source">
+            The limits in force stay under the drive&apos;s own ({own.velocity_source};{" "}
+            {own.torque_source}), read again while this page is open.
+          </p>
+        )}
+        <table className="data-table" aria-label="Where the travel ends" data-testid="travel">
+          <caption className="muted small">Where the travel ends</caption>
+          <tbody>
+            {travelRows(drive).map((row) => (
+              <tr key={row.key} data-travel={row.key}>
+                <th scope="row">
+                  {row.label}
+                  {row.key === "switches" && (
+                    <>
+                      {" "}
+                      <span className="badge drive-warn">simulator</span>
+                    </>
+                  )}
+                </th>
+                <td className="num">{row.range}</td>
+                <td className="muted small">
+                  {row.source === "ServoDesk"
+                    ? row.note
+                    : `${row.source}${row.note ? ` — ${row.note}` : ""}`}
+                </td>
+              </tr>
+            ))}
+            {drive.travel && !drive.travel.software_limit && (
+              <tr data-travel="no_software_limit">
+                <th scope="row">Drive&apos;s software limit</th>
+                <td className="num">—</td>
+                <td className="muted small">no 607Dh Software position limit in its dictionary</td>
+              </tr>
+            )}
+          </tbody>
+        </table>
+        {offer && (
+          <div className="button-row">
+            <button
+              type="button"
+              className="small"
+              {...operate.gate("change the limits", { disabled: !mayCommand || save.busy })}
+              onClick={() => void save.run(offer)}
+            >
+              Set ServoDesk&apos;s travel limits to{" "}
+              {rangeText(offer.min_position_rev, offer.max_position_rev)}
+            </button>
+            <span className="muted small">
+              {drive.travel?.switches ? "0.1 rev inside the limit switches" : "the drive's own"}
+            </span>
+            <ErrorText error={save.error} inline />
+          </div>
+        )}
       </section>
     );
   }

@@ -4,8 +4,9 @@ import { ErrorText } from "../../components/ErrorText";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import { move, moveQueue } from "./driveApi";
+import { moveText } from "./motionWords";
 import type { DriveState, MoveRequest } from "./types";
-import { checkRange, formatInc, formatRev } from "./units";
+import { checkRange, formatRev } from "./units";
 
 function describeMove(m: MoveRequest): string {
   const where = m.relative ? `by ${formatRev(m.position_rev)}` : `to ${formatRev(m.position_rev)}`;
@@ -54,6 +55,7 @@ export function PpJog({
     immediately,
   });
   const step = Math.abs(pos.value ?? 0);
+  const moved = moveText(drive);
 
   return (
     <div className="pp-jog">
@@ -131,10 +133,9 @@ export function PpJog({
         <ErrorText error={go.error} inline />
       </div>
       {!enabled && <p className="muted small">Enable the drive to move it.</p>}
-      {drive.move && (
-        <p className="small" role="status">
-          Move to {formatInc(drive.move.target_inc)}: {drive.move.phase}
-          {drive.move.queued > 0 && ` · ${drive.move.queued} queued`}
+      {moved && (
+        <p className={`small move-${moved.tone}`} role="status" data-testid="pp-move">
+          {moved.text}
         </p>
       )}
       {queue.length > 0 && (

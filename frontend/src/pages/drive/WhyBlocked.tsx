@@ -9,17 +9,21 @@ import type { EnableBlockedError } from "./driveApi";
 const NMT_CODES: ReadonlySet<string> = new Set(["nmt_stopped", "nmt_not_operational"]);
 
 /** The answer to "Why won't it enable?": each reason in words, and the way out where the tool
- * has one (an NMT state the drive does not enable in → start the node). */
+ * has one (an NMT state the drive does not enable in → start the node; an active fault → reset
+ * it, then enable: two requests, never one enable that resets behind the user's back). */
 export function WhyBlocked({
   node,
   blocked,
   onRetry,
+  onResetFault,
   title = "Why won't it enable?",
   retry = "enable",
 }: {
   node: number;
   blocked: EnableBlockedError;
   onRetry: () => void;
+  /** Offered when a fault blocks: fault reset, then enable. */
+  onResetFault?: () => void;
   /** The question answered: "Why won't it enable?", "Why didn't Shutdown happen?" … */
   title?: string;
   /** What the NMT way out does after starting the node ("enable", "send Shutdown again"). */
@@ -33,6 +37,7 @@ export function WhyBlocked({
   });
   const configure = useMay("configure");
   const nmt = blocked.reasons.some((r) => NMT_CODES.has(r.code));
+  const fault = blocked.reasons.some((r) => r.code === "fault");
   return (
     <section className="why-blocked" role="alert" aria-labelledby="why-blocked-heading">
       <h3 id="why-blocked-heading">{title}</h3>
@@ -57,6 +62,18 @@ export function WhyBlocked({
             Start node {node} (NMT Operational) and {retry}
           </button>
           <ErrorText error={start.error} inline />
+        </div>
+      )}
+      {fault && onResetFault && (
+        <div className="button-row">
+          <button
+            type="button"
+            onClick={onResetFault}
+            title="Fault reset (controlword bit 7, 0 → 1), then enable: two requests, each in the audit log"
+          >
+            Reset fault, then enable
+          </button>
+          <span className="muted small">once the fault's cause is removed</span>
         </div>
       )}
     </section>

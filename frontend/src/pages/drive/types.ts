@@ -31,3 +31,6 @@ export type JogMode = Schemas["JogRequest"]["mode"];
 export type DriveCommand = Schemas["DriveCommandRequest"]["command"];
 export type QuickStopResult = Schemas["QuickStopResult"];
 export type MotionErrorBody = Schemas["MotionErrorBody"];
+export type DriveLimits = Schemas["DriveLimits"];
+export type TravelEnds = Schemas["TravelEnds"];
+export type TravelInfo = Schemas["TravelInfo"];
