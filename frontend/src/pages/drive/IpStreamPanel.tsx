@@ -1,5 +1,6 @@
 import { useState, type ReactNode } from "react";
 
+import type { ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction } from "../../lib/useApi";
@@ -8,8 +9,15 @@ import { ipStream } from "./driveApi";
 import type { DriveState, IpStreamResult, IpTrajectory } from "./types";
 import { checkRange, formatInc, formatMs, formatRev } from "./units";
 
+/** The server refused the stream before sending anything: this computer did not keep the
+ * SYNC deadlines (409 sync_unsafe, whose message names the measured jitter). */
+function syncUnsafe(error: ApiError | null): boolean {
+  return error !== null && error.status === 409 && error.message.includes("SYNC timing");
+}
+
 /** Interpolated position: stream a point-to-point or sine trajectory with SYNC at 2 or 10 ms,
- * then show how closely the axis followed and how regular the SYNC was. */
+ * then show how closely the axis followed and how regular the SYNC was. A stream the server
+ * refused, or one that stalled or faulted, says so first. */
 export function IpStreamPanel({
   node,
   drive,
@@ -101,9 +109,29 @@ export function IpStreamPanel({
         {run.busy && <Spinner label="Streaming" />}
       </div>
       {!enabled && <p className="muted small">Enable the drive to stream.</p>}
-      <ErrorText error={run.error} />
+      {syncUnsafe(run.error) ? (
+        <div className="ip-result bad" role="alert" data-testid="ip-refused">
+          <p>
+            <strong>Stream not started: SYNC timing unsafe on this computer</strong>
+          </p>
+          <p>{run.error?.message}</p>
+          {period === 2 && (
+            <button type="button" onClick={() => setPeriod(10)}>
+              Use 10 ms instead
+            </button>
+          )}
+        </div>
+      ) : (
+        <ErrorText error={run.error} />
+      )}
       {result && (
-        <div className={result.stalled ? "ip-result bad" : "ip-result"} role="status">
+        <div
+          className={failed(result) ? "ip-result bad" : "ip-result"}
+          role={failed(result) ? "alert" : "status"}
+        >
+          <p>
+            <strong>{failed(result) ? "Stream failed" : "Stream completed"}</strong>
+          </p>
           <p>{result.message}</p>
           <dl className="drive-facts">
             <div>
@@ -144,4 +172,8 @@ export function IpStreamPanel({
       )}
     </div>
   );
+}
+
+function failed(result: IpStreamResult): boolean {
+  return result.stalled || result.fault !== null;
 }
