@@ -52,6 +52,10 @@ class Settings(BaseSettings):
     tool_node_id: int = Field(default=127, ge=1, le=127)
     heartbeat_consumer_ms: int = Field(default=300, ge=50, le=5000)
     tool_heartbeat_ms: int = Field(default=100, ge=10, le=1000)  # well inside the consumer time
+    # The heartbeat is withheld once the event loop has not run for this long (the loop stops
+    # jogs; a loop that cannot is no controller): a hung server's drives then stop by themselves
+    # within this + one heartbeat period + the consumer time (docs/architecture.md)
+    tool_heartbeat_liveness_ms: int = Field(default=500, ge=50, le=5000)
     jog_keepalive_max_ms: int = 500  # hold-to-run: the longest keep-alive interval a jog may ask
     # A jog's stop decelerates at least this hard (rpm/s), whatever ramp the client asked for,
     # and at the drive's quick stop deceleration 6085h where that is steeper: a stop on lost

@@ -6,9 +6,13 @@ to watch it with `heartbeat_consumer_ms`: if the tool goes silent, the drive rai
 heartbeat fault and its fault reaction stops the axis. Releasing control writes the entry back,
 so a drive left alone does not fault when the tool later exits.
 
-The heartbeat is produced by a task on the event loop, not by a timer thread, on purpose: the
-jog watchdog lives on the loop too, so a loop that stalls can no longer stop a jog, and the
-drive should then see the tool as gone.
+The frame is sent by python-can's cyclic send task (a thread of its own), so a
+busy event loop does not make held drives fault. It is gated on the loop's liveness all the
+same: the jog watchdog lives on the loop, so a loop that has not run for
+`tool_heartbeat_liveness_ms` can no longer stop a jog, and the drives must then see the tool as
+gone. The task's thread checks the loop's last tick before every frame and stops itself when it
+is too old; the loop starts it again when it runs again (docs/architecture.md, "The tool's
+heartbeat").
 """
 
 from __future__ import annotations
@@ -16,8 +20,11 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import can
 import canopen
@@ -32,6 +39,7 @@ log = logging.getLogger(__name__)
 CONSUMER = 0x1016  # Consumer heartbeat time: bits 16–23 node id, 0–15 time in ms
 HEARTBEAT_COB = 0x700
 OPERATIONAL = 0x05
+TICK = 0.05  # s: how often the loop says it is alive
 
 
 @dataclass
@@ -51,12 +59,16 @@ class HeartbeatGuard:
         self._access = access
         self._tool = settings.tool_node_id
         self._consumer_ms = settings.heartbeat_consumer_ms
-        self._period = settings.tool_heartbeat_ms / 1000
         self._network = network
         self._known = known_nodes
         self._guarded: dict[int, _Guarded] = {}
         self._why_not: dict[int, str] = {}
-        self._producer: asyncio.Task[None] | None = None
+        self._producer = GatedHeartbeat(
+            HEARTBEAT_COB + self._tool,
+            settings.tool_heartbeat_ms / 1000,
+            settings.tool_heartbeat_liveness_ms / 1000,
+            network,
+        )
 
     def status(self, node: int) -> HeartbeatProtection:
         active = node in self._guarded
@@ -110,11 +122,7 @@ class HeartbeatGuard:
     async def close(self) -> None:
         for node in list(self._guarded):
             await self.unprotect(node)
-        if self._producer is not None:
-            self._producer.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await self._producer
-            self._producer = None
+        await self._producer.stop()
 
     def _refusal(self, node: int) -> str | None:
         if self._tool in self._known():
@@ -151,26 +159,120 @@ class HeartbeatGuard:
         return None
 
     def _start_producer(self) -> None:
-        if self._producer is None or self._producer.done():
-            self._producer = asyncio.get_running_loop().create_task(
-                self._produce(), name="tool-heartbeat"
-            )
+        self._producer.start()
 
     def _stop_producer_if_idle(self) -> None:
-        if not self._guarded and self._producer is not None:
-            self._producer.cancel()
-            self._producer = None
+        if not self._guarded:
+            self._producer.stop_soon()
 
-    async def _produce(self) -> None:
-        loop = asyncio.get_running_loop()
-        due = loop.time()
-        cob = HEARTBEAT_COB + self._tool
+
+class GatedHeartbeat:
+    """One CAN frame sent every `period` s by python-can's cyclic send task while the event loop
+    has run within `liveness` s; `start`, `stop_soon` and `stop` are called on the loop.
+
+    The loop ticks a timestamp every TICK s and (re)binds the task to the network's current bus
+    (a reconnect brings a new one). The task's thread reads the timestamp before each frame: a
+    loop silent for longer than `liveness` stops the task, so at most one more frame goes out;
+    the next tick starts it again.
+    """
+
+    def __init__(
+        self,
+        cob_id: int,
+        period: float,
+        liveness: float,
+        network: Callable[[], canopen.Network],
+    ) -> None:
+        self._message = can.Message(
+            arbitration_id=cob_id, data=bytes([OPERATIONAL]), is_extended_id=False
+        )
+        self._period = period
+        self._liveness = liveness
+        self._network = network
+        self._ticked = time.monotonic()  # written on the loop, read on the task's thread
+        self._bus: can.BusABC | None = None
+        self._task: can.broadcastmanager.CyclicSendTaskABC | None = None
+        self._withheld = False  # the task stopped itself: the loop had stalled
+        self._ticker: asyncio.Task[None] | None = None
+
+    def start(self) -> None:
+        if self._ticker is None:
+            self._ticked = time.monotonic()
+            self._bind()
+            self._ticker = asyncio.get_running_loop().create_task(
+                self._tick(), name="tool-heartbeat"
+            )
+
+    def stop_soon(self) -> None:
+        ticker, self._ticker = self._ticker, None
+        if ticker is not None:
+            ticker.cancel()
+        self._unbind()
+
+    async def stop(self) -> None:
+        ticker = self._ticker
+        self.stop_soon()
+        if ticker is not None:
+            with contextlib.suppress(asyncio.CancelledError):
+                await ticker
+
+    async def _tick(self) -> None:
         while True:
-            with contextlib.suppress(ServodeskError, can.CanError, OSError, RuntimeError):
-                # no bus right now: the drives see silence, which is the truth
-                self._network().send_message(cob, bytes([OPERATIONAL]))
-            due += self._period
-            now = loop.time()
-            if due < now:  # after a stall, restart the grid instead of bursting
-                due = now + self._period
-            await asyncio.sleep(due - now)
+            self._ticked = time.monotonic()
+            self._bind()
+            await asyncio.sleep(TICK)
+
+    def _bind(self) -> None:
+        """The task on the network's current bus, running (started again after a stall)."""
+        try:
+            bus: can.BusABC | None = self._network().bus
+        except (ServodeskError, RuntimeError):
+            bus = None  # no bus right now: the drives see silence, which is the truth
+        if bus is not self._bus:
+            self._unbind()
+            self._bus = bus
+            self._task = self._send(bus)
+        elif self._withheld and bus is not None:
+            self._withheld = False
+            log.warning("the event loop runs again: the tool's heartbeat is sent again")
+            self._task = self._send(bus)
+
+    def _send(self, bus: can.BusABC | None) -> can.broadcastmanager.CyclicSendTaskABC | None:
+        """python-can's thread-based cyclic task (what `send_periodic` makes for a task with a
+        callback on every interface), built here to give it `on_error`: a failing adapter ends
+        the task quietly, and the reconnect's new bus gets a new one."""
+        if bus is None:
+            return None
+        mine: list[can.broadcastmanager.CyclicSendTaskABC] = []
+        task = can.broadcastmanager.ThreadBasedCyclicSendTask(
+            bus,
+            threading.Lock(),
+            self._message,
+            self._period,
+            on_error=lambda _: False,
+            modifier_callback=partial(self._gate, mine),
+        )
+        mine.append(task)
+        return task
+
+    def _unbind(self) -> None:
+        task, self._task, self._bus = self._task, None, None
+        self._withheld = False
+        if task is not None:
+            task.stop()
+
+    def _gate(self, mine: list[can.broadcastmanager.CyclicSendTaskABC], _: can.Message) -> None:
+        """The task's thread, before each frame: a loop silent for too long gets no heartbeat.
+        `mine` holds the task this call comes from (empty until the task is built)."""
+        silent = time.monotonic() - self._ticked
+        if silent <= self._liveness or not mine:
+            return
+        task = mine[0]
+        if task is self._task and not self._withheld:
+            self._withheld = True
+            log.warning(
+                "the event loop has not run for %.0f ms: the tool's heartbeat stops, and the "
+                "drives that watch it stop by themselves",
+                silent * 1000,
+            )
+        task.stop()  # the frame of this call still goes out: the last one
