@@ -163,3 +163,59 @@ def test_jog_ramps_and_transition_buttons_node_3(page: Page, server: str) -> Non
         buttons.get_by_role("button", name=label, exact=True).click()
         expect(page.get_by_test_id("drive-state")).to_have_text(state, timeout=5_000)
         assert drive_state(server, 3)["controlword"] == word, label
+
+
+def api(server: str, method: str, path: str, body: object | None = None) -> object:
+    data = None if body is None else json.dumps(body).encode()
+    request = urllib.request.Request(
+        f"{server}{path}", data=data, method=method, headers={"Content-Type": "application/json"}
+    )
+    with urllib.request.urlopen(request, timeout=5) as answer:
+        result: object = json.load(answer)
+        return result
+
+
+def test_fault_is_reset_only_on_purpose_node_1(page: Page, server: str) -> None:
+    """A faulted drive: Enable is refused naming the fault (nothing reset), the page offers
+    "Reset fault, then enable" as two audited requests; a PP move stopped by a quick stop says
+    so; the limits card says where the travel ends."""
+    page.goto(f"{server}/nodes/1/drive")
+    expect(page.get_by_test_id("state-diagram")).to_be_visible()
+    enable(page)
+    state = page.get_by_test_id("drive-state")
+
+    # MDi alarm 4 (following error) through the simulator's 5FF0h
+    api(server, "PUT", "/api/nodes/1/sdo/5FF0/0", {"value": 4, "size": 4})
+    expect(state).to_have_text("Fault")
+    page.get_by_role("button", name="Enable", exact=True).click()
+    why = page.get_by_role("alert", name="Why won't it enable?")
+    expect(why).to_contain_text("fault 0x0004")
+    expect(why).to_contain_text("send Fault reset")
+    assert drive_state(server, 1)["state"] == "fault", "the refused enable reset nothing"
+    shot(page, ".drive-machine", "drive_fault_why.png")
+    why.get_by_role("button", name="Reset fault, then enable").click()
+    expect(state).to_have_text("Operation enabled")
+    expect(why).to_be_hidden()
+    entries = api(server, "GET", "/api/audit?node=1&limit=20")
+    assert isinstance(entries, list)
+    acts = [(e["action"], e["result"]) for e in reversed(entries)]
+    fault_acts = acts[-3:]
+    assert fault_acts == [("drive-enable", "failed"), ("fault-reset", "ok"), ("drive-enable", "ok")]
+
+    # a PP move stopped by a quick stop ends, with why
+    jog = page.get_by_role("region", name="Jog")
+    jog.get_by_role("tab", name="Profile position (PP)").click()
+    jog.get_by_label("Position (rev)").fill("3")
+    jog.get_by_role("button", name=re.compile(r"^Move by")).click()
+    moved = page.get_by_test_id("pp-move")
+    expect(moved).to_contain_text("moving")
+    page.get_by_role("button", name="Quick stop node 1").click()
+    expect(moved).to_contain_text("not reached — stopped by quick stop")
+    shot(page, ".drive-jog", "drive_pp_interrupted.png")
+
+    # where the travel ends: the simulator's switches at ±5 rev
+    travel = page.get_by_role("table", name="Where the travel ends")
+    expect(travel).to_contain_text("Limit switches")
+    expect(travel).to_contain_text("simulator")
+    expect(travel).to_contain_text("−5.000\u00a0rev\u00a0…\u00a05.000\u00a0rev")
+    shot(page, ".drive-limits", "drive_limits_travel.png")

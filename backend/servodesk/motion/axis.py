@@ -271,18 +271,17 @@ def interruption(snap: Snapshot, state: Cia402State, fault: FaultInfo | None) ->
         return f"stopped by fault{code}{named}"
     quick = control is not None and control & 0x0002 and not control & CW_QUICK_STOP
     if state is Cia402State.QUICK_STOP_ACTIVE or quick:
-        return f"stopped by quick stop (the drive is now {state_label(state)})"
+        return "stopped by quick stop (controlword bit 2 = 0)"
     if state is not Cia402State.OPERATION_ENABLED:
-        return f"stopped: the drive left Operation enabled (now {state_label(state)})"
+        return f"stopped: the drive left Operation enabled for {state_label(state)}"
     if control is not None and control & CW_HALT:
         return "halted (controlword bit 8) before its target"
     return "stopped by ServoDesk before its target (another command took the axis)"
 
 
 SIM_SWITCH_NOTE = (
-    "the simulator's limit switches (simulator-only objects, docs/simulator.md), in motor "
-    "revolutions since the simulated drive started: the same as the position shown until a "
-    "homing moves its zero"
+    "simulator-only objects (docs/simulator.md), counted from where the simulated motor "
+    "started: the position shown until a homing moves its zero"
 )
 
 

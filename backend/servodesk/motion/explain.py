@@ -159,7 +159,7 @@ def _fault_text(fault: FaultInfo | None) -> str:
         return f"the drive is in Fault (statusword bit 3); {RESET_ON_PURPOSE}"
     name = f" {fault.name}" if fault.name else ""
     source = f" ({fault.source})" if fault.source else ""
-    check = f" — check: {fault.text}" if fault.text else ""
+    check = f" — check: {fault.text.rstrip('. ')}" if fault.text else ""
     return (
         f"fault {fault.code_hex}{name}{source} is active (statusword bit 3){check}; "
         f"{RESET_ON_PURPOSE}"

@@ -158,11 +158,11 @@ describe("the last PP move", () => {
       move: {
         ...move,
         phase: "interrupted",
-        message: "stopped by quick stop (the drive is now Switch on disabled)",
+        message: "stopped by quick stop (controlword bit 2 = 0)",
       },
     });
     expect(said?.text).toBe(
-      "Move to 393\u202f216 inc: not reached — stopped by quick stop (the drive is now Switch on disabled)",
+      "Move to 393\u202f216 inc: not reached — stopped by quick stop (controlword bit 2 = 0)",
     );
     expect(said?.tone).toBe("warn");
   });
@@ -180,7 +180,7 @@ describe("the last PP move", () => {
         move: {
           ...move,
           phase: "interrupted",
-          message: "stopped by quick stop (the drive is now Switch on disabled)",
+          message: "stopped by quick stop (controlword bit 2 = 0)",
         },
       },
     });
@@ -194,7 +194,7 @@ describe("limits and travel", () => {
   it("lists where the travel ends, the simulator's switches marked", () => {
     const rows = travelRows(TRAVEL);
     expect(rows.map((r) => [r.label, r.range])).toEqual([
-      ["Limit switches (simulator)", "−5.000 rev … 5.000 rev"],
+      ["Limit switches", "−5.000\u00a0rev\u00a0…\u00a05.000\u00a0rev"],
       ["ServoDesk's travel limits", "none"],
     ]);
     expect(rows[0]?.source).toContain("5FF1h");
@@ -219,11 +219,11 @@ describe("limits and travel", () => {
     expect(card.getByTestId("drive-limits-source").textContent).toContain("PA-103");
     const travel = within(card.getByRole("table", { name: "Where the travel ends" }));
     expect(travel.getByText("simulator")).toBeTruthy();
-    expect(travel.getByText("−5.000 rev … 5.000 rev")).toBeTruthy();
+    expect(travel.getByText("−5.000 rev … 5.000 rev")).toBeTruthy(); // spaces normalized
     expect(travel.getByText(/no 607Dh Software position limit/)).toBeTruthy();
     await userEvent.click(
       card.getByRole("button", {
-        name: "Set ServoDesk's travel limits to −4.900 rev … 4.900 rev",
+        name: /^Set ServoDesk's travel limits to −4\.900\srev\s…\s4\.900\srev$/,
       }),
     );
     await waitFor(() => expect(fetch.calls.some((c) => c.method === "PUT")).toBe(true));

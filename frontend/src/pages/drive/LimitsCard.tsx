@@ -97,8 +97,8 @@ export function LimitsCard({
             {own.torque_source}), read again while this page is open.
           </p>
         )}
-        <table className="data-table" aria-label="Where the travel ends" data-testid="travel">
-          <caption className="muted small">Where the travel ends</caption>
+        <h3 id="drive-travel-heading">Where the travel ends</h3>
+        <table className="data-table" aria-labelledby="drive-travel-heading" data-testid="travel">
           <tbody>
             {travelRows(drive).map((row) => (
               <tr key={row.key} data-travel={row.key}>

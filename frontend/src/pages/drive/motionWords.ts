@@ -34,10 +34,10 @@ export function moveText(drive: DriveState): { text: string; tone: MoveTone } | 
   }
 }
 
-/** "−5.000 rev … +5.000 rev", an open side as "no end". */
+/** "−5.000 rev … 5.000 rev" (kept on one line), an open side as "no end". */
 export function rangeText(min: number | null | undefined, max: number | null | undefined): string {
   const end = (value: number | null | undefined) => (value == null ? "no end" : formatRev(value));
-  return `${end(min)} … ${end(max)}`;
+  return `${end(min)} … ${end(max)}`.replace(/ /g, "\u00a0");
 }
 
 export interface TravelRow {
@@ -60,7 +60,7 @@ export function travelRows(drive: DriveState): TravelRow[] {
     note: ends.note,
   });
   if (travel?.switches) {
-    rows.push(row("switches", "Limit switches (simulator)", travel.switches));
+    rows.push(row("switches", "Limit switches", travel.switches));
   }
   if (travel?.software_limit) {
     rows.push(row("software_limit", "Drive's software limit", travel.software_limit));
