@@ -9,7 +9,18 @@ listener on another bus instance records every frame with its send timestamp and
 - missed cycles: SYNC periods over 1.5 ms, plus cycles that did not get all 8 TPDOs
 
 Target (issue: simulated drives): p99 period error <= 0.5 ms and no missed cycles.
-Run: `make bench` or `.venv/bin/python bench/sim_realtime.py [--seconds 10]`.
+
+`--producer` chooses who sends the SYNC:
+- `sim` (default): the simulated MDi (1005h bit 30), as above;
+- `tool`: ServoDesk's own SYNC producer (network/sync.py): canopen's SyncProducer on python-can's
+  cyclic send task (a thread on virtual/socketcand, the kernel's broadcast manager on SocketCAN);
+- `stream`: an IP stream's SYNC, sent from a thread at absolute deadlines by the stream's own
+  sleep (motion/ip_timing.py `sleep_until`), as motion/ip.py does paired with each set-point.
+For `tool` and `stream` every frame is stamped when it is sent (python-can's virtual bus) and
+read from a second bus instance after the run, so no reader thread competes with the sender.
+
+Run: `make bench` or `.venv/bin/python bench/sim_realtime.py [--seconds 10] [--producer tool]`;
+under load, start two `python -c "while True: pass"` first.
 """
 
 from __future__ import annotations
@@ -24,7 +35,9 @@ import time
 from dataclasses import dataclass
 
 import can
+import canopen
 
+from servodesk.motion.ip_timing import sleep_until
 from servodesk_sim.frames import Frame
 from servodesk_sim.runner import SimBus, run_drives
 
@@ -115,6 +128,45 @@ def measure(bus: can.BusABC, sim: SimBus, seconds: float) -> Result:
     return Result(len(sync_times), period_err, latency, late + incomplete)
 
 
+def measure_sent(recorder: can.BusABC, produce: str, master: can.BusABC, seconds: float) -> Result:
+    """SYNC from the tool (`tool`: python-can's cyclic task; `stream`: a thread sleeping to
+    absolute deadlines), measured from the send stamps of every frame on the channel."""
+    period = PERIOD_US / 1e6
+    if produce == "tool":
+        network = canopen.Network(master)  # the bus is given: nothing to connect
+        network.sync.start(period)
+        time.sleep(seconds)
+        network.sync.stop()  # type: ignore[no-untyped-call]  # canopen: unannotated
+    else:
+        sync = can.Message(arbitration_id=SYNC_ID, data=b"", is_extended_id=False)
+        start = time.perf_counter() + period
+        for k in range(int(seconds / period)):
+            sleep_until(start + k * period)
+            master.send(sync)
+    time.sleep(0.05)  # the last cycle's TPDOs
+    tpdo_ids = {0x180 + node for node, _ in NODES} | {0x280 + node for node, _ in NODES}
+    sync_times: list[float] = []
+    cycle_tpdos: list[list[float]] = []
+    while (message := recorder.recv(0)) is not None:
+        if message.arbitration_id == SYNC_ID:
+            sync_times.append(message.timestamp)
+            cycle_tpdos.append([])
+        elif message.arbitration_id in tpdo_ids and cycle_tpdos:
+            cycle_tpdos[-1].append(message.timestamp)
+    sync_times, cycle_tpdos = sync_times[1:-1], cycle_tpdos[1:-1]
+    periods = [b - a for a, b in itertools.pairwise(sync_times)]
+    latency = [
+        (max(tpdos) - t) * 1e3
+        for t, tpdos in zip(sync_times, cycle_tpdos, strict=True)
+        if len(tpdos) == len(tpdo_ids)
+    ]
+    late = sum(1 for p in periods if p > 1.5 * period)
+    incomplete = sum(1 for tpdos in cycle_tpdos if len(tpdos) != len(tpdo_ids))
+    return Result(
+        len(sync_times), [abs(p - period) * 1e3 for p in periods], latency, late + incomplete
+    )
+
+
 def percentile(values: list[float], q: float) -> float:
     if not values:
         return float("nan")
@@ -125,20 +177,28 @@ def main() -> int:
     sys.setswitchinterval(0.0002)
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=10.0)
+    parser.add_argument("--producer", choices=("sim", "tool", "stream"), default="sim")
     args = parser.parse_args()
     drive_bus = can.Bus(interface="virtual", channel=CHANNEL)
     master = can.Bus(interface="virtual", channel=CHANNEL)
+    recorder: can.BusABC | None = None
     try:
         with run_drives(drive_bus, NODES) as sim:
             time.sleep(0.05)
             configure(master)
             gc.freeze()  # start-up objects (object dictionaries) need no more collection passes
-            result = measure(master, sim, args.seconds)
+            if args.producer == "sim":
+                result = measure(master, sim, args.seconds)
+            else:
+                recorder = can.Bus(interface="virtual", channel=CHANNEL)
+                result = measure_sent(recorder, args.producer, master, args.seconds)
             stats = sim.stats
     finally:
-        master.shutdown()
-        drive_bus.shutdown()
+        for bus in (recorder, master, drive_bus):
+            if bus is not None:
+                bus.shutdown()
     p99_err = percentile(result.period_err_ms, 99)
+    print(f"SYNC producer: {args.producer}")
     print(f"drives: {len(NODES)}, TPDOs per SYNC: {2 * len(NODES)}, period {PERIOD_US} us")
     print(f"SYNC cycles measured: {result.syncs}")
     print(
