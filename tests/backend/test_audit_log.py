@@ -19,9 +19,11 @@ from fastapi.testclient import TestClient
 
 from servodesk.access.actor import Actor, Role, acting
 from servodesk.app import create_app
-from servodesk.audit import AuditFilter, AuditLog
+from servodesk.audit import AuditFilter, AuditLog, Outcome
+from servodesk.audit.errors import AuditUnavailableError
 from servodesk.settings import Settings
 from tests.backend.fault_rig import SDO_RX, faulty_app
+from tests.backend.full_disk import fill, small_filesystem
 
 UPLOAD = 0x40  # ccs 2 (bits 7–5): initiate upload request
 DOWNLOAD = 0x20  # ccs 1: initiate download request
@@ -299,3 +301,30 @@ def test_shutting_down_releases_the_held_drives_and_says_so(tmp_path: Path) -> N
     assert entries[0]["user"] == "servodesk"
     assert entries[0]["what"] == "release node 3: ServoDesk is shutting down"
     assert entries[0]["result"] == "ok"
+
+
+@pytest.mark.anyio
+async def test_a_full_disk_refuses_a_write_but_never_a_stop(tmp_path: Path) -> None:
+    """On a file system really full: a write waiting for its entry is refused before it runs;
+    a stop (wait=False) runs, then says that it is not recorded; the tool's own stop runs."""
+    with small_filesystem(tmp_path / "data") as data:
+        audit = AuditLog(data)
+        await audit.open()
+        fill(data)
+        sent: list[str] = []
+        with pytest.raises(AuditUnavailableError) as refused:
+            async with audit.entry("param", 1, "write PA-14", Outcome.of_error):
+                sent.append("write")
+        assert refused.value.full
+        assert refused.value.sent is None
+        assert "nothing was sent" in str(refused.value)
+        with pytest.raises(AuditUnavailableError) as unrecorded:
+            async with audit.entry("quick-stop", 1, "quick stop of node 1", Outcome.of_error,
+                                   wait=False):  # fmt: skip
+                sent.append("stop")
+        assert unrecorded.value.sent == "quick stop of node 1"
+        assert "was sent" in str(unrecorded.value)
+        async with audit.by_tool("jog-stop", 1, "stop the jog of node 1: heartbeat lost"):
+            sent.append("tool stop")
+        assert sent == ["stop", "tool stop"]
+        await audit.close()
