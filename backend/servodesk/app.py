@@ -9,6 +9,7 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 
 from fastapi import APIRouter, FastAPI
+from starlette.types import Message
 
 from servodesk import __version__
 from servodesk.access.guard import Access, AccessGuard
@@ -41,7 +42,7 @@ from servodesk.api.security import HostGuard, SameOriginGuard, ServedHosts
 from servodesk.api.static import mount_frontend
 from servodesk.bus.connection import BusFactory
 from servodesk.errors import ServodeskError
-from servodesk.heap import settle_after_start
+from servodesk.heap import quiet_start, settle_after_start
 from servodesk.models import BusConfig
 from servodesk.services import Services, build_services
 from servodesk.settings import Settings
@@ -74,12 +75,16 @@ def create_app(
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        services = build_services(settings, bus_factory=bus_factory, describe_error=outcome_of)
-        app.state.services = services
-        await services.open()
-        services.start()
-        await _connect_at_start(services)
-        settle_after_start()  # start-up's objects out of every later full collection
+        quiet_start()
+        try:
+            services = build_services(settings, bus_factory=bus_factory, describe_error=outcome_of)
+            app.state.services = services
+            await services.open()
+            services.start()
+            await _connect_at_start(services)
+            await _prepare_routes(app)
+        finally:
+            settle_after_start()  # start-up's objects out of every later full collection
         try:
             yield
         finally:
@@ -132,6 +137,34 @@ def served_hosts(settings: Settings) -> ServedHosts:
     else:
         extra.append(settings.bind)
     return ServedHosts(extra)
+
+
+async def _prepare_routes(app: FastAPI) -> None:
+    """FastAPI prepares a route (its validators, its response model) the first time a request
+    is matched against it: hundreds of milliseconds on the loop for the first requests after
+    start-up, a quick stop among them. A WebSocket request for a path nobody serves walks them
+    all (the frontend's catch-all takes only HTTP), once, here (past the middleware: no token
+    needed); the router answers it by closing."""
+    scope = {
+        "type": "websocket",
+        "path": "/api/-",
+        "raw_path": b"/api/-",
+        "root_path": "",
+        "query_string": b"",
+        "headers": [],
+        "server": ("127.0.0.1", 0),
+        "client": ("127.0.0.1", 0),
+        "subprotocols": [],
+        "app": app,
+    }
+
+    async def receive() -> Message:
+        return {"type": "websocket.connect"}
+
+    async def send(_: Message) -> None:
+        pass
+
+    await app.router(scope, receive, send)
 
 
 async def _connect_at_start(services: Services) -> None:

@@ -19,11 +19,19 @@ import sys
 SWITCH_INTERVAL = 0.001
 
 
+def quiet_start() -> None:
+    """Before start-up: no automatic full collections while it allocates (each would walk the
+    growing heap from whichever thread allocated, the scan's or the loop's)."""
+    gc.disable()
+
+
 def settle_after_start() -> None:
-    """Once, after start-up: collect what start-up left, keep the rest out of later passes."""
+    """Once, after start-up (before serving): collect what start-up left, keep the rest out of
+    later passes, collect automatically again."""
     sys.setswitchinterval(SWITCH_INTERVAL)
     gc.collect()
     gc.freeze()
+    gc.enable()
 
 
 def keep_long_lived() -> None:
