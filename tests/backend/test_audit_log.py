@@ -328,3 +328,24 @@ async def test_a_full_disk_refuses_a_write_but_never_a_stop(tmp_path: Path) -> N
             sent.append("tool stop")
         assert sent == ["stop", "tool stop"]
         await audit.close()
+
+
+@pytest.mark.anyio
+async def test_a_log_that_cannot_open_refuses_writes_until_there_is_space(tmp_path: Path) -> None:
+    """A server restarted on a full disk still starts (its stops must work): the log refuses
+    writes and opens by itself once space is freed."""
+    with small_filesystem(tmp_path / "data") as data:
+        first = AuditLog(data)
+        await first.open()
+        await first.close()  # the log of an earlier run, its WAL files gone at close
+        fill(data)
+        audit = AuditLog(data)
+        await audit.open()  # logs the failure, does not raise
+        with pytest.raises(AuditUnavailableError) as refused:
+            await audit.begin("param", 1, "write PA-14")
+        assert refused.value.full
+        (data / "filler").unlink()
+        await audit.begin("param", 1, "write PA-14")
+        (row,) = await audit.entries(AuditFilter())
+        await audit.close()
+        assert row.action == "param"

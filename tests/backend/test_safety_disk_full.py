@@ -16,7 +16,9 @@ import pytest
 from fastapi.testclient import TestClient
 
 from servodesk.app import create_app
+from servodesk.events.bus import EventKind, event
 from servodesk.settings import Settings
+from servodesk.storage import Storage
 from tests.backend.full_disk import fill, small_filesystem
 from tests.backend.test_live_channel import receive_until
 
@@ -116,3 +118,17 @@ def test_other_writes_refuse_with_a_clear_error(app: TestClient, data_dir: Path)
     assert "Traceback" not in response.text
     after = ok(app.get("/api/nodes/3/drive"))
     assert after["state"] == before["state"]  # nothing was sent
+
+
+@pytest.mark.anyio
+async def test_the_timeline_store_starts_on_a_full_disk(data_dir: Path) -> None:
+    first = Storage(data_dir)
+    await first.start()
+    await first.close()
+    fill(data_dir)
+    storage = Storage(data_dir)
+    await storage.start()  # logs the failure, does not raise
+    storage.add_event(event(EventKind.BUS, None, "connected"))
+    await storage.flush()
+    assert await storage.events() == []  # live only: nothing stored, nothing raised
+    await storage.close()

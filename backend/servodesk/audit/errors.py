@@ -7,6 +7,7 @@ a stop or disable goes out anyway and its answer says that it is not recorded
 from __future__ import annotations
 
 import errno
+import os
 import sqlite3
 from pathlib import Path
 
@@ -44,4 +45,14 @@ def unavailable(error: BaseException, data_dir: Path) -> AuditUnavailableError:
     elif isinstance(error, OSError):
         full = error.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
     cause = str(error) or type(error).__name__
-    return AuditUnavailableError(cause, data_dir, full=full or "full" in cause)
+    return AuditUnavailableError(
+        cause, data_dir, full=full or "full" in cause or _no_space(data_dir)
+    )
+
+
+def _no_space(data_dir: Path) -> bool:
+    """SQLite names a full disk "disk I/O error" when it cannot create its shared-memory file."""
+    try:
+        return os.statvfs(data_dir).f_bavail == 0
+    except OSError:
+        return False

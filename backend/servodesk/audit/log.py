@@ -30,7 +30,18 @@ class AuditLog:
         self._describe = describe  # an error's kind and words, as the API gives them
 
     async def open(self) -> None:
-        orphans = await asyncio.wrap_future(self._store.submit_open())
+        """Open the log; one that cannot be opened (disk full) leaves the server running: its
+        stops go out, other writes are refused until a write finds the log writable again."""
+        try:
+            orphans = await asyncio.wrap_future(self._store.submit_open())
+        except AuditUnavailableError as error:
+            log.error(
+                "audit log cannot be opened (%s) in %s: writes are refused until it can, stops "
+                "still go out",
+                error.cause,
+                error.data_dir,
+            )
+            return
         if orphans:
             log.warning("%d audit entries had no result (the server stopped mid-write)", orphans)
 

@@ -171,29 +171,43 @@ class AuditStore:
         self.path = data_dir / FILENAME
         self._thread = ThreadPoolExecutor(max_workers=1, thread_name_prefix="audit")
         self._db: sqlite3.Connection | None = None
+        self._opening_failed = False
 
     # --- on the store's thread -------------------------------------------------------------
 
     def _open(self) -> int:
+        try:
+            return self._connect()
+        except (sqlite3.Error, OSError) as error:
+            self._opening_failed = True  # the next write tries again (space may be freed)
+            raise unavailable(error, self.path.parent) from error
+
+    def _connect(self) -> int:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         db = sqlite3.connect(self.path, check_same_thread=False, isolation_level=None)
-        db.execute("PRAGMA journal_mode = WAL")
-        db.execute("PRAGMA synchronous = FULL")  # an entry is on disk before its write is sent
-        db.executescript(_SCHEMA)
+        try:
+            db.execute("PRAGMA journal_mode = WAL")
+            db.execute("PRAGMA synchronous = FULL")  # an entry is on disk before it is sent
+            db.executescript(_SCHEMA)
+            orphans = db.execute(
+                "SELECT e.id, e.what, e.new FROM entries e LEFT JOIN results r "
+                "ON r.entry = e.id WHERE r.entry IS NULL"
+            ).fetchall()
+            now = time.time()
+            db.executemany(
+                "INSERT INTO results (entry, time, result, what, new, message, undoable) "
+                "VALUES (?, ?, 'unknown', ?, ?, ?, 0)",
+                [(id_, now, what, new, CRASHED) for id_, what, new in orphans],
+            )
+        except BaseException:
+            db.close()
+            raise
         self._db = db
-        orphans = db.execute(
-            "SELECT e.id, e.what, e.new FROM entries e LEFT JOIN results r ON r.entry = e.id "
-            "WHERE r.entry IS NULL"
-        ).fetchall()
-        now = time.time()
-        db.executemany(
-            "INSERT INTO results (entry, time, result, what, new, message, undoable) "
-            "VALUES (?, ?, 'unknown', ?, ?, ?, 0)",
-            [(id_, now, what, new, CRASHED) for id_, what, new in orphans],
-        )
         return len(orphans)
 
     def _conn(self) -> sqlite3.Connection:
+        if self._db is None and self._opening_failed:
+            self._open()  # it could not open at start-up (disk full): try again
         if self._db is None:
             raise RuntimeError("the audit log is not open")  # a bug of ours, not the user's
         return self._db

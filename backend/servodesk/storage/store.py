@@ -100,7 +100,15 @@ class Storage:
     # ------------------------------------------------------------------ lifecycle
 
     async def start(self) -> None:
-        next_id = await asyncio.to_thread(self._open)
+        try:
+            next_id = await asyncio.to_thread(self._open)
+        except (sqlite3.Error, OSError) as error:
+            # a full disk must not keep the server (and its stops) from starting: the timeline
+            # is live only (the WebSocket) until a restart finds the database writable
+            log.error("the timeline cannot be opened in %s (%s): events are not stored",
+                      self.path.parent, error)  # fmt: skip
+            await asyncio.to_thread(self._close_connections)
+            next_id = 1
         # events queued before the database was open get their ids now, in order
         for i, row in enumerate(self._events):
             self._events[i] = (next_id, *row[1:])
@@ -130,9 +138,12 @@ class Storage:
             with contextlib.suppress(asyncio.CancelledError):
                 await task
             await self._write_pending()  # what was queued last is not lost at shutdown
+        await asyncio.to_thread(self._close_connections)
+
+    def _close_connections(self) -> None:
         for db in (self._writer, self._reader):
             if db is not None:
-                await asyncio.to_thread(db.close)
+                db.close()
         self._writer = self._reader = None
 
     # ------------------------------------------------------------------ writing (on the loop)
