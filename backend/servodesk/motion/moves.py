@@ -87,7 +87,7 @@ class MoveOps(LimitOps):
         deadline = loop.time() + timeout
         while loop.time() < deadline:
             state = await self.state(node)
-            if state.move is None or state.move.phase == "error":
+            if state.move is None or state.move.phase in ("error", "interrupted"):
                 return False
             if state.move.phase == "reached":
                 return True
