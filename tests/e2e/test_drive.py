@@ -183,6 +183,10 @@ def test_fault_is_reset_only_on_purpose_node_1(page: Page, server: str) -> None:
     expect(page.get_by_test_id("state-diagram")).to_be_visible()
     enable(page)
     state = page.get_by_test_id("drive-state")
+    # reading and enabling the MDi asks only for what its dictionary has: no abort on the timeline
+    aborts = api(server, "GET", "/api/events?kind=sdo-abort&node=1&limit=100")
+    assert isinstance(aborts, dict)
+    assert [e["message"] for e in aborts["events"]] == []
 
     # MDi alarm 4 (following error) through the simulator's 5FF0h
     api(server, "PUT", "/api/nodes/1/sdo/5FF0/0", {"value": 4, "size": 4})
