@@ -106,10 +106,10 @@ def build_services(
     """Every service, wired; `describe_error` gives an error's kind and words for the audit log
     (the app passes the API's own, so tool-made entries read like a request's)."""
     bus = BusManager(settings, bus_factory=bus_factory)
-    registry = NodeRegistry(bus, settings)
+    od_parser = OdParser()  # uploads and the profiles' dictionaries, in worker processes
+    registry = NodeRegistry(bus, settings, parser=od_parser)
     jobs = JobManager(registry)
     registry.add_od_listener(jobs.dictionary_changed)
-    od_parser = OdParser()
     sync = SyncService(bus)
     events, storage, faults = _diagnostics(settings, bus, registry)
     pdos = PdoService(

@@ -43,13 +43,14 @@ from servodesk.network.nmt import STATE_AFTER, send_broadcast, send_to_node
 from servodesk.network.scan import NODE_IDS, SweepListener, send_sweep
 from servodesk.nodes.entry import NodeEntry, OdSource, live_row
 from servodesk.nodes.identity import DEVICE_TYPE, PRODUCER_HEARTBEAT, Identity, read_identity
+from servodesk.nodes.profile_models import ProfileModels
 from servodesk.nodes.rediscovery import Rediscovery
 from servodesk.nodes.session import NodeSession
 from servodesk.nodes.tracked import TrackedSession
 from servodesk.od import ObjectDictionaryModel, to_canopen
-from servodesk.od.parser import release_memory
+from servodesk.od.parser import OdParser, release_memory
 from servodesk.od.to_canopen import dispose
-from servodesk.profiles import ProfileDictionaries, ProfileMatch, load_known, match
+from servodesk.profiles import ProfileMatch, load_known, match
 from servodesk.settings import Settings
 from servodesk_data import DriveData
 
@@ -68,12 +69,18 @@ def _check_id(node: int) -> None:
 
 
 class NodeRegistry:
-    def __init__(self, bus: BusManager, settings: Settings) -> None:
+    def __init__(
+        self, bus: BusManager, settings: Settings, *, parser: OdParser | None = None
+    ) -> None:
+        """`parser` parses the profiles' dictionaries (the app's own; one of the registry's
+        when none is given)."""
         self._bus = bus
         self._settings = settings
         self._nodes: dict[int, NodeEntry] = {}
         self._known_profiles = load_known()
-        self._dictionaries = ProfileDictionaries()
+        self._own_parser = parser is None
+        self._parser = parser or OdParser()
+        self._dictionaries = ProfileModels(self._parser)
         self._event_listeners: list[EventListener] = []
         self._od_listeners: list[OdListener] = []
         self._rediscovery = Rediscovery(self, settings)
@@ -239,7 +246,7 @@ class NodeRegistry:
             existing.identity = identity
             existing.profile = profile
         else:
-            model = await asyncio.to_thread(self._dictionaries.model, profile, node)
+            model = await self._dictionaries.model(profile, node)
             entry = NodeEntry(
                 node=node,
                 identity=identity,
@@ -247,7 +254,7 @@ class NodeRegistry:
                 model=model,
                 od_source="profile",
                 od_filename=self._dictionaries.filename(profile),
-                canopen_od=self._dictionaries.canopen(model, node),
+                canopen_od=await self._dictionaries.canopen(model, node),
             )
             self._nodes[node] = entry
             if existing is not None:
@@ -299,8 +306,10 @@ class NodeRegistry:
 
     async def set_od(self, node: int, model: ObjectDictionaryModel, source: OdSource) -> NodeInfo:
         """Use `model` as the node's dictionary. The old one is released (nothing keeps it)."""
-        build = self._dictionaries.canopen if source == "profile" else to_canopen
-        canopen_od = await asyncio.to_thread(build, model, node)  # large files: seconds
+        if source == "profile":
+            canopen_od = await self._dictionaries.canopen(model, node)
+        else:
+            canopen_od = await asyncio.to_thread(to_canopen, model, node)  # large files: seconds
         entry = self._entry(node)
         old_od = entry.canopen_od if entry.od_source == "upload" else None  # not shared
         entry.model = model
@@ -334,7 +343,7 @@ class NodeRegistry:
     async def reset_od(self, node: int) -> NodeInfo:
         """Back to the profile's dictionary."""
         entry = self._entry(node)
-        model = await asyncio.to_thread(self._dictionaries.model, entry.profile, node)
+        model = await self._dictionaries.model(entry.profile, node)
         return await self.set_od(node, model, "profile")
 
     async def move(self, old: int, new: int) -> NodeInfo:
@@ -347,9 +356,11 @@ class NodeRegistry:
         if new == old:
             return self.info(old)
         if entry.od_source == "profile":
-            model = await asyncio.to_thread(self._dictionaries.model, entry.profile, new)
+            model = await self._dictionaries.model(entry.profile, new)
+            canopen_od = await self._dictionaries.canopen(model, new)
         else:
             model = entry.model
+            canopen_od = await asyncio.to_thread(to_canopen, model, new)  # large files: seconds
         for stale in (self._nodes.pop(new, None), self._nodes.pop(old)):
             if stale is not None:
                 stale.unbind()
@@ -359,7 +370,7 @@ class NodeRegistry:
             entry,
             node=new,
             model=model,
-            canopen_od=to_canopen(model, new),
+            canopen_od=canopen_od,
             session=None,
             network=None,
         )
@@ -377,6 +388,8 @@ class NodeRegistry:
         self._unsubscribe = []
         await self._monitor.stop()
         self._clear()
+        if self._own_parser:
+            self._parser.close()
 
     def _clear(self) -> None:
         self._rediscovery.cancel()
