@@ -14,8 +14,9 @@ Target (issue: simulated drives): p99 period error <= 0.5 ms and no missed cycle
 - `sim` (default): the simulated MDi (1005h bit 30), as above;
 - `tool`: ServoDesk's own SYNC producer (network/sync.py): canopen's SyncProducer on python-can's
   cyclic send task (a thread on virtual/socketcand, the kernel's broadcast manager on SocketCAN);
-- `stream`: an IP stream's SYNC, sent from a thread at absolute deadlines by the stream's own
-  sleep (motion/ip_timing.py `sleep_until`), as motion/ip.py does paired with each set-point.
+- `stream`: an IP stream's SYNC, sent from a thread on the stream's own clock (motion/ip_timing.py
+  `SyncClock`: absolute deadlines; a SYNC more than half a period late delays the rest instead
+  of bursting), as motion/ip.py does, there paired with each set-point.
 For `tool` and `stream` every frame is stamped when it is sent (python-can's virtual bus) and
 read from a second bus instance after the run, so no reader thread competes with the sender.
 
@@ -37,7 +38,7 @@ from dataclasses import dataclass
 import can
 import canopen
 
-from servodesk.motion.ip_timing import sleep_until
+from servodesk.motion.ip_timing import SyncClock
 from servodesk_sim.frames import Frame
 from servodesk_sim.runner import SimBus, run_drives
 
@@ -86,6 +87,7 @@ class Result:
     period_err_ms: list[float]
     latency_ms: list[float]
     missed: int
+    bursts: int  # intervals under half a period: missed SYNCs sent late, back to back
 
 
 def measure(bus: can.BusABC, sim: SimBus, seconds: float) -> Result:
@@ -125,7 +127,8 @@ def measure(bus: can.BusABC, sim: SimBus, seconds: float) -> Result:
     if incomplete:
         counts = collections.Counter(len(tpdos) for tpdos in cycle_tpdos)
         print(f"TPDOs per cycle (count: cycles): {dict(sorted(counts.items()))}")
-    return Result(len(sync_times), period_err, latency, late + incomplete)
+    bursts = sum(1 for p in periods if p < 0.5 * PERIOD_US / 1e6)
+    return Result(len(sync_times), period_err, latency, late + incomplete, bursts)
 
 
 def measure_sent(recorder: can.BusABC, produce: str, master: can.BusABC, seconds: float) -> Result:
@@ -139,9 +142,9 @@ def measure_sent(recorder: can.BusABC, produce: str, master: can.BusABC, seconds
         network.sync.stop()  # type: ignore[no-untyped-call]  # canopen: unannotated
     else:
         sync = can.Message(arbitration_id=SYNC_ID, data=b"", is_extended_id=False)
-        start = time.perf_counter() + period
+        clock = SyncClock(time.perf_counter() + period, period)
         for k in range(int(seconds / period)):
-            sleep_until(start + k * period)
+            clock.wait(k)
             master.send(sync)
     time.sleep(0.05)  # the last cycle's TPDOs
     tpdo_ids = {0x180 + node for node, _ in NODES} | {0x280 + node for node, _ in NODES}
@@ -162,9 +165,9 @@ def measure_sent(recorder: can.BusABC, produce: str, master: can.BusABC, seconds
     ]
     late = sum(1 for p in periods if p > 1.5 * period)
     incomplete = sum(1 for tpdos in cycle_tpdos if len(tpdos) != len(tpdo_ids))
-    return Result(
-        len(sync_times), [abs(p - period) * 1e3 for p in periods], latency, late + incomplete
-    )
+    bursts = sum(1 for p in periods if p < 0.5 * period)
+    errors = [abs(p - period) * 1e3 for p in periods]
+    return Result(len(sync_times), errors, latency, late + incomplete, bursts)
 
 
 def percentile(values: list[float], q: float) -> float:
@@ -210,6 +213,7 @@ def main() -> int:
         f"p99 {percentile(result.latency_ms, 99):.3f}"
     )
     print(f"missed cycles: {result.missed}")
+    print(f"SYNC bursts (intervals under half a period): {result.bursts}")
     print(f"runner: {stats}")
     print(f"p99 period error / target 0.5 ms: {p99_err / 0.5:.2f}")
     return 0

@@ -17,7 +17,7 @@ from typing import Any
 import pytest
 from fastapi.testclient import TestClient
 
-from servodesk.motion.ip_timing import SyncTiming
+from servodesk.motion.ip_timing import SyncClock, SyncTiming
 
 A = {"X-Client-Id": "page-a"}
 STREAM = {"trajectory": "sine", "period_ms": 10, "distance_rev": 0.2, "duration_s": 1.0}
@@ -38,6 +38,18 @@ def test_the_timing_verdict(
     timing = SyncTiming(0.002, 100, jitter_ms / 1000, longest_ms / 1000)
     assert timing.unsafe is unsafe
     assert timing.marginal is marginal
+
+
+def test_a_late_sync_delays_the_rest_instead_of_bursting() -> None:
+    """Five periods late (the thread was held): the SYNC goes now, the next one a full period
+    later, not at once to catch up (a burst would drive the axis faster than planned)."""
+    period = 0.01
+    clock = SyncClock(time.perf_counter() - 5 * period, period)
+    first = clock.wait(0)
+    second = clock.wait(1)
+    third = clock.wait(2)
+    assert second - first >= period * 0.99
+    assert third - second >= period * 0.99
 
 
 @contextmanager

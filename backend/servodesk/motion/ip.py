@@ -33,7 +33,7 @@ from servodesk.errors import InvalidValueError
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
 from servodesk.motion.errors import LimitError
-from servodesk.motion.ip_timing import SyncTiming, SyncUnsafeError, probe, sleep_until
+from servodesk.motion.ip_timing import SyncClock, SyncTiming, SyncUnsafeError, probe
 from servodesk.motion.moves import MoveOps
 from servodesk.motion.schemas import EnableReason, IpStreamResult
 from servodesk.motion.trajectory import Trajectory, peak_velocity, setpoints, sync_jitter
@@ -62,7 +62,7 @@ class _Stream:
 
     points: list[int]
     period: float
-    t0: float = 0.0
+    clock: SyncClock = field(default_factory=lambda: SyncClock(0.0, 0.0))  # set by _feed
     sent: int = 0
     syncs: list[float] = field(default_factory=list)
     lags: list[int] = field(default_factory=list)  # |planned − actual| in user units
@@ -81,7 +81,7 @@ class _Stream:
         try:
             while self.sent < end and not self.cancelled:
                 k = self.sent
-                now = sleep_until(self.t0 + k * self.period)
+                now = self.clock.wait(k)
                 if self.syncs and now - self.syncs[-1] > 3 * self.period:
                     self.stalled = True  # the drives count SYNC lost after 3 periods
                     self.stall_gap = now - self.syncs[-1]
@@ -210,7 +210,7 @@ class IpOps(MoveOps):
         per_chunk = max(1, math.floor(CHUNK_S / stream.period))
         sample_every = max(1, math.ceil(LAG_SAMPLE_S / stream.period))
         chunks = math.ceil(len(stream.points) / per_chunk)
-        stream.t0 = time.perf_counter() + stream.period
+        stream.clock = SyncClock(time.perf_counter() + stream.period, stream.period)
         inflight: deque[asyncio.Future[None]] = deque()
         try:
             for _ in range(chunks):

@@ -76,6 +76,25 @@ def sleep_until(deadline: float) -> float:
     return time.perf_counter()
 
 
+@dataclass
+class SyncClock:
+    """A stream's SYNC deadlines, one period apart from `start`. A SYNC sent more than half a
+    period late moves every later deadline by its lateness: the path is delayed, never
+    compressed into a burst of SYNCs that would drive the axis faster than planned (and that
+    python-can's cyclic task would send after a stall)."""
+
+    start: float
+    period: float
+
+    def wait(self, k: int) -> float:
+        """Sleep until SYNC `k` is due; the time it woke."""
+        deadline = self.start + k * self.period
+        now = sleep_until(deadline)
+        if now - deadline > self.period / 2:
+            self.start += now - deadline
+        return now
+
+
 def probe(period: float) -> SyncTiming:
     """Sleep to `probe_periods(period)` absolute deadlines one period apart, as the stream's SYNC
     loop does, and measure when this thread woke. Blocking: run it on the node's worker
