@@ -60,7 +60,7 @@ class Ear:
 
 
 @asynccontextmanager
-async def held_drive() -> AsyncIterator[tuple[Rig, Ear]]:
+async def held_drive() -> AsyncIterator[tuple[Rig, Ear, MotionSafety]]:
     """Node 3 controlled by a page, watching the tool's heartbeat with the default times."""
     settings = motion_settings().model_copy(
         update={"heartbeat_consumer_ms": CONSUMER_MS, "tool_heartbeat_liveness_ms": LIVENESS_MS}
@@ -78,7 +78,7 @@ async def held_drive() -> AsyncIterator[tuple[Rig, Ear]]:
         try:
             info = await safety.take(CIA402, PAGE, take_over=False)
             assert info.protection.active, info.protection.message
-            yield rig, ear
+            yield rig, ear, safety
         finally:
             ear.close()
             await safety.close()
@@ -87,7 +87,7 @@ async def held_drive() -> AsyncIterator[tuple[Rig, Ear]]:
 async def test_a_busy_loop_does_not_trip_a_held_drive() -> None:
     """The loop stalls longer than the drive's consumer time (a large upload, a busy host): the
     heartbeat goes on from its own thread and the drive does not fault."""
-    async with held_drive() as (_, ear):
+    async with held_drive() as (_, ear, _safety):
         start = time.monotonic()
         time.sleep(0.45)  # the loop does nothing else meanwhile
         await asyncio.sleep(0.4)  # it runs again; the drive's consumer time passes once more
@@ -102,7 +102,7 @@ async def test_a_hung_loop_lets_the_held_drive_stop_itself() -> None:
     """A loop silent for longer than the liveness bound can stop no jog: the heartbeat stops,
     and the drive raises its heartbeat fault (8130h) by itself, within the bound plus its
     consumer time. When the loop runs again, so does the heartbeat."""
-    async with held_drive() as (_, ear):
+    async with held_drive() as (_, ear, _safety):
         start = time.monotonic()
         time.sleep(1.5)  # hung
         faults = ear.faults(CIA402, start)
@@ -119,3 +119,30 @@ async def test_a_hung_loop_lets_the_held_drive_stop_itself() -> None:
                 break
             await asyncio.sleep(0.05)
         assert ear.times(TOOL_HEARTBEAT, resumed), "the heartbeat did not come back"
+
+
+def sdo_requests(ear: Ear, node: int, since: float) -> list[tuple[int, int, int]]:
+    """(command, index, sub-index) of each SDO request to `node` heard since `since`."""
+    return [
+        (msg.data[0], int.from_bytes(msg.data[1:3], "little"), msg.data[3])
+        for at, msg in list(ear.frames)
+        if msg.arbitration_id == 0x600 + node and at >= since
+    ]
+
+
+async def test_a_closed_page_releases_its_drive_ahead_of_queued_requests() -> None:
+    """The controlling page's socket closes while the drive's queue is full (the page's own
+    polls, an upload-all): the drive's 1016h entry is restored next, not after the queue."""
+    async with held_drive() as (rig, ear, safety):
+        session = rig.registry.session(CIA402)
+        safety.socket_opened(PAGE.id)
+        start = time.monotonic()
+        reads = [asyncio.create_task(session.upload(0x1000, 0)) for _ in range(30)]
+        await asyncio.sleep(0)  # queued
+        safety.socket_closed(PAGE.id)
+        await asyncio.gather(*reads)
+        assert safety.controller(CIA402, PAGE).holder is None
+        assert not safety.controller(CIA402, PAGE).protection.active
+        requests = sdo_requests(ear, CIA402, start)
+        restore = next(i for i, r in enumerate(requests) if r[1] == 0x1016 and r[0] & 0xE0 == 0x20)
+        assert restore <= 2, requests  # at most the read in progress went first

@@ -106,9 +106,14 @@ class HeartbeatGuard:
         guarded = self._guarded.pop(node, None)
         self._why_not.pop(node, None)
         if guarded is not None:
+            sub, data = guarded.subindex, guarded.previous.to_bytes(4, "little")
             try:
-                data = guarded.previous.to_bytes(4, "little")
-                await self._access.session(node).download(CONSUMER, guarded.subindex, data)
+                # on the priority lane: a released drive must not wait behind a page's polls or
+                # an upload-all to stop watching a heartbeat that is about to end
+                await self._access.session(node).priority(
+                    lambda remote: remote.sdo.download(CONSUMER, sub, data),
+                    what=f"release node {node}: restore 1016h:{sub:02X}h",
+                )
             except ServodeskError as error:
                 log.warning(
                     "node %d: could not restore 1016h:%02X: %s", node, guarded.subindex, error
