@@ -320,7 +320,9 @@ class JogWatchdog:
                     node,
                     reason=reason,
                     deceleration_rpm_s=jog.info.stop_deceleration_rpm_s,
-                    drive_deceleration=by_tool,
+                    # a torque jog has no ramp of its own: it brakes on the drive's quick stop
+                    # deceleration, as does every stop the user did not ask for
+                    drive_deceleration=by_tool or jog.info.mode == "pt",
                 )
         except ServodeskError as error:
             self.unsent.add(node)

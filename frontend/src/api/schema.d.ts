@@ -248,7 +248,8 @@ export interface paths {
         post?: never;
         /**
          * Stop Jog
-         * @description Stop the jog (anyone may); answers once the stop was sent to the drive.
+         * @description Stop the jog (anyone may); answers once the stop was sent to the drive, with state
+         *     "stopping" until the axis is at rest.
          */
         delete: operations["stop_jog_api_jog__jog_id__delete"];
         options?: never;
@@ -267,7 +268,8 @@ export interface paths {
         put?: never;
         /**
          * Keepalive
-         * @description Keep the jog moving; 409 jog_stopped once it was stopped (re-arming is explicit).
+         * @description Keep the jog moving; 409 jog_stopped once it was stopped (re-arming is explicit); 403
+         *     not_jog_owner from anyone but the login (and the X-Client-Id, where sent) that started it.
          */
         post: operations["keepalive_api_jog__jog_id__keepalive_post"];
         delete?: never;
@@ -603,6 +605,7 @@ export interface paths {
         /**
          * Enable
          * @description Walk the CiA 402 state machine to Operation enabled; 409 enable_blocked names why not.
+         *     A fault is never reset here (409 naming it, nothing sent): fault-reset is its own act.
          */
         post: operations["enable_api_nodes__node__drive_enable_post"];
         delete?: never;
@@ -845,8 +848,10 @@ export interface paths {
         put?: never;
         /**
          * Start Jog
-         * @description Start moving (pv: velocity_rpm, pt: torque_pct); send a keep-alive (REST or WebSocket
-         *     `jog_keepalive`) at least every keepalive_ms or the axis stops.
+         * @description Start moving (pv: velocity_rpm, pt: torque_pct, capped at speed_cap_rpm); send a
+         *     keep-alive (REST or WebSocket `jog_keepalive`) at least every keepalive_ms or the axis
+         *     stops. A script without X-Client-Id gets an owner id of its own (`owner`) and the drive's
+         *     heartbeat protection until its jog's axis is at rest.
          */
         post: operations["start_jog_api_nodes__node__jog_post"];
         delete?: never;
@@ -1868,6 +1873,21 @@ export interface components {
              */
             command: "shutdown" | "switch_on" | "disable_operation" | "enable_operation" | "disable_voltage" | "quick_stop" | "fault_reset";
         };
+        /**
+         * DriveLimits
+         * @description The drive's own limits as last read (at most a second old while the drive state is
+         *     watched): the limits in force never go above them.
+         */
+        DriveLimits: {
+            /** Max Torque Pct */
+            max_torque_pct: number;
+            /** Max Velocity Rpm */
+            max_velocity_rpm: number;
+            /** Torque Source */
+            torque_source: string;
+            /** Velocity Source */
+            velocity_source: string;
+        };
         /** DriveState */
         DriveState: {
             /** Controlword */
@@ -1876,6 +1896,7 @@ export interface components {
             counts_per_rev: number;
             /** Digital Inputs */
             digital_inputs: number | null;
+            drive_limits?: components["schemas"]["DriveLimits"] | null;
             fault: components["schemas"]["FaultInfo"] | null;
             /** Following Error Inc */
             following_error_inc: number | null;
@@ -1925,6 +1946,7 @@ export interface components {
             target_reached: boolean;
             /** Torque Pct */
             torque_pct: number | null;
+            travel?: components["schemas"]["TravelInfo"] | null;
             /** Velocity Rpm */
             velocity_rpm: number;
         };
@@ -2105,6 +2127,7 @@ export interface components {
         /** Health */
         Health: {
             bus: components["schemas"]["BusStatus"];
+            loop: components["schemas"]["LoopLag"];
             /** Status */
             status: string;
             /** Version */
@@ -2352,11 +2375,15 @@ export interface components {
             node: number;
             /** Owner */
             owner?: string | null;
+            /** Speed Cap Rpm */
+            speed_cap_rpm?: number | null;
             /**
              * State
              * @enum {string}
              */
-            state: "running" | "stopped";
+            state: "running" | "stopping" | "stopped";
+            /** Stop Deceleration Rpm S */
+            stop_deceleration_rpm_s?: number | null;
             /** Stop Reason */
             stop_reason?: string | null;
             /** Torque Slope Pct S */
@@ -2367,6 +2394,8 @@ export interface components {
             velocity_limit_rpm?: number | null;
             /** Velocity Limit Source */
             velocity_limit_source?: string | null;
+            /** Velocity Rpm */
+            velocity_rpm?: number | null;
         };
         /** JogKeepaliveMessage */
         JogKeepaliveMessage: {
@@ -2392,6 +2421,8 @@ export interface components {
              * @enum {string}
              */
             mode: "pv" | "pt";
+            /** Speed Cap Rpm */
+            speed_cap_rpm?: number | null;
             /** Torque Pct */
             torque_pct?: number | null;
             /** Torque Slope Pct S */
@@ -2578,6 +2609,25 @@ export interface components {
             /** Token */
             token: string;
         };
+        /**
+         * LoopLag
+         * @description The event loop's lag over the last minute: how late a timer of the loop ran.
+         */
+        LoopLag: {
+            /** Max Ms */
+            max_ms: number;
+            /** P50 Ms */
+            p50_ms: number;
+            /** P99 Ms */
+            p99_ms: number;
+            /**
+             * Samples
+             * @description timer wake-ups measured (one every 50 ms)
+             */
+            samples: number;
+            /** Window S */
+            window_s: number;
+        };
         /** MessageResult */
         MessageResult: {
             /** Message */
@@ -2630,13 +2680,20 @@ export interface components {
             /** Min Position Rev */
             min_position_rev?: number | null;
         };
-        /** MoveProgress */
+        /**
+         * MoveProgress
+         * @description The last PP move: moving until the drive reaches its target, or ended without reaching
+         *     it — `error` (statusword bit 13, following error) or `interrupted` (a quick stop, a halt,
+         *     a fault, the drive leaving Operation enabled, another command); `message` says why.
+         */
         MoveProgress: {
+            /** Message */
+            message?: string | null;
             /**
              * Phase
              * @enum {string}
              */
-            phase: "moving" | "reached" | "error";
+            phase: "moving" | "reached" | "error" | "interrupted";
             /** Queued */
             queued: number;
             /** Target Inc */
@@ -3381,6 +3438,38 @@ export interface components {
             type: "timeline";
         };
         /**
+         * TravelEnds
+         * @description Where something ends the axis's travel, in motor revolutions (None: no end that side).
+         */
+        TravelEnds: {
+            /** Max Rev */
+            max_rev: number | null;
+            /** Min Rev */
+            min_rev: number | null;
+            /**
+             * Note
+             * @default
+             */
+            note: string;
+            /**
+             * Simulator
+             * @default false
+             */
+            simulator: boolean;
+            /** Source */
+            source: string;
+        };
+        /**
+         * TravelInfo
+         * @description Where the axis's travel ends: the limit switches (the simulator's 5FF1h/5FF2h), the
+         *     drive's software position limit 607Dh where its dictionary has it. ServoDesk's own travel
+         *     limits are MotionLimits.min_position_rev / max_position_rev.
+         */
+        TravelInfo: {
+            software_limit: components["schemas"]["TravelEnds"] | null;
+            switches: components["schemas"]["TravelEnds"] | null;
+        };
+        /**
          * TriggerRequest
          * @description When the capture starts. `none`: at once (free-running); `level`: the signal at
          *     (node, index, subindex) crosses `level` (raw value, the object's own units) on `edge`;
@@ -3828,6 +3917,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     disconnect_api_bus_disconnect_post: {
@@ -3868,6 +3966,15 @@ export interface operations {
             };
             /** @description Bus not connected */
             503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3953,6 +4060,15 @@ export interface operations {
             };
             /** @description Bus not connected */
             503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4268,6 +4384,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Refused: the caller's role may not, another site's page, or not_jog_owner (jog): only the jog's owner keeps it moving */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
             /** @description No such jog (jog_not_found) */
             404: {
                 headers: {
@@ -4326,13 +4451,13 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or not_jog_owner (jog): only the jog's owner keeps it moving */
             403: {
                 headers: {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["ErrorBody"];
+                    "application/json": components["schemas"]["MotionErrorBody"];
                 };
             };
             /** @description No such jog (jog_not_found) */
@@ -4362,12 +4487,26 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     keepalive_api_jog__jog_id__keepalive_post: {
         parameters: {
             query?: never;
-            header?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
             path: {
                 jog_id: string;
             };
@@ -4393,13 +4532,13 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or not_jog_owner (jog): only the jog's owner keeps it moving */
             403: {
                 headers: {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["ErrorBody"];
+                    "application/json": components["schemas"]["MotionErrorBody"];
                 };
             };
             /** @description No such jog (jog_not_found) */
@@ -4796,6 +4935,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     list_nodes_api_nodes_get: {
@@ -5159,6 +5307,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     change_node_id_api_nodes__node__change_node_id_post: {
@@ -5269,6 +5426,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5587,6 +5753,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     drive_state_api_nodes__node__drive_get: {
@@ -5612,6 +5787,15 @@ export interface operations {
             };
             /** @description A login is needed: access tokens are configured */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5723,7 +5907,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5741,7 +5925,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -5786,6 +5970,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     controller_api_nodes__node__drive_controller_get: {
@@ -5816,6 +6009,15 @@ export interface operations {
             };
             /** @description A login is needed: access tokens are configured */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5927,7 +6129,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -5945,7 +6147,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -5983,6 +6185,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6027,7 +6238,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6045,7 +6256,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -6083,6 +6294,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6127,7 +6347,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6145,7 +6365,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -6183,6 +6403,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6227,7 +6456,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6245,7 +6474,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -6283,6 +6512,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6327,7 +6565,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6345,7 +6583,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -6383,6 +6621,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6440,7 +6687,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6458,7 +6705,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -6503,6 +6750,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     homing_methods_api_nodes__node__drive_homing_methods_get: {
@@ -6528,6 +6784,15 @@ export interface operations {
             };
             /** @description A login is needed: access tokens are configured */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6639,7 +6904,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6657,7 +6922,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -6702,6 +6967,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     limits_api_nodes__node__drive_limits_get: {
@@ -6727,6 +7001,15 @@ export interface operations {
             };
             /** @description A login is needed: access tokens are configured */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6838,7 +7121,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6856,7 +7139,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -6894,6 +7177,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6951,7 +7243,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -6969,7 +7261,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -7007,6 +7299,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -7064,7 +7365,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -7082,7 +7383,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -7120,6 +7421,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -7159,7 +7469,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -7177,7 +7487,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -7215,6 +7525,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -7469,6 +7788,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     fault_reset_api_nodes__node__faults_reset_post: {
@@ -7506,7 +7834,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -7524,7 +7852,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -7562,6 +7890,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -7772,6 +8109,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     start_jog_api_nodes__node__jog_post: {
@@ -7822,7 +8168,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -7840,7 +8186,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; or an SDO abort / node_stopped */
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -7878,6 +8224,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -7986,6 +8341,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -8187,6 +8551,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     reset_od_api_nodes__node__od_delete: {
@@ -8275,6 +8648,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -8564,6 +8946,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     read_pdos_api_nodes__node__pdos_get: {
@@ -8751,6 +9142,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -9528,6 +9928,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     read_entry_api_nodes__node__sdo__index___subindex__get: {
@@ -9730,6 +10139,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     store_api_nodes__node__store_post: {
@@ -9840,6 +10258,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -10076,7 +10503,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Refused: the caller's role may not, or another site's page */
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
             403: {
                 headers: {
                     [name: string]: unknown;
@@ -10123,6 +10550,15 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -10506,6 +10942,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     get_capture_api_scope_captures__capture_id__get: {
@@ -10615,6 +11060,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -10957,6 +11411,15 @@ export interface operations {
             };
             /** @description Bus not connected */
             503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -249,7 +249,7 @@ describe("DrivePage", () => {
     expect(minus).toHaveProperty("disabled", true);
   });
 
-  it("jogs PT with a torque slope and says what limits the speed", async () => {
+  it("jogs PT with a torque slope and ServoDesk's own speed cap, and says what limits the speed", async () => {
     const { fetch } = render({
       "GET /api/nodes/1/drive": ENABLED,
       "POST /api/nodes/1/jog": {
@@ -265,8 +265,17 @@ describe("DrivePage", () => {
     });
     await userEvent.click(await screen.findByRole("tab", { name: "Profile torque (PT)" }));
     expect(screen.getByTestId("jog-pt-speed-limit").textContent).toContain(
-      "the drive holds the speed at 6000 rpm (2006h:08 PA-103 Maximum speed)",
+      "the drive itself holds the speed at 6000 rpm (2006h:08 PA-103 Maximum speed)",
     );
+    const cap = within(screen.getByRole("region", { name: "Jog" })).getByLabelText(
+      "Speed cap (rpm)",
+    );
+    expect((cap as HTMLInputElement).value).toBe("300");
+    await userEvent.clear(cap);
+    await userEvent.type(cap, "7000");
+    expect(screen.getByText(/Speed cap: /)).toBeTruthy(); // above the speed limit in force
+    await userEvent.clear(cap);
+    await userEvent.type(cap, "150");
     const slope = within(screen.getByRole("region", { name: "Jog" })).getByLabelText(
       "Torque slope (%/s)",
     );
@@ -284,6 +293,7 @@ describe("DrivePage", () => {
       mode: "pt",
       torque_pct: 10,
       torque_slope_pct_s: 500,
+      speed_cap_rpm: 150,
     });
   });
 

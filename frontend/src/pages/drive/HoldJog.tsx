@@ -1,10 +1,11 @@
 import { useMemo, useState, type ReactNode } from "react";
 
-import { useLiveStore } from "../../live/context";
+import { useLive, useLiveStore } from "../../live/context";
 import { useMay } from "../../session/context";
 import { HoldButton } from "./HoldButton";
 import { KEEPALIVE_TIMEOUT_MS, type HoldSnapshot, type HoldTransport } from "./holdToRun";
 import { jogKeepalive, startJog, stopJog, type JogRamp } from "./driveApi";
+import { jogStatus } from "./jogStatus";
 import { NumberField } from "./NumberField";
 import type { DriveState, JogMode } from "./types";
 import { checkRange, formatPct, formatRpm } from "./units";
@@ -65,6 +66,9 @@ const RAMP: Record<
   },
 };
 
+/** The torque jog's own speed cap offered first (the server's jog_pt_speed_cap_rpm). */
+const DEFAULT_SPEED_CAP_RPM = 300;
+
 /** PV or PT jog: two hold-to-run buttons at the chosen speed or torque. */
 export function HoldJog({
   node,
@@ -81,7 +85,10 @@ export function HoldJog({
   const rampText = RAMP[mode];
   const [amount, setAmount] = useState(text.initial);
   const [rampInput, setRampInput] = useState(rampText.initial);
+  const speedLimit = drive.limits.max_velocity_rpm;
+  const [capInput, setCapInput] = useState(String(Math.min(DEFAULT_SPEED_CAP_RPM, speedLimit)));
   const [hold, setHold] = useState<HoldSnapshot | null>(null);
+  const lastJog = useLive((snapshot) => snapshot.jogStopped);
   const max = mode === "pv" ? drive.limits.max_velocity_rpm : drive.limits.max_torque_pct;
   const check = checkRange(amount, { positive: true, max });
   const rampCheck = checkRange(rampInput, {
@@ -89,11 +96,16 @@ export function HoldJog({
     min: mode === "pt" ? rampText.min : null,
     max: rampText.max,
   });
+  const capCheck = checkRange(capInput, { positive: true, max: speedLimit });
   const size = check.value ?? 0;
   const rampValue = rampCheck.value;
+  const capValue = capCheck.value;
   const ramp = useMemo<JogRamp>(
-    () => (mode === "pv" ? { accelerationRpmS: rampValue } : { torqueSlopePctS: rampValue }),
-    [mode, rampValue],
+    () =>
+      mode === "pv"
+        ? { accelerationRpmS: rampValue }
+        : { torqueSlopePctS: rampValue, speedCapRpm: capValue },
+    [mode, rampValue, capValue],
   );
   const forward = useJogTransport(
     node,
@@ -115,9 +127,19 @@ export function HoldJog({
       ? "Another client controls this drive"
       : !enabled
         ? "Enable the drive first"
-        : (check.error ?? (rampCheck.error ? `${rampText.label}: ${rampCheck.error}` : null)));
+        : (check.error ??
+          (rampCheck.error
+            ? `${rampText.label}: ${rampCheck.error}`
+            : mode === "pt" && capCheck.error
+              ? `Speed cap: ${capCheck.error}`
+              : null)));
   const id = `jog-${mode}-amount`;
   const cap = drive.pt_speed_limit;
+  const status = jogStatus(
+    hold?.phase,
+    drive.velocity_rpm,
+    lastJog !== null && lastJog.node === node && lastJog.mode === mode ? lastJog : null,
+  );
 
   return (
     <div className="hold-jog">
@@ -143,6 +165,16 @@ export function HoldJog({
           error={rampCheck.error}
           title={rampText.title}
         />
+        {mode === "pt" && (
+          <NumberField
+            id="jog-pt-speed-cap"
+            label="Speed cap (rpm)"
+            value={capInput}
+            onChange={setCapInput}
+            error={capCheck.error}
+            title="ServoDesk stops the torque jog when the axis passes this speed"
+          />
+        )}
         <span className="muted small">
           {mode === "pv"
             ? `limit ${formatRpm(drive.limits.max_velocity_rpm)}`
@@ -151,10 +183,10 @@ export function HoldJog({
       </div>
       {mode === "pt" && (
         <p className="muted small" data-testid="jog-pt-speed-limit">
+          With no load a small torque runs the axis up: ServoDesk stops the jog above the speed cap
           {cap?.rpm != null
-            ? `Speed limit: the drive holds the speed at ${cap.rpm.toFixed(0)} rpm (${cap.source}); `
-            : `Speed limit: the drive's ${cap?.source ?? "max speed object"}; `}
-          with no load the axis runs up to it. Lower that object to jog slower.
+            ? `, and the drive itself holds the speed at ${cap.rpm.toFixed(0)} rpm (${cap.source}).`
+            : ` (the drive's own limit: ${cap?.source ?? "its max speed object"}).`}
         </p>
       )}
       <div className="hold-row">
@@ -172,18 +204,23 @@ export function HoldJog({
           title={why ?? undefined}
           onChange={setHold}
         />
-        <span className="hold-live" role="status" data-testid={`jog-${mode}-status`}>
-          {hold?.phase === "running"
-            ? "Moving — release to stop"
-            : hold?.phase === "starting"
-              ? "Starting…"
-              : "Stopped"}
+        <span
+          className={status.stopping ? "hold-live stopping-text" : "hold-live"}
+          role="status"
+          data-testid={`jog-${mode}-status`}
+        >
+          {status.text}
           {" · "}
           {formatRpm(drive.velocity_rpm)}
           {mode === "pt" && ` · ${formatPct(drive.torque_pct)}`}
           {drive.target_reached && mode === "pv" && hold?.phase === "running" && " · at speed"}
         </span>
       </div>
+      {status.reason && !hold?.error && (
+        <p className="small" data-testid={`jog-${mode}-stop-reason`}>
+          Last jog stopped by itself: {status.reason}
+        </p>
+      )}
       {why && <p className="muted small">{why}</p>}
       {hold?.error && (
         <p className="error-text" role="alert">

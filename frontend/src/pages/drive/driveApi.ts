@@ -208,6 +208,8 @@ export function takeControl(node: number, takeOver: boolean): Promise<Controller
 export interface JogRamp {
   accelerationRpmS?: number | null;
   torqueSlopePctS?: number | null;
+  /** PT: ServoDesk's own speed cap; the jog is stopped when the axis passes it. */
+  speedCapRpm?: number | null;
 }
 
 export function startJog(
@@ -230,6 +232,7 @@ export function startJog(
           torque_pct: value,
           keepalive_ms: keepaliveMs,
           torque_slope_pct_s: ramp.torqueSlopePctS ?? null,
+          speed_cap_rpm: ramp.speedCapRpm ?? null,
         };
   return motionCall(
     api.POST("/api/nodes/{node}/jog", { params: on(node), body, headers: clientHeaders() }),
