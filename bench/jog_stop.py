@@ -148,12 +148,15 @@ def sim_process(port: int) -> Iterator[None]:
 def start_app(can_port: int, http_port: int, data_dir: str) -> subprocess.Popen[bytes]:
     bus = ["-i", "socketcand", "-c", "can0", "--bus-kwargs", "host=127.0.0.1", f"port={can_port}"]
     env = {**os.environ, "SERVODESK_DATA_DIR": data_dir}
-    proc = subprocess.Popen(
-        [str(BIN / "servodesk"), "serve", *bus, "--bind", "127.0.0.1", "--port", str(http_port)],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-        env=env,
-    )
+    Path(data_dir).mkdir(parents=True, exist_ok=True)
+    serve = ["serve", *bus, "--bind", "127.0.0.1", "--port", str(http_port)]
+    with open(Path(data_dir) / "server.log", "ab") as log:  # its loop stalls, for diagnosis
+        proc = subprocess.Popen(
+            [str(BIN / "servodesk"), *serve],
+            stdout=subprocess.DEVNULL,
+            stderr=log,
+            env=env,
+        )
     wait_port(http_port)
     base = f"http://127.0.0.1:{http_port}"
     for _ in range(200):  # the start-up scan
@@ -343,6 +346,11 @@ def main() -> int:
                 met &= report("(c) server killed -> drive's own EMCY", kills, CONSUMER_TARGET_MS)
         finally:
             ear.close()
+    stalls = Path(data_dir) / "server.log"
+    if stalls.is_file():
+        lines = stalls.read_text(errors="replace").splitlines()
+        count = sum("event loop stalled" in line for line in lines)
+        print(f"server log: {stalls} ({count} event loop stalls over 100 ms logged)")
     print("targets met" if met else "targets NOT met")
     return 0 if met else 1
 

@@ -11,6 +11,7 @@ and file making do not share this process's interpreter lock with the frame list
 
 from __future__ import annotations
 
+import json
 import multiprocessing
 import random
 import subprocess
@@ -169,6 +170,9 @@ def rest_trials(base: str, ear: FrameSource, count: int) -> list[float]:
 
 
 def ws_trials(base: str, ear: FrameSource, count: int) -> list[float]:
+    """As a page sends it. The channel answers nothing to a quick stop; a ping after it is
+    answered once the stop was handled, so each trial starts, as over REST, when the previous
+    one is done (the channel handles a socket's messages one after the other)."""
     values: list[float] = []
     url = base.replace("http://", "ws://") + "/api/ws"
     with ws_connect(url, max_size=None) as ws:
@@ -178,6 +182,9 @@ def ws_trials(base: str, ear: FrameSource, count: int) -> list[float]:
             sent = time.monotonic()
             ws.send(message)
             values.append((ear.first_after(sent, is_quick_stop, timeout=10) - sent) * 1000)
+            ws.send('{"type": "ping"}')
+            while json.loads(ws.recv(timeout=30)).get("type") != "pong":
+                pass
     return values
 
 
