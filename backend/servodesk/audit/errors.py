@@ -20,7 +20,12 @@ class AuditUnavailableError(ServodeskError):
         self.data_dir = data_dir
         self.full = full  # no space left: the API answers 507, otherwise 503
         self.sent = sent  # what went out unrecorded (a stop); None: nothing was sent
-        fix = f"free space in {data_dir}" if full else f"check {data_dir} (space, permissions)"
+        # the path stays in the server log: a remote client need not learn the server's layout
+        fix = (
+            "free space in ServoDesk's data directory"
+            if full
+            else "check ServoDesk's data directory (space, permissions; the server log names it)"
+        )
         if sent is None:
             text = (
                 f"the audit log cannot be written ({cause}), so nothing was sent: {fix} and try "

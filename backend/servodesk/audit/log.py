@@ -91,7 +91,7 @@ class AuditLog:
             return None
         except Exception as error:
             failure = unavailable(error, self._data_dir).after(entry.what)
-            log.error("audit log cannot be written: %s", failure)
+            log.error("audit log in %s cannot be written: %s", self._data_dir, failure)
             return failure
         return None
 
