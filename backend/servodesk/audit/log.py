@@ -73,10 +73,6 @@ class AuditLog:
             await asyncio.wrap_future(entry.row)
         return entry
 
-    async def finish(self, entry: Pending, outcome: Outcome) -> None:
-        """Append the result row; AuditUnavailableError when it cannot be written."""
-        await asyncio.wrap_future(self._store.submit_finish(entry, outcome))
-
     async def settle(
         self, entry: Pending, outcome: Outcome, *, wait: float | None = None
     ) -> AuditUnavailableError | None:
