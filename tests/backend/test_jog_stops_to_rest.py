@@ -10,7 +10,7 @@ import asyncio
 import pytest
 
 from servodesk.access.actor import Actor, Role, acting
-from servodesk.motion.jog import NotJogOwnerError
+from servodesk.motion.jog import NotJogOwnerError, travel_end
 from servodesk.motion.lease import Client
 from servodesk.motion.safety_models import JogInfo, JogRequest
 from tests.backend.motion_rig import CIA402, KINCO, NODES
@@ -20,8 +20,8 @@ from tests.backend.safety_rig import PAGE, SafetyRig, safety_rig
 pytestmark = pytest.mark.anyio
 
 PROFILE_ACCELERATION = 0x6083
+QUICK_STOP_DECELERATION = 0x6085
 REST_RPM = 5.0  # the settings' jog_rest_rpm
-REV = 131072  # user units per revolution on the simulated drives (6091h 1:1, 608Fh 131072)
 
 
 async def hold(rig: SafetyRig, info: JogInfo, seconds: float) -> None:
@@ -53,6 +53,10 @@ async def test_a_released_torque_jog_comes_to_rest_and_says_stopping_until_then(
     drive stays enabled and unfaulted (no limit switch reached)."""
     async with safety_rig() as rig:
         await rig.motion.enable(node)
+        # a quick stop ramp of 2000 rpm/s, as many machines have (the simulation's default
+        # stands the axis within milliseconds: no "stopping" to see)
+        gentle = rig.motion._units(node).rpm_s_to_acceleration(2000)
+        await rig.write(node, QUICK_STOP_DECELERATION, 0, gentle)
         cap = rig.motion.limits(node).max_velocity_rpm  # only the drive's own limit
         request = JogRequest(mode="pt", torque_pct=2.0, keepalive_ms=300, speed_cap_rpm=cap)
         info = await rig.safety.start_jog(node, request, PAGE)
@@ -165,3 +169,46 @@ async def test_keepalives_count_only_from_the_jog_s_owner() -> None:
         assert rig.safety.jogs.get(info.jog_id).state == "running"
         await rig.safety.jogs.stop(info.jog_id, "test")
         await watch_until_stopped(rig, info)
+
+
+@pytest.mark.parametrize(
+    ("rev", "reach", "limits", "stops"),
+    [
+        (1.0, 0.5, (None, 2.0), False),  # the stop ends inside
+        (1.6, 0.5, (None, 2.0), True),  # it would end beyond: stop now
+        (2.5, -0.5, (None, 2.0), False),  # moving back into the travel
+        (2.5, 0.0, (None, 2.0), False),  # standing: nothing to stop
+        (-1.6, -0.5, (-2.0, None), True),
+        (-1.6, 0.5, (-2.0, None), False),
+        (0.0, 100.0, (None, None), False),  # no limits set
+    ],
+)
+def test_travel_end_stops_where_braking_would_pass_the_limit(
+    rev: float, reach: float, limits: tuple[float | None, float | None], stops: bool
+) -> None:
+    assert (travel_end(rev, reach, limits) is not None) is stops
+
+
+async def test_a_jog_stops_inside_servodesk_s_travel_limits() -> None:
+    """Travel limits set on the Drive page hold for a PV jog too: it is stopped early enough
+    for its deceleration to end inside them."""
+    async with safety_rig() as rig:
+        node = CIA402
+        await rig.motion.enable(node)
+        await rig.widen_switches(node)
+        start = (await rig.motion.state(node)).position_rev
+        limits = rig.motion.limits(node).model_copy(update={"max_position_rev": start + 2.0})
+        rig.motion.set_limits(node, limits)
+        request = JogRequest(mode="pv", velocity_rpm=300, keepalive_ms=300)
+        info = await rig.safety.start_jog(node, request, PAGE)
+        for _ in range(200):
+            if rig.safety.jogs.get(info.jog_id).state != "running":
+                break
+            rig.keep(info)
+            await asyncio.sleep(0.03)
+        stopped = rig.safety.jogs.get(info.jog_id)
+        assert stopped.stop_reason is not None
+        assert stopped.stop_reason.startswith("ServoDesk's travel limit"), stopped
+        await watch_until_stopped(rig, info)
+        end = (await rig.motion.state(node)).position_rev
+        assert start + 0.5 < end <= start + 2.0, f"stopped at {end - start:.3f} rev"

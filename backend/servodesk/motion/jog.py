@@ -77,6 +77,10 @@ class Stopper(Protocol):
 
     async def velocity_rpm(self, node: int) -> float: ...
 
+    async def reading(self, node: int) -> tuple[float, float]: ...  # rpm, rev
+
+    def travel(self, node: int) -> tuple[float | None, float | None]: ...  # rev
+
 
 class ToolRecord(Protocol):
     """An audit entry around a write the tool makes by itself (AuditLog.by_tool)."""
@@ -174,9 +178,9 @@ class JogWatchdog:
         jog = _Jog(info, principal=principal)
         self._jogs[info.jog_id] = jog
         self._arm(jog)
-        if info.speed_cap_rpm is not None:
+        if info.speed_cap_rpm is not None or self._motion.travel(node) != (None, None):
             jog.watch = asyncio.get_running_loop().create_task(
-                self._watch_cap(jog, info.speed_cap_rpm), name=f"jog speed cap node {node}"
+                self._watch_running(jog), name=f"jog watch node {node}"
             )
         self._nodes_changed()
         self._forget_old()
@@ -363,18 +367,26 @@ class JogWatchdog:
                 return f"still {rpm:.0f} rpm {WATCH_AFTER_QUICK_STOP:g} s after a quick stop"
             await asyncio.sleep(self._interval)
 
-    async def _watch_cap(self, jog: _Jog, cap: float) -> None:
-        """A torque jog's own speed cap: read 606Ch while it runs, stop it past the cap."""
+    async def _watch_running(self, jog: _Jog) -> None:
+        """While the jog runs: a torque jog's own speed cap, and ServoDesk's travel limits
+        (stopped where the deceleration would still end inside them), from 606Ch and 6064h."""
         node = jog.info.node
+        cap = jog.info.speed_cap_rpm
+        decel = jog.info.stop_deceleration_rpm_s or self._floor
         while jog.info.state == "running":
             try:
-                rpm = await self._motion.velocity_rpm(node)
+                rpm, rev = await self._motion.reading(node)
             except ServodeskError as error:  # the other triggers handle a lost bus or node
-                log.debug("node %d: speed cap reading failed: %s", node, error)
+                log.debug("node %d: jog watch reading failed: %s", node, error)
             else:
                 jog.info = jog.info.model_copy(update={"velocity_rpm": rpm})
-                if abs(rpm) > cap and jog.info.state == "running":
+                reason = None
+                if cap is not None and abs(rpm) > cap:
                     reason = f"speed cap {cap:g} rpm passed ({abs(rpm):.0f} rpm)"
+                else:
+                    reach = rpm * abs(rpm) / (120 * decel) + rpm / 60 * (self._interval + 0.05)
+                    reason = travel_end(rev, reach, self._motion.travel(node))
+                if reason is not None and jog.info.state == "running":
                     self._stop(jog, reason, by_tool=True)
                     return
             await asyncio.sleep(self._interval)
@@ -386,3 +398,15 @@ class JogWatchdog:
         stopped = [k for k, j in self._jogs.items() if j.info.state == "stopped"]
         for key in stopped[: max(0, len(stopped) - KEEP_STOPPED)]:
             del self._jogs[key]
+
+
+def travel_end(rev: float, reach: float, limits: tuple[float | None, float | None]) -> str | None:
+    """Why to stop now, if braking from `rev` (the axis still covers `reach` rev, signed)
+    would end beyond ServoDesk's travel limits."""
+    low, high = limits
+    end = rev + reach
+    if high is not None and reach > 0 and end >= high:
+        return f"ServoDesk's travel limit {high:g} rev ahead (at {rev:.3f} rev)"
+    if low is not None and reach < 0 and end <= low:
+        return f"ServoDesk's travel limit {low:g} rev ahead (at {rev:.3f} rev)"
+    return None

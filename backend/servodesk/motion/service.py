@@ -12,6 +12,8 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 
+import canopen
+
 from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
@@ -254,6 +256,24 @@ class MotionService(IpOps):
             node, lambda r: io.read(r, io.VELOCITY_ACTUAL, signed=True), "read 606Ch"
         )
         return self._units(node).actual_velocity_rpm(raw or 0)
+
+    async def reading(self, node: int) -> tuple[float, float]:
+        """606Ch (rpm) and 6064h (rev) in one step: what a jog's watch needs for its speed
+        cap and ServoDesk's travel limits."""
+
+        def read(remote: canopen.RemoteNode) -> tuple[int | None, int | None]:
+            velocity = io.read(remote, io.VELOCITY_ACTUAL, signed=True)
+            return velocity, io.read(remote, io.POSITION_ACTUAL, signed=True)
+
+        velocity, position = await self._run(node, read, "read 606Ch and 6064h")
+        units = self._units(node)
+        rev = units.inc_to_rev(units.user_to_inc(position or 0))
+        return units.actual_velocity_rpm(velocity or 0), rev
+
+    def travel(self, node: int) -> tuple[float | None, float | None]:
+        """ServoDesk's own travel limits (rev) of the node, as set with PUT …/drive/limits."""
+        limits = self._axis(node).limits
+        return limits.min_position_rev, limits.max_position_rev
 
     async def set_mode(self, node: int, mode: str) -> DriveState:
         """Write 6060h ("pp", "pv", "pt", "hm", "ip", …) and wait for 6061h to show it."""
