@@ -380,4 +380,30 @@ describe("DrivePage", () => {
     store.apply({ type: "drive_state", state: { ...ENABLED, statusword: 0x1637 } });
     expect(await screen.findByText("6041h = 1637h")).toBeTruthy();
   });
+
+  it("says Stopping while a stopped jog's axis still turns, and why the server stopped it", async () => {
+    const store = new LiveStore();
+    store.setLink({ state: "open", attempt: 0, retryAt: null });
+    store.setSender(() => true);
+    render({ "GET /api/nodes/1/drive": ENABLED }, store);
+    await userEvent.click(await screen.findByRole("tab", { name: "Profile torque (PT)" }));
+    const jog = {
+      jog_id: "j9",
+      node: 1,
+      mode: "pt" as const,
+      value: 2,
+      keepalive_ms: 300,
+      owner: "tab",
+    };
+    const why = "EMCY 8613h from the drive";
+    store.apply({ type: "jog_stopped", jog: { ...jog, state: "stopping", stop_reason: why } });
+    store.apply({ type: "drive_state", state: { ...ENABLED, velocity_rpm: 462 } });
+    const status = screen.getByTestId("jog-pt-status");
+    await waitFor(() => expect(status.textContent).toContain("Stopping"));
+    expect(screen.getByTestId("jog-pt-stop-reason").textContent).toContain(why);
+    store.apply({ type: "jog_stopped", jog: { ...jog, state: "stopped", stop_reason: why } });
+    store.apply({ type: "drive_state", state: { ...ENABLED, velocity_rpm: 0 } });
+    await waitFor(() => expect(status.textContent).toMatch(/^Stopped/));
+    expect(screen.getByTestId("jog-pt-stop-reason").textContent).toContain(why);
+  });
 });
