@@ -167,7 +167,7 @@ def start_app(can_port: int, http_port: int, data_dir: str) -> subprocess.Popen[
 
 
 def wait_port(port: int) -> None:
-    for _ in range(400):
+    for _ in range(1200):
         with socket.socket() as sock:
             if sock.connect_ex(("127.0.0.1", port)) == 0:
                 return

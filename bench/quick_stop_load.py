@@ -164,7 +164,9 @@ def rest_trials(base: str, ear: FrameSource, count: int) -> list[float]:
         for _ in range(count):
             time.sleep(random.uniform(0.02, 0.08))  # spread over the background work's phases
             sent = time.monotonic()
-            http.post(f"/api/nodes/{NODE}/drive/quick-stop")
+            answer = http.post(f"/api/nodes/{NODE}/drive/quick-stop")
+            if answer.status_code != 200:
+                raise RuntimeError(f"quick stop answered {answer.status_code}: {answer.text}")
             values.append((ear.first_after(sent, is_quick_stop, timeout=10) - sent) * 1000)
     return values
 

@@ -14,12 +14,14 @@ from __future__ import annotations
 import asyncio
 import importlib
 import multiprocessing
+import os
 import sys
 import threading
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from servodesk.logs.store import LogResult, LogStore
+from servodesk.od.parser import WORKER_NICENESS
 
 PRELOAD = ["servodesk.od.parse_worker", "servodesk.od.parser"]  # as od/parser.py: one server
 
@@ -68,7 +70,11 @@ class DecodePool:
             context = multiprocessing.get_context("forkserver")
             context.set_forkserver_preload(PRELOAD)
             self._pool = ProcessPoolExecutor(
-                max_workers=self._parallel, mp_context=context, max_tasks_per_child=1
+                max_workers=self._parallel,
+                mp_context=context,
+                initializer=os.nice,  # below the server: a stop must not wait for a core
+                initargs=(WORKER_NICENESS,),
+                max_tasks_per_child=1,
             )
         return self._pool
 

@@ -16,6 +16,7 @@ import ctypes
 import io
 import mimetypes
 import multiprocessing
+import os
 import pickle
 import resource
 import threading
@@ -36,9 +37,14 @@ PARALLEL_PARSES = 2  # the machines this runs on have 2 cores; more uploads wait
 WORKER_MEMORY = 2 * 1024**3  # address space of one parse: a pathological file fails alone
 
 
+WORKER_NICENESS = 10  # bulk work yields the CPU to the server that stops the drives
+
+
 def _limit_memory(limit: int) -> None:
     """Worker start-up: a file that would need more than `limit` fails with MemoryError
-    instead of taking the machine's memory from the drives' server."""
+    instead of taking the machine's memory from the drives' server; and it runs at a lower
+    priority than the server (on a busy host a stop must not wait for a core)."""
+    os.nice(WORKER_NICENESS)
     _, hard = resource.getrlimit(resource.RLIMIT_AS)
     soft = limit if hard == resource.RLIM_INFINITY else min(limit, hard)
     resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
