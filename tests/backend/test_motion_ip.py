@@ -32,6 +32,7 @@ pytestmark = pytest.mark.anyio
 MARGIN_REV = 0.01
 END_REV = 0.002
 ATTEMPTS = 6  # a stall on a loaded host is retried; every try stalling fails
+REFUSALS = 20  # so is a refusal by the SYNC timing check (it sends nothing)
 
 
 async def stream(
@@ -41,7 +42,8 @@ async def stream(
     host_late = False
     result: IpStreamResult | None = None
     refused: SyncUnsafeError | None = None
-    for _ in range(ATTEMPTS):
+    stalls = refusals = 0
+    while stalls < ATTEMPTS and refusals < REFUSALS:
         if (await r.motion.state(node)).fault is not None:
             await r.motion.fault_reset(node)  # the SYNC-lost fault of a stalled try
         await r.motion.enable(node)
@@ -51,8 +53,10 @@ async def stream(
             )
         except SyncUnsafeError as error:  # the check before the stream saw the host late
             refused, host_late = error, True
-            await asyncio.sleep(0.5)
+            refusals += 1
+            await asyncio.sleep(0.5)  # a refusal costs 0.2 s: wait for a calmer moment
             continue
+        stalls += 1
         if not result.stalled:
             return result
         sim_late = r.rig.sim.stats.max_lateness > period_ms / 1000
@@ -96,14 +100,19 @@ async def test_a_stalled_stream_surfaces_the_lost_sync_alarm() -> None:
             # 10 ms the start of the stream does not depend on this host keeping 2 ms real time)
             await session.run(lambda _remote: time.sleep(0.2), what="a long step")
 
-        streaming = asyncio.create_task(
-            r.motion.ip_stream(node, "sine", period_ms=10, distance_rev=0.2, duration_s=1.0)
-        )
-        # stall only once the drive interpolates (the start takes longer on a loaded host)
-        deadline = time.monotonic() + 10
-        while (r.motion.stream_points_sent(node) or 0) < 10:
-            assert time.monotonic() < deadline, "the stream did not start"
-            await asyncio.sleep(0.01)
+        for _ in range(REFUSALS):
+            streaming = asyncio.create_task(
+                r.motion.ip_stream(node, "sine", period_ms=10, distance_rev=0.2, duration_s=1.0)
+            )
+            # stall only once the drive interpolates (the start takes longer on a loaded host)
+            deadline = time.monotonic() + 10
+            while (r.motion.stream_points_sent(node) or 0) < 10 and not streaming.done():
+                assert time.monotonic() < deadline, "the stream did not start"
+                await asyncio.sleep(0.01)
+            if not streaming.done() or streaming.exception() is None:
+                break
+            assert isinstance(streaming.exception(), SyncUnsafeError), streaming.exception()
+            await asyncio.sleep(0.5)  # refused on a loaded host: nothing was sent, try again
         await stall()
         result = await streaming
         assert result.stalled

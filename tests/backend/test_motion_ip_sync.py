@@ -17,7 +17,8 @@ from typing import Any
 import pytest
 from fastapi.testclient import TestClient
 
-from servodesk.motion.ip_timing import SyncClock, SyncTiming
+from servodesk.motion.ip_timing import SyncClock, SyncTiming, SyncUnsafeError
+from tests.backend.motion_rig import NODES, motion_rig
 
 A = {"X-Client-Id": "page-a"}
 STREAM = {"trajectory": "sine", "period_ms": 10, "distance_rev": 0.2, "duration_s": 1.0}
@@ -137,3 +138,27 @@ def test_a_stalled_stream_is_audited_as_failed(client: TestClient) -> None:
     assert entry["result"] == "failed"
     assert entry["error"] == "ip_stream_failed"
     assert entry["message"] == result["message"]
+
+
+@pytest.mark.anyio
+async def test_the_first_stream_on_a_drive_runs_on_its_own_period() -> None:
+    """60C2h is written before the drive enters IP mode: a drive that takes the period on
+    entering the mode (the simulated ones do) counts SYNC lost by the stream's period. Written
+    after, a fresh drive counted by its 1 ms default and faulted 3 ms after interpolation
+    started, before the first SYNC of a 10 ms stream: "SYNC lost", the axis never moved."""
+    checked = []
+    async with motion_rig() as r:
+        for node in NODES:
+            await r.motion.enable(node)
+            try:
+                result = await r.motion.ip_stream(
+                    node, "sine", period_ms=10, distance_rev=0.2, duration_s=0.5
+                )
+            except SyncUnsafeError:
+                continue  # a loaded host: nothing was sent
+            if result.sync_interval_max_ms > 30:
+                continue  # the host held the tool's SYNC back: a stall, not the start
+            checked.append(node)
+            assert result.fault is None, (node, result.message)
+    if not checked:
+        pytest.skip("the host was too busy for every stream")

@@ -5,8 +5,11 @@ The drive takes 60C1h:01 at each SYNC and travels to it during the following per
 CANopen manual §3.8), so point k is written just before SYNC k and names where the axis should
 be one period later. The stream runs on the node's worker thread in chunks of about 20 ms
 (set-point write, SYNC, every few periods a read of 6064h to measure the lag): a priority stop
-waits at most one chunk, and a stop cancels the rest. The tool's SYNC producer (SyncService) is
-paused meanwhile (two SYNC sources would double the drive's clock) and restarted afterwards.
+waits at most one chunk, and a stop cancels the rest. The first chunk switches interpolation on
+and sends the first SYNC one period later (the drive counts SYNC lost from the switch, so no
+round trip through the event loop comes between them); 60C2h is written before the mode. The
+tool's SYNC producer (SyncService) is paused meanwhile (two SYNC sources would double the
+drive's clock) and restarted afterwards.
 
 Before anything is sent, a thread sleeping to the stream's deadlines checks that this host
 keeps them (motion/ip_timing.py): a host that cannot is refused with 409 sync_unsafe naming the
@@ -41,6 +44,8 @@ from servodesk.network.sync import SyncService
 from servodesk.nodes.access import NodeAccess
 from servodesk.settings import Settings
 from servodesk_protocol.cia402 import (
+    STATUSWORD,
+    SW_FAULT,
     SW_MODE_BIT12,
     Cia402State,
     OperationMode,
@@ -70,6 +75,20 @@ class _Stream:
     stalled: bool = False  # more than 3 periods without SYNC: the drive has dropped out
     stall_gap: float = 0.0  # the interval that stalled it (no SYNC was sent at its end)
     unconfirmed: int = 0  # set-point writes sent whose confirmation was not read yet
+    active: bool = False  # the drive shows interpolation active (statusword bit 12)
+    not_started: bool = False  # … and did not within the transition timeout
+    started_at: float = 0.0
+    _timeout: float = 0.0
+
+    def begin(self, remote: canopen.RemoteNode, controlword: int, timeout: float) -> None:
+        """Switch interpolation on and start the SYNC clock in one step on the worker: the drive
+        counts SYNC lost from here, so the first SYNC must follow within a period, whatever
+        the event loop or the host is doing meanwhile (bit 12 is checked while streaming)."""
+        io.write_controlword(remote, controlword)
+        io.write(remote, io.IP_DATA, 1, self.points[0], io.I32)
+        self.started_at = time.perf_counter()
+        self._timeout = timeout
+        self.clock = SyncClock(self.started_at + self.period, self.period)
 
     def chunk(self, remote: canopen.RemoteNode, count: int, sample_every: int) -> None:
         """Send the next `count` SYNCs, each at its absolute deadline, and after each the
@@ -93,11 +112,22 @@ class _Stream:
                     self._send_point(remote, self.points[k + 1])
                 if k % sample_every == 0 and k > 0:
                     self._confirm(remote)
+                    if not self.active and not self._check_active(remote, now):
+                        return
                     actual = io.read(remote, io.POSITION_ACTUAL, signed=True)
                     if actual is not None:  # at SYNC k the axis should be at point k - 1
                         self.lags.append(abs(actual - self.points[k - 1]))
         finally:
             self._confirm(remote)
+
+    def _check_active(self, remote: canopen.RemoteNode, now: float) -> bool:
+        """Whether to go on: bit 12 seen, or still within the transition timeout."""
+        word = io.read(remote, STATUSWORD, signed=False)
+        self.active = word is not None and bool(word & SW_MODE_BIT12)
+        faulted = word is not None and bool(word & SW_FAULT)
+        if not self.active and (faulted or now - self.started_at > self._timeout):
+            self.not_started = self.cancelled = True  # the drive's objects will say why
+        return not self.not_started
 
     def _send_point(self, remote: canopen.RemoteNode, value: int) -> None:
         """60C1h:01 by an expedited SDO download, not waiting for the confirmation."""
@@ -171,19 +201,19 @@ class IpOps(MoveOps):
         period = period_ms / 1000
         plan = setpoints(trajectory, start, units.rev_to_user(distance_rev), duration_s, period)
         plan += [plan[-1]] * SETTLE_PERIODS
-        await self._set_mode(node, OperationMode.INTERPOLATED_POSITION)
+        # the period first: a drive may take 60C2h when it enters IP mode (the simulated ones
+        # do), and one still on an earlier period counts SYNC lost by that one
         await self._write(node, io.IP_PERIOD, 1, period_ms, io.U8)
         await self._write(node, io.IP_PERIOD, 2, IP_EXPONENT_MS, io.I8)
+        await self._set_mode(node, OperationMode.INTERPOLATED_POSITION)
         await self._write(node, io.IP_DATA, 1, start, io.I32)
         paused = await self._pause_sync()
         stream = _Stream(plan, period)
         self._streams[node] = stream
         try:
-            await self._controlword(node, make_enable_operation(new_setpoint=True))
-            active, _ = await self._wait(
-                node, lambda w: bool(w & SW_MODE_BIT12), self._transition_timeout(node)
-            )
-            if not active:
+            word = make_enable_operation(new_setpoint=True)
+            await self._feed(node, stream, word, self._transition_timeout(node))
+            if stream.not_started:
                 raise await self._blocked(
                     node,
                     extra=[
@@ -193,8 +223,6 @@ class IpOps(MoveOps):
                         )
                     ],
                 )
-            await self._write(node, io.IP_DATA, 1, plan[0], io.I32)
-            await self._feed(node, stream)
         finally:
             self._streams.pop(node, None)
             await self._end_stream(node, paused)
@@ -204,23 +232,25 @@ class IpOps(MoveOps):
             entry.report(Outcome("failed", None, "ip_stream_failed", result.message))
         return result
 
-    async def _feed(self, node: int, stream: _Stream) -> None:
+    async def _feed(self, node: int, stream: _Stream, controlword: int, timeout: float) -> None:
         """The chunks, two queued at a time so the worker never waits for the event loop
-        between them; a priority stop still runs between two chunks."""
+        between them; a priority stop still runs between two chunks. The first chunk switches
+        interpolation on (`controlword`) just before its first SYNC."""
         per_chunk = max(1, math.floor(CHUNK_S / stream.period))
         sample_every = max(1, math.ceil(LAG_SAMPLE_S / stream.period))
         chunks = math.ceil(len(stream.points) / per_chunk)
-        stream.clock = SyncClock(time.perf_counter() + stream.period, stream.period)
+
+        def first(remote: canopen.RemoteNode) -> None:
+            stream.begin(remote, controlword, timeout)
+            stream.chunk(remote, per_chunk, sample_every)
+
         inflight: deque[asyncio.Future[None]] = deque()
         try:
-            for _ in range(chunks):
+            for index in range(chunks):
                 if stream.cancelled or stream.stalled:
                     break
-                inflight.append(
-                    asyncio.ensure_future(
-                        self._run(node, lambda r: stream.chunk(r, per_chunk, sample_every), "IP")
-                    )
-                )
+                step = first if index == 0 else lambda r: stream.chunk(r, per_chunk, sample_every)
+                inflight.append(asyncio.ensure_future(self._run(node, step, "IP")))
                 if len(inflight) > 1:
                     await inflight.popleft()
             while inflight:
