@@ -2,18 +2,10 @@
 
 from __future__ import annotations
 
-import os
 from collections.abc import Iterator
 
 import pytest
 from can.interfaces import virtual
-
-# A drive this tool controls watches its heartbeat (1016h, 300 ms by default). On a small,
-# shared CI host the server's event loop can miss that by a few hundred milliseconds, and the
-# held drive then faults (8130h) in the middle of a test about something else. Tests run with
-# 1 s unless they set their own; the 300 ms timing itself is tested with its own settings
-# (test_motion_safety) and measured by bench/jog_stop.py.
-os.environ.setdefault("SERVODESK_HEARTBEAT_CONSUMER_MS", "1000")
 
 
 @pytest.fixture(autouse=True)
