@@ -299,10 +299,13 @@ class MotionSafety:
 
     async def quick_stop_all(self) -> QuickStopResult:
         nodes = [info.node for info in self._registry.all()]
-        self.jogs.stop_all("quick stop (all drives)")
-        outcomes = await asyncio.gather(
+        # the quick stops' tasks first: each reaches its node's priority lane ahead of the
+        # jog's own stop (a halt that reads the drive first, then finds nothing to halt)
+        stops = asyncio.gather(
             *(self.motion.quick_stop(node) for node in nodes), return_exceptions=True
         )
+        self.jogs.stop_all("quick stop (all drives)")
+        outcomes = await stops
         stopped: list[int] = []
         failed: dict[str, str] = {}
         for node, outcome in zip(nodes, outcomes, strict=True):
