@@ -44,8 +44,8 @@ class SyncTiming:
     def words(self) -> str:
         return (
             f"SYNC jitter {self.jitter * 1000:.2f} ms, longest interval "
-            f"{self.longest * 1000:.2f} ms over {self.periods} periods of "
-            f"{self.period * 1000:g} ms"
+            f"{self.longest * 1000:.2f} ms over {self.periods} "
+            f"period{'' if self.periods == 1 else 's'} of {self.period * 1000:g} ms"
         )
 
 
