@@ -31,6 +31,17 @@ async def hold(rig: SafetyRig, info: JogInfo, seconds: float) -> None:
         await asyncio.sleep(0.05)
 
 
+async def held_until_the_server_stops_it(rig: SafetyRig, info: JogInfo) -> JogInfo:
+    """Keep the jog alive (as a held button does) until the server stops it by itself."""
+    for _ in range(200):
+        jog = rig.safety.jogs.get(info.jog_id)
+        if jog.state != "running":
+            return jog
+        rig.keep(info)
+        await asyncio.sleep(0.03)
+    raise AssertionError(f"node {info.node}: the server never stopped the jog")
+
+
 async def watch_until_stopped(rig: SafetyRig, info: JogInfo) -> list[tuple[str, float]]:
     """(jog state, |speed| read right after it) until the jog says "stopped"."""
     seen: list[tuple[str, float]] = []
@@ -49,14 +60,15 @@ async def test_a_released_torque_jog_comes_to_rest_and_says_stopping_until_then(
     node: int,
 ) -> None:
     """2 % torque held 0.3 s and released (no load: it reaches hundreds of rpm): the axis is
-    braked to rest, the jog says "stopping" while it moves and "stopped" only at rest, and the
-    drive stays enabled and unfaulted (no limit switch reached)."""
+    braked to rest within the distance the drive's quick stop ramp needs, the jog says
+    "stopping" while it moves and "stopped" only at rest, and the drive stays enabled."""
     async with safety_rig() as rig:
         await rig.motion.enable(node)
         # a quick stop ramp of 2000 rpm/s, as many machines have (the simulation's default
         # stands the axis within milliseconds: no "stopping" to see)
         gentle = rig.motion._units(node).rpm_s_to_acceleration(2000)
         await rig.write(node, QUICK_STOP_DECELERATION, 0, gentle)
+        await rig.widen_switches(node)  # a slow host holds longer: the travel is checked below
         cap = rig.motion.limits(node).max_velocity_rpm  # only the drive's own limit
         request = JogRequest(mode="pt", torque_pct=2.0, keepalive_ms=300, speed_cap_rpm=cap)
         info = await rig.safety.start_jog(node, request, PAGE)
@@ -71,10 +83,11 @@ async def test_a_released_torque_jog_comes_to_rest_and_says_stopping_until_then(
         end = await rig.motion.state(node)
         assert abs(end.velocity_rpm) < REST_RPM
         assert end.state == "operation_enabled", end.fault  # braked, not faulted
-        assert not end.inputs["positive_limit"]
-        assert not end.inputs["negative_limit"]
+        # what a 2000 rpm/s ramp needs from the release speed, plus 0.3 s of latency
+        rev_s = abs(released.velocity_rpm) / 60
+        allowed = rev_s**2 / (2 * 2000 / 60) + rev_s * 0.3 + 0.5
         travelled = abs(end.position_rev - released.position_rev)
-        assert travelled < 3, f"{travelled:.2f} rev after the release"
+        assert travelled < allowed, f"{travelled:.2f} rev after the release ({allowed:.2f})"
 
 
 async def test_a_stop_on_lost_control_never_brakes_on_the_client_s_slow_ramp() -> None:
@@ -107,12 +120,7 @@ async def test_a_torque_jog_stops_at_servodesk_s_own_speed_cap() -> None:
         request = JogRequest(mode="pt", torque_pct=2.0, keepalive_ms=300, speed_cap_rpm=100)
         info = await rig.safety.start_jog(node, request, PAGE)
         assert info.speed_cap_rpm == 100
-        for _ in range(100):
-            if rig.safety.jogs.get(info.jog_id).state != "running":
-                break
-            rig.keep(info)
-            await asyncio.sleep(0.03)
-        stopped = rig.safety.jogs.get(info.jog_id)
+        stopped = await held_until_the_server_stops_it(rig, info)
         assert stopped.stop_reason is not None
         assert stopped.stop_reason.startswith("speed cap 100 rpm passed"), stopped
         await watch_until_stopped(rig, info)
@@ -201,12 +209,7 @@ async def test_a_jog_stops_inside_servodesk_s_travel_limits() -> None:
         rig.motion.set_limits(node, limits)
         request = JogRequest(mode="pv", velocity_rpm=300, keepalive_ms=300)
         info = await rig.safety.start_jog(node, request, PAGE)
-        for _ in range(200):
-            if rig.safety.jogs.get(info.jog_id).state != "running":
-                break
-            rig.keep(info)
-            await asyncio.sleep(0.03)
-        stopped = rig.safety.jogs.get(info.jog_id)
+        stopped = await held_until_the_server_stops_it(rig, info)
         assert stopped.stop_reason is not None
         assert stopped.stop_reason.startswith("ServoDesk's travel limit"), stopped
         await watch_until_stopped(rig, info)

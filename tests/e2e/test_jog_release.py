@@ -26,13 +26,18 @@ def page_speed(text: str) -> float:
     return abs(float(found.group(1).replace(" ", "").replace("\u202f", "")))
 
 
-def hold(page: Page, server: str, name: re.Pattern[str], seconds: float) -> tuple[float, float]:
-    """Hold the button `seconds` once the jog runs; speed and position just before release."""
+def press(page: Page, name: re.Pattern[str]) -> None:
+    """Press (and keep pressed) a hold-to-run button of the jog area."""
     button = page.get_by_role("region", name="Jog").get_by_role("button", name=name)
     box = button.bounding_box()
     assert box is not None
     page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
     page.mouse.down()
+
+
+def hold(page: Page, server: str, name: re.Pattern[str], seconds: float) -> tuple[float, float]:
+    """Hold the button `seconds` once the jog runs; speed and position just before release."""
+    press(page, name)
     expect(page.get_by_test_id("jog-pt-status")).to_contain_text("Moving")
     page.wait_for_timeout(seconds * 1000)
     state = drive_state(server, NODE)
@@ -95,11 +100,7 @@ def test_servodesk_s_speed_cap_stops_a_held_torque_jog(page: Page, server: str) 
     jog.get_by_role("tab", name="Profile torque (PT)").click()
     jog.get_by_label("Torque (%)").fill("2")
     jog.get_by_label("Speed cap (rpm)").fill("100")
-    button = jog.get_by_role("button", name=re.compile(r"^◀ Hold −2 %"))
-    box = button.bounding_box()
-    assert box is not None
-    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
-    page.mouse.down()
+    press(page, re.compile(r"^◀ Hold −2 %"))
     try:
         # said once, where the hold ended: "Stopped by the server: speed cap 100 rpm passed …"
         expect(jog.get_by_role("alert")).to_contain_text("speed cap 100 rpm passed", timeout=5_000)
