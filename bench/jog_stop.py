@@ -157,12 +157,17 @@ def start_app(can_port: int, http_port: int, data_dir: str) -> subprocess.Popen[
             stderr=log,
             env=env,
         )
-    wait_port(http_port)
-    base = f"http://127.0.0.1:{http_port}"
-    for _ in range(200):  # the start-up scan
-        if any(n["node"] == NODE for n in httpx.get(f"{base}/api/nodes").json()):
-            break
-        time.sleep(0.05)
+    try:
+        wait_port(http_port)
+        base = f"http://127.0.0.1:{http_port}"
+        for _ in range(200):  # the start-up scan
+            if any(n["node"] == NODE for n in httpx.get(f"{base}/api/nodes").json()):
+                break
+            time.sleep(0.05)
+    except BaseException:
+        proc.kill()  # never left running behind a failed start
+        proc.wait(10)
+        raise
     return proc
 
 

@@ -142,7 +142,13 @@ class MotionService(IpOps):
         await self._registry.session(node).priority(
             lambda r: io.write_controlword(r, make_quick_stop()), what=f"quick stop node {node}"
         )
-        return await self.state(node)
+        try:
+            return await self.state(node)
+        except CommTimeoutError as error:
+            # the stop went out and the drive confirmed it: a busy drive that is slow to answer
+            # the reading after it does not turn that into a failed stop
+            log.warning("node %d: quick stop sent; the state after it: %s", node, error)
+            return self._unreadable_state(node)
 
     async def fault_reset(self, node: int) -> DriveState:
         """Fault → Switch on disabled (15) on a real 0 → 1 edge of bit 7: 0000h, then 0080h,
