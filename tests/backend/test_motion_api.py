@@ -36,6 +36,12 @@ def test_drive_state_and_the_state_machine_routes(client: TestClient) -> None:
     error_of(client.get("/api/nodes/99/drive"), 404)
 
 
+def test_a_command_that_is_not_a_name_is_refused_not_a_server_error(client: TestClient) -> None:
+    for body in ({"command": {"quick_stop": 1}}, {"command": ["quick_stop"]}, {"command": 7}):
+        refused = error_of(client.post("/api/nodes/1/drive/command", headers=A, json=body), 422)
+        assert refused["error"] == "invalid_request", refused
+
+
 def test_enable_blocked_names_the_reasons(client: TestClient) -> None:
     ok(client.post("/api/nodes/2/nmt", json={"command": "stop"}))
     body = error_of(client.post("/api/nodes/2/drive/enable", headers=A), 409)

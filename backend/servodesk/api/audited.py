@@ -154,11 +154,9 @@ def _summary(parsed: Any) -> tuple[str, Any]:
 def _urgent(endpoint_name: str, parsed: Any) -> bool:
     if endpoint_name in URGENT:
         return True
-    return (
-        endpoint_name == "command"
-        and isinstance(parsed, dict)
-        and parsed.get("command") in URGENT_COMMANDS
-    )
+    # the body is not validated yet: any JSON may stand where the command's name should
+    command = parsed.get("command") if isinstance(parsed, dict) else None
+    return endpoint_name == "command" and isinstance(command, str) and command in URGENT_COMMANDS
 
 
 def _header_text(failure: BaseException) -> str:
