@@ -150,7 +150,7 @@ def start_app(can_port: int, http_port: int, data_dir: str) -> subprocess.Popen[
     env = {**os.environ, "SERVODESK_DATA_DIR": data_dir}
     Path(data_dir).mkdir(parents=True, exist_ok=True)
     serve = ["serve", *bus, "--bind", "127.0.0.1", "--port", str(http_port)]
-    with open(Path(data_dir) / "server.log", "ab") as log:  # its loop stalls, for diagnosis
+    with open(Path(data_dir) / "server.log", "ab") as log:  # what it says, for diagnosis
         proc = subprocess.Popen(
             [str(BIN / "servodesk"), *serve],
             stdout=subprocess.DEVNULL,
@@ -351,11 +351,6 @@ def main() -> int:
                 met &= report("(c) server killed -> drive's own EMCY", kills, CONSUMER_TARGET_MS)
         finally:
             ear.close()
-    stalls = Path(data_dir) / "server.log"
-    if stalls.is_file():
-        lines = stalls.read_text(errors="replace").splitlines()
-        count = sum("event loop stalled" in line for line in lines)
-        print(f"server log: {stalls} ({count} event loop stalls over 100 ms logged)")
     print("targets met" if met else "targets NOT met")
     return 0 if met else 1
 

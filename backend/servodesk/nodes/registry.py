@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import replace
@@ -61,6 +62,11 @@ OdListener = Callable[[int], None]  # (node) whose dictionary was replaced
 P = ParamSpec("P")
 MAX_HEARTBEAT_MS = 0xFFFF  # 1017h is UNSIGNED16
 HEARTBEAT_FLOOR_MS = 10  # faster is 100+ frames/s from one node: only with confirmation
+
+
+def _free(od: ObjectDictionary) -> None:
+    dispose(od, pause=True)
+    release_memory()
 
 
 def _check_id(node: int) -> None:
@@ -323,9 +329,10 @@ class NodeRegistry:
         session, network = entry.session, entry.network
 
         def retire() -> None:
+            # on a thread of its own, not the node's: emptying a large dictionary takes tens of
+            # milliseconds that a stop queued for the node must not wait for
             if old_od is not None:
-                dispose(old_od)
-                release_memory()
+                threading.Thread(target=_free, args=(old_od,), name="od-retire").start()
 
         if source == "upload":
             keep_long_lived()  # a large dictionary is never walked by a full collection

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import canopen
@@ -11,6 +12,7 @@ from servodesk.od import datatypes as dt
 from servodesk.od.model import ObjectDictionaryModel, OdSub, Value
 
 _DUMMY_NAMES = "Dummy{:04d}"  # python-canopen's names for DummyUsage entries
+DISPOSE_CHUNK = 256  # objects freed between two releases of the interpreter lock
 
 
 def to_canopen(
@@ -97,16 +99,24 @@ def _resolve(
     return value - (loaded_for or 0) + (node_id or 0)
 
 
-def dispose(od: ObjectDictionary) -> None:
+def dispose(od: ObjectDictionary, *, pause: bool = False) -> None:
     """Empty a dictionary that is no longer used. canopen links each record member back to its
     record (`parent`), so a dropped dictionary would wait for the cycle collector, whose full
     pass over a large heap stops the server for a noticeable time; without the links its
-    entries are freed at once by reference counting."""
-    for obj in list(od.values()):
+    entries are freed at once by reference counting. With `pause` (a thread of its own), the
+    interpreter lock is given back every DISPOSE_CHUNK objects: freeing a large dictionary
+    in one piece holds it for tens of milliseconds."""
+    for count, obj in enumerate(list(od.values()), 1):
         if isinstance(obj, ODRecord | ODArray):
             for member in list(obj.values()):
                 member.parent = None
             obj.subindices.clear()
             obj.names.clear()
-    od.indices.clear()
+        if pause and count % DISPOSE_CHUNK == 0:
+            time.sleep(0)
     od.names.clear()
+    while od.indices:
+        for _ in range(min(DISPOSE_CHUNK, len(od.indices))):
+            od.indices.popitem()
+        if pause:
+            time.sleep(0)
