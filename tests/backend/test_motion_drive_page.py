@@ -15,8 +15,10 @@ from __future__ import annotations
 import can
 import pytest
 
+from servodesk.motion.axis import Axis, build_state
+from servodesk.motion.drive_io import Snapshot
 from servodesk.motion.errors import EnableBlockedError
-from servodesk.motion.schemas import HomeRequest, MoveRequest
+from servodesk.motion.schemas import HomeRequest, MotionLimits, MoveProgress, MoveRequest
 from tests.backend.motion_rig import (
     MDI,
     NODES,
@@ -219,3 +221,27 @@ async def test_the_travel_ends_are_named() -> None:
             assert "5FF2h" in switches.source
             # none of the three simulated drives has 607Dh Software position limit
             assert state.travel.software_limit is None
+
+
+def test_a_move_stopped_by_servodesk_says_why_before_the_drive_shows_it() -> None:
+    """A reading taken between the quick stop being decided and the drive showing it (still
+    Operation enabled, controlword 000Fh) names the quick stop, not "another command"."""
+    axis = Axis(node=1, limits=MotionLimits(max_velocity_rpm=3000, max_torque_pct=100))
+    axis.move = MoveProgress(target_inc=393216, phase="moving", queued=0)
+    axis.dropped_by = "stopped by quick stop (controlword bit 2 = 0)"
+    still_enabled = Snapshot(
+        statusword=0x0237,
+        controlword=0x000F,
+        mode=1,
+        mode_display=1,
+        position=1000,
+        velocity=300,
+        torque=0,
+        following_error=0,
+        inputs=0,
+        error_code=0,
+    )
+    state = build_state(axis, still_enabled, nmt_state="operational", data=None, fault_source="")
+    assert state.move is not None
+    assert state.move.phase == "interrupted"
+    assert state.move.message == "stopped by quick stop (controlword bit 2 = 0)"

@@ -56,6 +56,9 @@ class Axis:
     homed: bool = False
     move: MoveProgress | None = None
     target_user: int | None = None  # the last accepted PP target, for relative moves
+    # why ServoDesk itself dropped what it fed the axis (a stop, a disable), for the move's
+    # message: the drive may not show it yet when the next reading comes
+    dropped_by: str | None = None
     jog: str | None = None  # "pv" / "pt" while a jog runs
     queue_task: asyncio.Task[None] | None = None
     queued: list[object] = field(default_factory=list)
@@ -243,7 +246,10 @@ def _move(
     message = None
     if state is not Cia402State.OPERATION_ENABLED or axis.target_user is None:
         # a quick stop, a fault, a disable, or ServoDesk dropped the move (a jog, a stop)
-        phase, message = "interrupted", interruption(snap, state, fault)
+        message = interruption(snap, state, fault)
+        if message == TOOK_THE_AXIS and axis.dropped_by is not None:
+            message = axis.dropped_by  # sent, but not yet in what the drive shows
+        phase = "interrupted"
     elif snap.statusword & SW_MODE_BIT13:
         phase, message = "error", "following error (statusword bit 13 in profile position)"
     elif (
@@ -262,6 +268,9 @@ def _move(
     return axis.move
 
 
+TOOK_THE_AXIS = "stopped by ServoDesk before its target (another command took the axis)"
+
+
 def interruption(snap: Snapshot, state: Cia402State, fault: FaultInfo | None) -> str:
     """Why motion ended before its target, from what the drive shows (pure)."""
     control = snap.controlword
@@ -276,7 +285,7 @@ def interruption(snap: Snapshot, state: Cia402State, fault: FaultInfo | None) ->
         return f"stopped: the drive left Operation enabled for {state_label(state)}"
     if control is not None and control & CW_HALT:
         return "halted (controlword bit 8) before its target"
-    return "stopped by ServoDesk before its target (another command took the axis)"
+    return TOOK_THE_AXIS
 
 
 SIM_SWITCH_NOTE = (

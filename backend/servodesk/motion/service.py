@@ -115,7 +115,7 @@ class MotionService(IpOps):
     async def disable(self, node: int) -> DriveState:
         """Power stage off: shutdown (transitions 8, 6) to Ready to switch on; a quick stop
         is left with disable voltage (12)."""
-        self._drop_tasks(node)
+        self._drop_tasks(node, "stopped: the drive was disabled")
         snap = await self._reachable(node)
         state = state_of(snap.statusword)
         if state in (S.OPERATION_ENABLED, S.SWITCHED_ON):
@@ -138,7 +138,7 @@ class MotionService(IpOps):
         """Quick stop (controlword 0002h, transition 11): the drive stops as 605Ah says and
         stays in Quick stop active (5–8) or ends in Switch on disabled. Sent on the priority
         lane; in any other state 0002h only disables voltage, so it is always safe."""
-        self._drop_tasks(node)
+        self._drop_tasks(node, "stopped by quick stop (controlword bit 2 = 0)")
         await self._registry.session(node).priority(
             lambda r: io.write_controlword(r, make_quick_stop()), what=f"quick stop node {node}"
         )
@@ -221,7 +221,12 @@ class MotionService(IpOps):
         written first), `drive_deceleration` takes the drive's 6085h where it is steeper.
         `quick`: quick stop 0002h, which ramps as 605Ah says and never enables anything.
         """
-        self._drop_tasks(node)
+        self._drop_tasks(
+            node,
+            "stopped by quick stop (controlword bit 2 = 0)"
+            if quick
+            else f"halted (controlword bit 8) before its target: {reason}",
+        )
         session = self._registry.session(node)
         what = f"stop node {node}: {reason}"
         if quick:
@@ -288,9 +293,11 @@ class MotionService(IpOps):
 
     # ------------------------------------------------------------------ helpers
 
-    def _drop_tasks(self, node: int) -> None:
-        """Whatever the service was feeding the axis ends: queue, jog, IP stream."""
+    def _drop_tasks(self, node: int, why: str | None = None) -> None:
+        """Whatever the service was feeding the axis ends: queue, jog, IP stream; `why` is
+        what an interrupted move says until the drive shows it."""
         axis = self._axis(node)
+        axis.dropped_by = why
         axis.cancel_queue()
         axis.jog = None
         axis.target_user = None
