@@ -56,10 +56,12 @@ class DecodePool:
         self._running = 0
 
     async def decode(self, data_dir: Path, path: Path, dcf: Path | None) -> LogResult:
-        loop = asyncio.get_running_loop()
         self._running += 1
         try:
-            return await loop.run_in_executor(self._executor(), _decode, data_dir, path, dcf)
+            # submitted from a thread: submit() starts the worker process (od/parser.py)
+            pool = self._executor()
+            future = await asyncio.to_thread(pool.submit, _decode, data_dir, path, dcf)
+            return await asyncio.wrap_future(future)
         finally:
             self._running -= 1
             if self._running == 0:

@@ -143,12 +143,14 @@ class OdParser:
     ) -> ObjectDictionaryModel:
         """The model of an EDS/DCF/XDD; InvalidValueError names what is wrong with the file."""
         async with self._slots:
-            loop = asyncio.get_running_loop()
             self._running += 1
             try:
-                blob, chunks = await loop.run_in_executor(
-                    self._executor(), _parse, data, filename, node_id
-                )
+                # submitted from a thread: the pool starts its worker process in submit() (a
+                # round trip to the fork server, which itself starts on first use: up to a
+                # second), and that must not happen on the event loop
+                pool = self._executor()
+                future = await asyncio.to_thread(pool.submit, _parse, data, filename, node_id)
+                blob, chunks = await asyncio.wrap_future(future)
                 return await asyncio.to_thread(_assemble, blob, chunks)
             except OdImportError as error:
                 raise InvalidValueError(str(error)) from None
