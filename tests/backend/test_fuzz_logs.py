@@ -2,8 +2,8 @@
 
 Valid logs are written with python-can's own writers from the recorded commissioning session
 (tests/backend/log_session.py), then mutated: bytes flipped, inserted, deleted, lines dropped,
-duplicated or garbled, the file truncated. The entry point is `LogService._decode` (what the route
-runs in a worker thread): it must return a decoded result or raise InvalidValueError (a 422),
+duplicated or garbled, the file truncated. The entry point is the decode worker's own call (what
+the route runs in a worker process): it must return a decoded result or raise LogReadError (a 422),
 and the reader underneath must fail only with a ValueError that says where (a line, a frame
 count), never e.g. a zlib.error, a BLFParseError or a negative CAN id getting into the decoder.
 """
@@ -17,9 +17,9 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from servodesk.errors import InvalidValueError
+from servodesk.logs.decode_worker import LogReadError
+from servodesk.logs.decode_worker import _decode as decode_in_worker
 from servodesk.logs.reader import LogFormatError, read_frames
-from servodesk.logs.service import LogService
 from servodesk.logs.store import LogResult
 from tests.backend.log_session import record, write_log
 
@@ -141,9 +141,9 @@ def logs(draw: st.DrawFn, formats: tuple[str, ...]) -> tuple[str, bytes]:
 
 
 def _decode(tmp: Path, name: str, data: bytes) -> LogResult | None:
-    """The route's worker-thread call; None for its 422. The store's own failure must be a
-    ValueError (a named complaint about the file), which the service then reports."""
-    service = LogService(tmp, max_concurrent=1)
+    """The decode worker's own call, run here (the server runs it in a worker process); None
+    for the route's 422. The store's own failure must be a ValueError (a named complaint
+    about the file), which the worker then reports as words."""
     path = tmp / name
     path.write_bytes(data)
     complaint = ""
@@ -157,14 +157,13 @@ def _decode(tmp: Path, name: str, data: bytes) -> LogResult | None:
         complaint = str(error)
     assert not complaint or any(w in complaint for w in ("line", "frame", "header"))
     try:
-        result = service._decode(name, data, None)
-    except InvalidValueError as error:
+        result = decode_in_worker(tmp, path, None)
+    except LogReadError as error:
         complaint = str(error)
     else:
         complaint = ""
     if complaint:
-        assert name in complaint
-        return None
+        return None  # the route's 422, in the reader's words
     assert result.name == name
     assert result.stats["frames"] >= 0
     return result
