@@ -219,6 +219,8 @@ def serve(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
     _use_system_allocator(argv)
     scheme = "https" if settings.tls_cert else "http"
     print(f"ServoDesk {__version__} on {scheme}://{args.bind}:{args.port}", flush=True)
+    if not args.debug:
+        _say_own_warnings()
     uvicorn.run(
         create_app(settings),
         host=args.bind,
@@ -228,6 +230,17 @@ def serve(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
         ssl_keyfile=settings.tls_key,
     )
     return 0
+
+
+def _say_own_warnings() -> None:
+    """The libraries stay quiet (`_quiet_libraries`), but a running server says its own
+    warnings on stderr: a stalled event loop, a withheld heartbeat, a stop that could not be
+    sent are what a field engineer reads after something went wrong."""
+    handler = logging.StreamHandler()
+    handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
+    own = logging.getLogger("servodesk")
+    own.addHandler(handler)
+    own.setLevel(logging.WARNING)
 
 
 def _serve_settings(args: argparse.Namespace) -> Settings:

@@ -60,6 +60,8 @@ class LiveClient:
         # Set by the socket's `hello`; until then the socket is anonymous and owns no jogs.
         self.client = Client(id="", anonymous=True)
         self.watching: set[int] = set()
+        # the socket's quick stops in flight: they finish even when the socket closes
+        self.background: set[asyncio.Task[None]] = set()
 
     def offer(self, kind: str, message: dict[str, Any]) -> None:
         self._latest[kind] = message

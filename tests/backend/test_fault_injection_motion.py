@@ -126,3 +126,32 @@ def test_heartbeat_lost_during_a_jog_stops_it(tmp_path: Path) -> None:
         )
         assert drive(app)["velocity_rpm"] == 0
         assert ok(client.get(f"/api/jog/{jog['jog_id']}"))["state"] == "stopped"
+
+
+def test_a_socket_s_quick_stop_does_not_hold_back_its_next_message(tmp_path: Path) -> None:
+    """Expected: node 1 answers reads slowly (every upload 0.1 s late): a quick stop sent on
+    the live channel goes out at once, and the socket answers its next message (a ping) while
+    the reading of the drive after the stop is still under way, not after all ten uploads."""
+    with faulty_app(tmp_path) as app:
+        slow = app.rig.delay("rx", _upload_answer_of(1), 0.1)
+        with app.client.websocket_connect("/api/ws") as ws:
+            ws.send_json({"type": "hello", "client_id": "page-a"})
+            ws.send_json({"type": "quick_stop", "node": 1})
+            ws.send_json({"type": "ping"})
+            while ws.receive_json()["type"] != "pong":
+                pass
+            assert slow.hits < 5, f"the ping waited for {slow.hits} slow reads"
+        app.rig.remove(slow)
+        app.eventually(
+            lambda: ok(app.client.get("/api/nodes/1/drive"))["controlword"] & 0x0087 == 0x0002,
+            what="the quick stop's controlword",
+        )
+
+
+def _upload_answer_of(node: int) -> Any:
+    """An SDO upload's answer from `node` (not a download's acknowledgement)."""
+
+    def match(msg: Any) -> bool:
+        return bool(msg.arbitration_id == 0x580 + node and msg.data[0] & 0xE0 == 0x40)
+
+    return match

@@ -104,18 +104,12 @@ async def _handle(services: Services, client: LiveClient, raw: Any) -> dict[str,
             case PageHiddenMessage():
                 if not client.client.anonymous:
                     safety.page_hidden(client.client.id)
-            case QuickStopMessage(node=None):
-                async with services.audit.entry(
-                    "quick-stop", None, "quick stop of every drive (live channel)", outcome_of,
-                    wait=False,
-                ):  # fmt: skip
-                    await safety.quick_stop_all()
-            case QuickStopMessage(node=int(node)):
-                async with services.audit.entry(
-                    "quick-stop", node, f"quick stop of node {node} (live channel)", outcome_of,
-                    wait=False,
-                ):  # fmt: skip
-                    await safety.quick_stop(node)
+            case QuickStopMessage(node=node):
+                # on a task of its own: the reading after the stop must not hold back the
+                # socket's next message (a second stop, a keep-alive of another jog)
+                task = asyncio.create_task(_quick_stop(services, client, node))
+                client.background.add(task)
+                task.add_done_callback(client.background.discard)
             case WatchDriveMessage(node=node):
                 services.registry.info(node)
                 services.live.watch(client, node)
@@ -126,6 +120,21 @@ async def _handle(services: Services, client: LiveClient, raw: Any) -> dict[str,
     except ServodeskError as error:
         return dump(ErrorMessage(error=describe(error)[1].error, message=str(error)))
     return None
+
+
+async def _quick_stop(services: Services, client: LiveClient, node: int | None) -> None:
+    """A quick stop from the live channel, audited; what went wrong goes back as `error`."""
+    what = "every drive" if node is None else f"node {node}"
+    try:
+        async with services.audit.entry(
+            "quick-stop", node, f"quick stop of {what} (live channel)", outcome_of, wait=False
+        ):
+            if node is None:
+                await services.safety.quick_stop_all()
+            else:
+                await services.safety.quick_stop(node)
+    except ServodeskError as error:
+        client.event(dump(ErrorMessage(error=describe(error)[1].error, message=str(error))))
 
 
 async def _send(websocket: WebSocket, client: LiveClient) -> None:
