@@ -16,12 +16,11 @@ import importlib
 import multiprocessing
 import os
 import sys
-import threading
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from servodesk.logs.store import LogResult, LogStore
-from servodesk.od.parser import WORKER_NICENESS
+from servodesk.od.parser import WORKER_NICENESS, shut_down_aside
 
 PRELOAD = ["servodesk.od.parse_worker", "servodesk.od.parser"]  # as od/parser.py: one server
 
@@ -83,10 +82,4 @@ class DecodePool:
     def close(self) -> None:
         pool, self._pool = self._pool, None
         if pool is not None:
-            # as OdParser.close: waiting is safe, so wait on a thread of its own
-            threading.Thread(
-                target=pool.shutdown,
-                kwargs={"wait": True, "cancel_futures": True},
-                name="log-decode-shutdown",
-                daemon=True,
-            ).start()
+            shut_down_aside(pool, "log-decode-shutdown")

@@ -113,16 +113,22 @@ class MotionCore:
 
     def pt_speed_limit(self, node: int) -> tuple[float | None, str]:
         """What caps the speed in profile torque: (rpm or None when unknown, the object)."""
+        index, sub, named = self._speed_object(node)
+        statics = self._axis(node).statics
+        read = statics.overspeed_rpm if statics and statics.overspeed_rpm else None
+        rpm = read or self._od_default(node, index, sub)
+        return (float(rpm) if rpm else None), named
+
+    def _speed_object(self, node: int) -> tuple[int, int, str]:
+        """The drive's max speed object (MDi PA-103 2006h:08, else 6080h Max motor speed) and
+        how the page names it: "2006h:08 PA-103 Maximum speed"."""
         data = self._registry.profile_data(node)
         index, sub = data.quirks.max_speed_object if data else (0x6080, 0)  # Max motor speed
         obj = self._registry.od(node).objects.get(index)
         entry = obj.subs.get(sub) if obj else None
         name = entry.name if entry else (obj.name if obj else "max speed")
         where = f"{index:04X}h:{sub:02X}" if sub else f"{index:04X}h"
-        statics = self._axis(node).statics
-        read = statics.overspeed_rpm if statics and statics.overspeed_rpm else None
-        rpm = read or self._od_default(node, index, sub)
-        return (float(rpm) if rpm else None), f"{where} {name}"
+        return index, sub, f"{where} {name}"
 
     def _od_default(self, node: int, index: int, sub: int) -> float | None:
         obj = self._registry.od(node).objects.get(index)

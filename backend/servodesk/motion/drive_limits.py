@@ -132,12 +132,7 @@ class LimitOps(MotionCore):
         )
 
     def _speed_source(self, node: int) -> str:
-        data = self._registry.profile_data(node)
-        index, sub = data.quirks.max_speed_object if data else (0x6080, 0)  # Max motor speed
-        obj = self._registry.od(node).objects.get(index)
-        entry = obj.subs.get(sub) if obj else None
-        name = entry.name if entry else (obj.name if obj else "max speed")
-        where = f"{index:04X}h:{sub:02X}" if sub else f"{index:04X}h"
+        _, _, named = self._speed_object(node)
         capped = self._settings.motion_max_velocity_rpm
         tail = f", capped at {capped:g} rpm by ServoDesk's settings" if capped else ""
-        return f"{where} {name}{tail}"
+        return f"{named}{tail}"

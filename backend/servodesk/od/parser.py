@@ -169,14 +169,7 @@ class OdParser:
     def close(self) -> None:
         pool, self._pool = self._pool, None
         if pool is not None:
-            # shutdown(wait=False) races the pool's own thread replacing a finished worker
-            # (CPython drops the process table under it); waiting is safe, so wait elsewhere
-            threading.Thread(
-                target=pool.shutdown,
-                kwargs={"wait": True, "cancel_futures": True},
-                name="od-parser-shutdown",
-                daemon=True,
-            ).start()
+            shut_down_aside(pool, "od-parser-shutdown")
 
 
 def _libc() -> ctypes.CDLL | None:
@@ -206,3 +199,15 @@ def release_memory() -> None:
     libc = _libc()
     if libc is not None:
         libc.malloc_trim(0)
+
+
+def shut_down_aside(pool: ProcessPoolExecutor, name: str) -> None:
+    """End a worker pool without blocking the caller. shutdown(wait=False) races the pool's
+    own thread replacing a finished worker (CPython drops the process table under it); waiting
+    is safe, so it waits on a thread of its own."""
+    threading.Thread(
+        target=pool.shutdown,
+        kwargs={"wait": True, "cancel_futures": True},
+        name=name,
+        daemon=True,
+    ).start()
