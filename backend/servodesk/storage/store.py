@@ -273,15 +273,33 @@ class Storage:
     async def faults(self, node: int | None, limit: int) -> tuple[list[dict[str, Any]], int]:
         """The newest `limit` faults (of `node`, or all), newest first, and how many exist."""
         cols = _QUOTED
-        if node is None:
-            rows = await self._read(f"SELECT {cols} FROM faults ORDER BY id DESC LIMIT ?", (limit,))
-            total = await self._read("SELECT COUNT(*) FROM faults", ())
-        else:
-            rows = await self._read(
-                f"SELECT {cols} FROM faults WHERE node = ? ORDER BY id DESC LIMIT ?", (node, limit)
-            )
-            total = await self._read("SELECT COUNT(*) FROM faults WHERE node = ?", (node,))
-        return [dict(zip(FAULT_COLUMNS, row, strict=True)) for row in rows], int(total[0][0])
+        where, args = ("", ()) if node is None else (" WHERE node = ?", (node,))
+        # one snapshot: an EMCY stored between the two reads would make `total` disagree
+        # with the rows (2000 counted, 1995 listed during a storm)
+        rows, total = await self._read_together(
+            (f"SELECT {cols} FROM faults{where} ORDER BY id DESC LIMIT ?", (*args, limit)),
+            (f"SELECT COUNT(*) FROM faults{where}", args),
+        )
+        count = int(total[0][0]) if total else 0
+        return [dict(zip(FAULT_COLUMNS, row, strict=True)) for row in rows], count
+
+    async def _read_together(
+        self, *queries: tuple[str, tuple[Any, ...]]
+    ) -> list[list[tuple[Any, ...]]]:
+        """Several reads from one snapshot of the database (one read transaction)."""
+
+        def run() -> list[list[tuple[Any, ...]]]:
+            db = self._reader
+            if db is None:
+                return [[] for _ in queries]  # not open (a full disk at start-up): nothing kept
+            with self._read_lock:
+                db.execute("BEGIN")
+                try:
+                    return [db.execute(sql, args).fetchall() for sql, args in queries]
+                finally:
+                    db.execute("COMMIT")
+
+        return await asyncio.to_thread(run)
 
     async def _read(self, sql: str, args: tuple[Any, ...]) -> list[tuple[Any, ...]]:
         def run() -> list[tuple[Any, ...]]:
