@@ -8,6 +8,7 @@ import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
 import { useMay } from "../../session/context";
 import { ConnectForm } from "./ConnectForm";
+import { LoopLag } from "./LoopLag";
 
 const STATE_LABELS: Readonly<Record<BusState, string>> = {
   connected: "Connected",
@@ -96,6 +97,7 @@ export function BusCard({ onConnected }: { onConnected: () => void }): ReactNode
             </button>
           </div>
           <ErrorText error={action.error} />
+          <LoopLag />
         </div>
         {/* Keyed so the form takes its defaults from the first status that arrives. */}
         <ConnectForm key={bus ? "ready" : "waiting"} bus={bus} onConnected={onConnected} />
