@@ -160,5 +160,4 @@ async def test_the_first_stream_on_a_drive_runs_on_its_own_period() -> None:
                 continue  # the host held the tool's SYNC back: a stall, not the start
             checked.append(node)
             assert result.fault is None, (node, result.message)
-    if not checked:
-        pytest.skip("the host was too busy for every stream")
+    assert checked, "every stream was refused or stalled: the host did not keep 10 ms real time"

@@ -40,9 +40,6 @@ class ClientIds:
         while len(self._owner) > MAX_IDLE_IDS:
             self._owner.popitem(last=False)
 
-    def owner(self, client_id: str) -> str | None:
-        return self._owner.get(client_id)
-
     def forget(self, client_id: str) -> None:
         """The id is idle (its last socket closed, it holds nothing): anyone may use it."""
         self._owner.pop(client_id, None)

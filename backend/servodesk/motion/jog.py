@@ -237,13 +237,6 @@ class JogWatchdog:
         if waits:
             await asyncio.gather(*waits)
 
-    async def at_rest(self, timeout: float | None = None) -> None:
-        """Wait until every stopping axis was watched to rest (shutdown keeps the heartbeat
-        until then, or until `timeout`)."""
-        tasks = {j.stopping for j in self._jogs.values() if j.stopping is not None}
-        if tasks:
-            await asyncio.wait(tasks, timeout=timeout)
-
     def _running(self) -> list[_Jog]:
         return [jog for jog in self._jogs.values() if jog.info.state == "running"]
 
