@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 from collections.abc import Iterator
 
 import pytest
@@ -19,3 +20,20 @@ def _no_virtual_channel_left_open() -> Iterator[None]:
         leaked = set(virtual.channels) - before
     if leaked:
         pytest.fail(f"test left python-can virtual channel(s) open: {sorted(map(str, leaked))}")
+
+
+@pytest.fixture(autouse=True)
+def _realtime_heap(request: pytest.FixtureRequest) -> Iterator[None]:
+    """A test marked `realtime` keeps millisecond time in this process (IP streams, 1 kHz scope
+    captures): the heap that earlier tests left is collected and frozen first, as the app freezes
+    its own after start-up (servodesk.heap), so no full collection walks it during the test and
+    stops every thread for tens of milliseconds."""
+    if request.node.get_closest_marker("realtime") is None:
+        yield
+        return
+    gc.collect()
+    gc.freeze()
+    try:
+        yield
+    finally:
+        gc.unfreeze()

@@ -27,7 +27,7 @@ from servodesk.motion.schemas import IpStreamResult
 from servodesk.motion.trajectory import Trajectory, peak_velocity
 from tests.backend.motion_rig import NODES, MotionRig, motion_rig
 
-pytestmark = pytest.mark.anyio
+pytestmark = [pytest.mark.anyio, pytest.mark.realtime]
 
 MARGIN_REV = 0.01
 END_REV = 0.002
