@@ -234,7 +234,7 @@ class LiveHub:
         while True:
             started = loop.time()
             try:
-                state = await self._safety.motion.state(node)
+                state = await self._safety.motion.polled_state(node)
             except ServodeskError as error:
                 log.debug("drive state of node %d: %s", node, error)
             else:

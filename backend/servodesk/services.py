@@ -86,6 +86,7 @@ class Services:
         await self.live.close()
         # before the registry and bus go: running jogs are stopped, 1016h entries restored
         await self.safety.close()
+        self.motion.close()  # its TPDO subscriptions
         self.pdos.close()
         await self.jobs.close()
         self.sync.close()

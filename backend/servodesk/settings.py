@@ -75,6 +75,11 @@ class Settings(BaseSettings):
     motion_move_timeout: float = 60.0  # a queued set-point that never reaches its target
     motion_homing_timeout: float = 70.0  # the drives themselves give up after 60 s
     motion_poll_interval: float = 0.02  # reading the statusword while waiting
+    # The pages' drive state (GET …/drive, the live channel): one reading per period shared by
+    # every client, the objects no TPDO carries read by SDO at most `drive_poll_sdo_budget` at
+    # a time (the worker queue a jog's writes wait in stays short)
+    drive_poll_period: float = Field(default=0.1, gt=0)
+    drive_poll_sdo_budget: int = Field(default=2, ge=1)
     motion_default_acceleration_rpm_s: float = 1000.0  # moves and jogs that name none
     # Caps on the limits each node starts with (its overspeed object and 6072h otherwise)
     motion_max_velocity_rpm: float | None = None

@@ -149,7 +149,16 @@ def test_request_numbers_are_json_numbers(client: TestClient, path: str, body: A
 # ---------------------------------------------------------------------------- jog ramps
 
 
+def map_recommended(client: TestClient, node: int, modes: str) -> None:
+    """The manuals' recommended PDOs for `modes`, applied, the node Operational: the drive
+    state then comes from its TPDOs."""
+    ok(client.post(f"/api/nodes/{node}/nmt", json={"command": "start"}))
+    wanted = ok(client.get(f"/api/nodes/{node}/pdos/recommended", params={"modes": modes}))
+    ok(client.put(f"/api/nodes/{node}/pdos", json={"pdos": wanted["pdos"]}))
+
+
 def test_pv_jog_runs_at_the_chosen_acceleration(client: TestClient) -> None:
+    map_recommended(client, CIA402, "pv")  # the page sees 606Ch in a TPDO, as it changes
     ok(client.post(f"/api/nodes/{CIA402}/drive/enable", headers=A))
     body = {"mode": "pv", "velocity_rpm": 300, "acceleration_rpm_s": 600, "keepalive_ms": 500}
     jog = ok(client.post(f"/api/nodes/{CIA402}/jog", headers=A, json=body))
@@ -161,16 +170,20 @@ def test_pv_jog_runs_at_the_chosen_acceleration(client: TestClient) -> None:
     # its request), fitted over the readings between standstill and the set speed, so a slow
     # host (late requests) does not count as a faster ramp
     samples: list[tuple[float, float]] = []
+    sources: set[str] = set()
     deadline = time.monotonic() + 3
     while time.monotonic() < deadline:
         ok(client.post(f"/api/jog/{jog['jog_id']}/keepalive"))
         before = time.monotonic()
-        speed = ok(client.get(f"/api/nodes/{CIA402}/drive"))["velocity_rpm"]
+        state = ok(client.get(f"/api/nodes/{CIA402}/drive"))
+        speed = state["velocity_rpm"]
         samples.append(((before + time.monotonic()) / 2, speed))
+        sources.add(state["sources"]["velocity"] if 20 < speed < 280 else "")
         if speed >= 280:
             break
     ramp = [(t, v) for t, v in samples if 20 < v < 280]
     assert len(ramp) >= 4, samples
+    assert sources - {""} == {"TPDO1"}  # every reading on the ramp came from the frames
     mean_t = sum(t for t, _ in ramp) / len(ramp)
     mean_v = sum(v for _, v in ramp) / len(ramp)
     slope = sum((t - mean_t) * (v - mean_v) for t, v in ramp) / sum(

@@ -58,7 +58,9 @@ ClientDep = Annotated[Client, Depends(get_client)]
 
 @router.get("/nodes/{node}/drive", responses=NODE_ERRORS)
 async def drive_state(node: NodeId, services: ServicesDep) -> DriveState:
-    return await services.motion.state(node)
+    """The drive now, as every page and client shares it: the values its TPDOs carry from the
+    frames, the rest by SDO within a small budget per period (`sources` says which)."""
+    return await services.motion.polled_state(node)
 
 
 @router.post("/nodes/{node}/drive/enable")

@@ -37,6 +37,7 @@ from servodesk_protocol.cia402 import (
 
 DEFAULT_POSITION_WINDOW = 100  # user units = 1/1000 rev, what the drives use without 6067h
 INPUT_BITS = {"negative_limit": 0, "positive_limit": 1, "home_switch": 2}  # 60FDh
+SOURCE_NAMES = {"inputs": "digital_inputs"}  # a Snapshot field -> its DriveState name
 
 
 @dataclass
@@ -47,8 +48,13 @@ class Axis:
     chosen_limits: MotionLimits | None = None  # what PUT …/drive/limits set; None: the drive's
     drive_limits: DriveLimits | None = None  # the drive's own as last read
     limits_read_at: float = 0.0  # time.monotonic() of the last read of the drive's limits
+    limit_turn: int = 0  # which limit object a polled reading reads next
     sim_switches: bool = True  # still ask for the simulator's switch objects 5FF1h/5FF2h
     last: Snapshot | None = None
+    sdo_read_at: dict[str, float] = field(default_factory=dict)  # polled SDO reads, by field
+    polled: DriveState | None = None  # the pages' shared reading (MotionService.polled_state)
+    polled_at: float = 0.0
+    poll_lock: asyncio.Lock = field(default_factory=asyncio.Lock)
     state: Cia402State | None = None
     last_transition: str | None = None
     homing_method: int | None = None
@@ -178,6 +184,7 @@ def build_state(
         limits=axis.limits,
         pt_speed_limit=pt_speed_limit if "pt" in supported_keys else None,
         drive_limits=axis.drive_limits,
+        sources={SOURCE_NAMES.get(name, name): where for name, where in snap.sources.items()},
         travel=travel_info(axis.statics.travel, units) if axis.statics else None,
     )
 

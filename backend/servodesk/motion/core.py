@@ -22,6 +22,7 @@ from servodesk.motion.schemas import DriveState, EnableReason, MotionLimits, Spe
 from servodesk.motion.units import DriveUnits
 from servodesk.motion.words import mode_key
 from servodesk.nodes.access import NodeAccess
+from servodesk.pdo.feed import TpdoFeeds
 from servodesk.settings import Settings
 from servodesk_protocol.cia402 import (
     MODES_DISPLAY,
@@ -62,6 +63,7 @@ class MotionCore:
         self._registry = registry
         self._settings = settings
         self._axes: dict[int, Axis] = {}
+        self._feeds: TpdoFeeds | None = None  # the drive state from TPDOs (MotionService)
         # (node, statusword) after every read of 6041h, on the event loop (the fault service
         # publishes CiA 402 state changes from it)
         self._on_statusword = on_statusword
@@ -167,15 +169,49 @@ class MotionCore:
         except Exception:  # a listener's failure must never stop a motion command
             log.exception("node %d: statusword listener failed", node)
 
-    async def _snapshot(self, node: int) -> Snapshot:
+    async def _snapshot(self, node: int, *, sdo_budget: int | None = None) -> Snapshot:
+        """A reading: what the node's TPDOs carry from the frames, the rest by SDO. With an
+        `sdo_budget` (the pages' polling) at most that many uploads, the most overdue first
+        (POLL_AGE), each other value kept from the last reading until its turn comes."""
         axis = self._axis(node)
         if axis.statics is None:
             await self._refresh_statics(node)
-        snap = await self._run(node, io.read_snapshot, "read the drive state")
+        given, sources = self._carried(node, ask=sdo_budget is not None)
+        if sdo_budget is not None and axis.last is not None:
+            missing = [name for name in io.SNAPSHOT_OBJECTS if name not in given]
+            kept = _kept_over(axis, missing, sdo_budget, time.monotonic())
+            for name in kept:
+                given[name] = getattr(axis.last, name)
+                sources[name] = axis.last.sources.get(name, io.SDO)
+        if len(given) == len(io.SNAPSHOT_OBJECTS):
+            snap = io.snapshot_of(given, sources)  # nothing to ask the drive
+        else:
+            asked = [name for name in io.SNAPSHOT_OBJECTS if name not in given]
+            snap = await self._run(
+                node, lambda r: io.read_snapshot(r, given, sources), "read the drive state"
+            )
+            now = time.monotonic()
+            axis.sdo_read_at.update((name, now) for name in asked)
         self._saw_statusword(node, snap.statusword)
         axis.last = snap
         axis.saw(state_of(snap.statusword))
         return snap
+
+    def _carried(
+        self, node: int, *, ask: bool = False
+    ) -> tuple[dict[str, int | None], dict[str, str]]:
+        """The snapshot's objects the node's TPDOs carry now: (values, "TPDOn" by field);
+        `ask`: read an unknown mapping in the background (TpdoFeeds.values)."""
+        if self._feeds is None:
+            return {}, {}
+        keys = {(index, 0): name for name, (index, _signed) in io.SNAPSHOT_OBJECTS.items()}
+        carried = self._feeds.values(node, keys, ask=ask)
+        values: dict[str, int | None] = {}
+        sources: dict[str, str] = {}
+        for key, found in carried.items():
+            values[keys[key]] = found.value
+            sources[keys[key]] = found.source
+        return values, sources
 
     async def _refresh_statics(self, node: int) -> None:
         data = self._registry.profile_data(node)
@@ -209,7 +245,7 @@ class MotionCore:
     def _unreadable_state(self, node: int) -> DriveState:
         """The last reading (or an empty one) when the drive does not answer."""
         axis = self._axis(node)
-        snap = axis.last or Snapshot(0, None, None, None, None, None, None, None, None, None)
+        snap = axis.last or Snapshot(0, None, None, None, None, None, None, None, None, None, {})
         return self._build(node, snap)
 
     # ------------------------------------------------------------------ waiting, explaining
@@ -291,6 +327,36 @@ class MotionCore:
                     extra=[_unsupported(mode, f"6061h shows {shown} after 6060h = {int(mode)}")],
                 )
             await asyncio.sleep(self._settings.motion_poll_interval)
+
+
+# How old a value read by SDO may grow in the pages' polling before its turn comes (s): the
+# statusword every reading, what moves with the axis often, the rest now and then.
+POLL_AGE = {
+    "statusword": 0.1,
+    "position": 0.2,
+    "velocity": 0.2,
+    "torque": 0.2,
+    "following_error": 0.2,
+    "mode_display": 0.5,
+    "error_code": 0.5,
+    "inputs": 0.5,
+    "controlword": 1.0,
+    "mode": 1.0,
+}
+
+
+def _kept_over(axis: Axis, missing: list[str], budget: int, now: float) -> list[str]:
+    """Of the objects only SDO can read, those this polled reading keeps from the last one:
+    all but the `budget` most overdue (age against POLL_AGE; never read: first)."""
+
+    def overdue(name: str) -> float:
+        if name == "statusword":  # every reading: the state the page shows
+            return float("inf")
+        read_at = axis.sdo_read_at.get(name)
+        return 1e9 if read_at is None else (now - read_at) / POLL_AGE.get(name, 1.0)
+
+    chosen = sorted(missing, key=overdue, reverse=True)[:budget]
+    return [name for name in missing if name not in chosen]
 
 
 def _unsupported(mode: OperationMode, detail: str) -> EnableReason:

@@ -9,7 +9,8 @@ drive refuses answers None by its SDO abort. Only the statusword must answer.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 import canopen
 from canopen.objectdictionary import ODArray, ODRecord
@@ -106,6 +107,24 @@ class Snapshot:
     following_error: int | None  # 60F4h, user units
     inputs: int | None  # 60FDh
     error_code: int | None  # 603Fh
+    # where each value came from: "TPDO2", "SDO" (a field left out was not read)
+    sources: Mapping[str, str] = field(default_factory=dict)
+
+
+# Snapshot field -> (object, signed): what a reading holds, in the order SDO reads them
+SNAPSHOT_OBJECTS: Mapping[str, tuple[int, bool]] = {
+    "statusword": (STATUSWORD, False),
+    "controlword": (CONTROLWORD, False),
+    "mode": (MODES_OF_OPERATION, True),
+    "mode_display": (MODES_DISPLAY, True),
+    "position": (POSITION_ACTUAL, True),
+    "velocity": (VELOCITY_ACTUAL, True),
+    "torque": (TORQUE_ACTUAL, True),
+    "following_error": (FOLLOWING_ERROR, True),
+    "inputs": (DIGITAL_INPUTS, False),
+    "error_code": (ERROR_CODE, False),
+}
+SDO = "SDO"
 
 
 @dataclass(frozen=True, slots=True)
@@ -141,18 +160,43 @@ class Statics:
     travel: Travel | None = None  # limit switches, 607Dh
 
 
-def read_snapshot(remote: canopen.RemoteNode) -> Snapshot:
+def read_snapshot(
+    remote: canopen.RemoteNode,
+    given: Mapping[str, int | None] | None = None,
+    sources: Mapping[str, str] | None = None,
+) -> Snapshot:
+    """A reading: the `given` values (a TPDO brought them, `sources` says which) and the rest
+    by SDO, one upload each."""
+    values: dict[str, int | None] = dict(given or {})
+    where = dict(sources or {})
+    for name, (index, signed) in SNAPSHOT_OBJECTS.items():
+        if name in values:
+            continue
+        if name == "statusword":
+            values[name] = read_statusword(remote)
+        else:
+            values[name] = read(remote, index, signed=signed)
+        where[name] = SDO
+    return snapshot_of(values, where)
+
+
+def snapshot_of(values: Mapping[str, int | None], sources: Mapping[str, str]) -> Snapshot:
+    """A Snapshot from a complete set of values (every SNAPSHOT_OBJECTS field)."""
+    statusword = values["statusword"]
+    if statusword is None:
+        raise ValueError("a reading without the statusword")
     return Snapshot(
-        statusword=read_statusword(remote),
-        controlword=read(remote, CONTROLWORD, signed=False),
-        mode=read(remote, MODES_OF_OPERATION, signed=True),
-        mode_display=read(remote, MODES_DISPLAY, signed=True),
-        position=read(remote, POSITION_ACTUAL, signed=True),
-        velocity=read(remote, VELOCITY_ACTUAL, signed=True),
-        torque=read(remote, TORQUE_ACTUAL, signed=True),
-        following_error=read(remote, FOLLOWING_ERROR, signed=True),
-        inputs=read(remote, DIGITAL_INPUTS, signed=False),
-        error_code=read(remote, ERROR_CODE, signed=False),
+        statusword=statusword,
+        controlword=values["controlword"],
+        mode=values["mode"],
+        mode_display=values["mode_display"],
+        position=values["position"],
+        velocity=values["velocity"],
+        torque=values["torque"],
+        following_error=values["following_error"],
+        inputs=values["inputs"],
+        error_code=values["error_code"],
+        sources=dict(sources),
     )
 
 
@@ -176,27 +220,60 @@ def read_statics(
     )
 
 
-def read_limits(
-    remote: canopen.RemoteNode, max_speed: tuple[int, int] | None, *, switches: bool = False
-) -> Limits:
-    """`switches`: also the simulator's limit switch objects (only asked of the simulator)."""
-    ends = (
-        (
-            read(remote, SIM_NEGATIVE_SWITCH, signed=True),
-            read(remote, SIM_POSITIVE_SWITCH, signed=True),
-        )
-        if switches
-        else (None, None)
-    )
-    software = (
-        read(remote, SOFTWARE_POSITION_LIMIT, 1, signed=True),
-        read(remote, SOFTWARE_POSITION_LIMIT, 2, signed=True),
-    )
+Objects = Mapping[str, tuple[int, int, bool]]  # name -> (index, sub-index, signed)
+
+
+def limit_objects(max_speed: tuple[int, int] | None, *, switches: bool) -> Objects:
+    """The drive's own limits, object by object (`switches`: also the simulator's limit
+    switch objects, only asked of the simulator)."""
+    out: dict[str, tuple[int, int, bool]] = {}
+    if switches:
+        out["negative_switch"] = (SIM_NEGATIVE_SWITCH, 0, True)
+        out["positive_switch"] = (SIM_POSITIVE_SWITCH, 0, True)
+    out["software_min"] = (SOFTWARE_POSITION_LIMIT, 1, True)
+    out["software_max"] = (SOFTWARE_POSITION_LIMIT, 2, True)
+    if max_speed:
+        out["overspeed"] = (*max_speed, False)
+    out["max_torque"] = (MAX_TORQUE, 0, False)
+    return out
+
+
+def read_objects(remote: canopen.RemoteNode, objects: Objects) -> dict[str, int | None]:
+    return {
+        name: read(remote, index, sub, signed=signed)
+        for name, (index, sub, signed) in objects.items()
+    }
+
+
+def limits_of(values: Mapping[str, int | None]) -> Limits:
+    ends = (values.get("negative_switch"), values.get("positive_switch"))
+    software = (values.get("software_min"), values.get("software_max"))
     return Limits(
-        overspeed_rpm=read(remote, *max_speed, signed=False) if max_speed else None,
-        max_torque=read(remote, MAX_TORQUE, signed=False),
+        overspeed_rpm=values.get("overspeed"),
+        max_torque=values.get("max_torque"),
         travel=Travel(
             switches=ends if ends != (None, None) else None,
             software_limit=software if software != (None, None) else None,
         ),
     )
+
+
+def limit_values(limits: Limits | Statics) -> dict[str, int | None]:
+    """The objects behind `limits` (what a later one-object-at-a-time refresh updates)."""
+    travel = limits.travel
+    switches = travel.switches if travel and travel.switches else (None, None)
+    software = travel.software_limit if travel and travel.software_limit else (None, None)
+    return {
+        "negative_switch": switches[0],
+        "positive_switch": switches[1],
+        "software_min": software[0],
+        "software_max": software[1],
+        "overspeed": limits.overspeed_rpm,
+        "max_torque": limits.max_torque,
+    }
+
+
+def read_limits(
+    remote: canopen.RemoteNode, max_speed: tuple[int, int] | None, *, switches: bool = False
+) -> Limits:
+    return limits_of(read_objects(remote, limit_objects(max_speed, switches=switches)))

@@ -74,22 +74,50 @@ class LimitOps(MotionCore):
         axis.limits_read_at = time.monotonic()
         self._follow_drive(node)
 
-    async def _snapshot(self, node: int) -> Snapshot:
+    async def _snapshot(self, node: int, *, sdo_budget: int | None = None) -> Snapshot:
+        """The drive's own limits are read again every LIMITS_REFRESH_S while the state is
+        read: all at once, or one object per polled reading (within its SDO budget)."""
         axis = self._axis(node)
         stale = time.monotonic() - axis.limits_read_at > LIMITS_REFRESH_S
         if axis.statics is not None and stale:
-            await self._refresh_limits(node)
-        return await super()._snapshot(node)
+            if sdo_budget is None:
+                await self._refresh_limits(node)
+            else:
+                await self._refresh_one_limit(node)
+                sdo_budget = max(sdo_budget - 1, 1)
+        return await super()._snapshot(node, sdo_budget=sdo_budget)
+
+    def _limit_objects(self, node: int) -> io.Objects:
+        data = self._registry.profile_data(node)
+        speed_ref = data.quirks.max_speed_object if data else (0x6080, 0)  # Max motor speed
+        return io.limit_objects(speed_ref, switches=self._asks_switches(node))
 
     async def _refresh_limits(self, node: int) -> None:
         axis = self._axis(node)
-        data = self._registry.profile_data(node)
-        speed_ref = data.quirks.max_speed_object if data else (0x6080, 0)  # Max motor speed
-        switches = self._asks_switches(node)
-        read = await self._run(
-            node, lambda r: io.read_limits(r, speed_ref, switches=switches), "read drive limits"
-        )
+        objects = self._limit_objects(node)
+        values = await self._run(node, lambda r: io.read_objects(r, objects), "read drive limits")
         axis.limits_read_at = time.monotonic()
+        self._apply_limits(node, io.limits_of(values))
+
+    async def _refresh_one_limit(self, node: int) -> None:
+        """The next of the limit objects in turn; a round done counts as a full refresh."""
+        axis = self._axis(node)
+        objects = self._limit_objects(node)
+        names = list(objects)
+        name = names[axis.limit_turn % len(names)]
+        index, sub, signed = objects[name]
+        value = await self._run(
+            node, lambda r: io.read(r, index, sub, signed=signed), "read a drive limit"
+        )
+        axis.limit_turn += 1
+        if axis.limit_turn % len(names) == 0:
+            axis.limits_read_at = time.monotonic()
+        values = io.limit_values(axis.statics) if axis.statics else {}
+        values[name] = value
+        self._apply_limits(node, io.limits_of({n: values.get(n) for n in objects}))
+
+    def _apply_limits(self, node: int, read: io.Limits) -> None:
+        axis = self._axis(node)
         if axis.statics is not None:
             axis.statics = replace(
                 axis.statics,

@@ -163,6 +163,10 @@ class DriveState(BaseModel):
     pt_speed_limit: SpeedLimit | None = None  # PT: the drive's own speed cap (pt supported)
     drive_limits: DriveLimits | None = None  # the drive's own, which `limits` stay under
     travel: TravelInfo | None = None  # where the travel ends (None before first contact)
+    # where each live value came from: "TPDO1" (the drive's own frames) or "SDO" (read), by
+    # object: statusword, controlword, mode, mode_display, position, velocity, torque,
+    # following_error, digital_inputs, error_code
+    sources: dict[str, str] = Field(default_factory=dict)
 
 
 class EnableReason(BaseModel):

@@ -10,11 +10,12 @@ machine follows MDi-S1-C CANopen manual §3.2 (figure 3.2) with the controlwords
 from __future__ import annotations
 
 import logging
+import time
 from collections.abc import Callable
 
 import canopen
 
-from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
+from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError, ServodeskError
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
 from servodesk.motion.ip import IpOps
@@ -28,6 +29,7 @@ from servodesk.motion.stopping import (
 from servodesk.motion.words import state_label
 from servodesk.network.sync import SyncService
 from servodesk.nodes.access import NodeAccess
+from servodesk.pdo.feed import TpdoFeeds
 from servodesk.pdo.service import PdoService
 from servodesk.settings import Settings
 from servodesk_protocol.cia402 import (
@@ -64,7 +66,38 @@ class MotionService(IpOps):
         """`on_statusword(node, statusword)` is called on the event loop after every read of
         6041h (services.py hands it to the fault service, which publishes state changes)."""
         super().__init__(registry, settings, sync=sync, on_statusword=on_statusword)
-        self._pdos = pdos  # for a later RPDO stop path; stops use the priority lane today
+        self._pdos = pdos
+        if pdos is not None:
+            self._feeds = TpdoFeeds(
+                pdos,
+                operational=self._operational,
+                sync_period_s=lambda: _sync_period_s(sync),
+            )
+
+    def close(self) -> None:
+        if self._feeds is not None:
+            self._feeds.close()
+
+    def _operational(self, node: int) -> bool:
+        try:
+            info = self._registry.info(node)
+        except ServodeskError:
+            return False
+        return info.online and str(info.nmt_state) == "operational"
+
+    async def polled_state(self, node: int) -> DriveState:
+        """The drive state the pages poll: one reading per `drive_poll_period` shared by every
+        caller, its SDO part within `drive_poll_sdo_budget` uploads (what TPDOs carry is
+        current in every reading)."""
+        axis = self._axis(node)
+        async with axis.poll_lock:
+            if axis.polled is not None and (
+                time.monotonic() - axis.polled_at < self._settings.drive_poll_period
+            ):
+                return axis.polled
+            snap = await self._snapshot(node, sdo_budget=self._settings.drive_poll_sdo_budget)
+            axis.polled, axis.polled_at = self._build(node, snap), time.monotonic()
+            return axis.polled
 
     # ------------------------------------------------------------------ state machine
 
@@ -262,21 +295,38 @@ class MotionService(IpOps):
         )
 
     async def velocity_rpm(self, node: int) -> float:
-        """606Ch now, in rpm (one upload on the node's queue: the jog watchdog's reading)."""
-        raw = await self._run(
-            node, lambda r: io.read(r, io.VELOCITY_ACTUAL, signed=True), "read 606Ch"
-        )
+        """606Ch now, in rpm: from a TPDO carrying it, else one upload on the node's queue
+        (the jog watchdog's reading)."""
+        given, _ = self._carried(node)
+        raw = given.get("velocity")
+        if "velocity" not in given:
+            raw = await self._run(
+                node, lambda r: io.read(r, io.VELOCITY_ACTUAL, signed=True), "read 606Ch"
+            )
         return self._units(node).actual_velocity_rpm(raw or 0)
 
     async def reading(self, node: int) -> tuple[float, float]:
-        """606Ch (rpm) and 6064h (rev) in one step: what a jog's watch needs for its speed
-        cap and ServoDesk's travel limits."""
+        """606Ch (rpm) and 6064h (rev): what a jog's watch needs for its speed cap and
+        ServoDesk's travel limits; from TPDOs carrying them, the rest in one step by SDO."""
+        given, _ = self._carried(node)
 
         def read(remote: canopen.RemoteNode) -> tuple[int | None, int | None]:
-            velocity = io.read(remote, io.VELOCITY_ACTUAL, signed=True)
-            return velocity, io.read(remote, io.POSITION_ACTUAL, signed=True)
+            velocity = (
+                given["velocity"]
+                if "velocity" in given
+                else io.read(remote, io.VELOCITY_ACTUAL, signed=True)
+            )
+            position = (
+                given["position"]
+                if "position" in given
+                else io.read(remote, io.POSITION_ACTUAL, signed=True)
+            )
+            return velocity, position
 
-        velocity, position = await self._run(node, read, "read 606Ch and 6064h")
+        if "velocity" in given and "position" in given:
+            velocity, position = given["velocity"], given["position"]
+        else:
+            velocity, position = await self._run(node, read, "read 606Ch and 6064h")
         units = self._units(node)
         rev = units.inc_to_rev(units.user_to_inc(position or 0))
         return units.actual_velocity_rpm(velocity or 0), rev
@@ -314,6 +364,13 @@ class MotionService(IpOps):
                 else [EnableReason(code="timeout", message=str(error))]
             )
             raise await self._blocked(node, extra=reasons) from error
+
+
+def _sync_period_s(sync: SyncService | None) -> float | None:
+    config = sync.get() if sync is not None else None
+    if config is None or not config.producing or not config.period_us:
+        return None
+    return config.period_us / 1_000_000
 
 
 # command -> (controlword, the state it leads to, {state it starts from: transition number})

@@ -77,6 +77,15 @@ class PdoService:
     def rules(self, node: int) -> PdoRules:
         return rules_of(self.facts(node))
 
+    def known(self, node: int) -> list[PdoConfig] | None:
+        """The cached PDOs of `node` without asking the device (None: not read since the last
+        change); a change gives a new list, never the old one altered."""
+        return self._cache.get(node)
+
+    def network(self) -> canopen.Network:
+        """The connection PDOs travel on now (BusNotConnectedError without one)."""
+        return self._network()
+
     async def cached(self, node: int) -> list[PdoConfig]:
         if node not in self._cache:
             return await self.read(node)

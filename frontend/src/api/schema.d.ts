@@ -513,7 +513,11 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Drive State */
+        /**
+         * Drive State
+         * @description The drive now, as every page and client shares it: the values its TPDOs carry from the
+         *     frames, the rest by SDO within a small budget per period (`sources` says which).
+         */
         get: operations["drive_state_api_nodes__node__drive_get"];
         put?: never;
         post?: never;
@@ -1929,6 +1933,10 @@ export interface components {
             /** Position Rev */
             position_rev: number;
             pt_speed_limit?: components["schemas"]["SpeedLimit"] | null;
+            /** Sources */
+            sources?: {
+                [key: string]: string;
+            };
             /**
              * State
              * @enum {string}

@@ -58,6 +58,10 @@ describe("DrivePage", () => {
     expect(screen.getByLabelText("Home switch (HW): on")).toBeTruthy();
     expect(screen.getByTestId("position").textContent).toContain("1.000 rev");
     expect(screen.getByTestId("mode").textContent).toBe("Profile position (PP)");
+    // where each value comes from: the drive's frames or an SDO read, and how to map it
+    expect(screen.getByTestId("source-position").textContent).toBe("TPDO2");
+    expect(screen.getByTestId("source-velocity").textContent).toBe("SDO");
+    expect(screen.getByTestId("source-hint").textContent).toContain("Map them in a TPDO");
     expect(await screen.findByTestId("heartbeat-protection")).toBeTruthy();
     expect(screen.getByTestId("controller").textContent).toBe("Nobody controls this drive");
     // commands that take a transition from here are open, with their numbers

@@ -10,6 +10,40 @@ const INPUTS: readonly { key: string; label: string; tone: "warn" | "info" }[] =
   { key: "positive_limit", label: "Positive limit (P-OT)", tone: "warn" },
 ];
 
+/** Where a value came from: the drive's own TPDO frames, or an SDO read (in turn). */
+function Source({ drive, name }: { drive: DriveState; name: string }): ReactNode {
+  const source = drive.sources?.[name];
+  if (!source) return null;
+  const frames = source.startsWith("TPDO");
+  return (
+    <span
+      className={frames ? "badge source source-pdo" : "badge source source-sdo"}
+      data-testid={`source-${name}`}
+      title={
+        frames
+          ? `From the drive's ${source} frames: current with every frame`
+          : "Read by SDO, in turn with the other values no TPDO carries (at most 2 reads per 100 ms)"
+      }
+    >
+      {source}
+    </span>
+  );
+}
+
+/** A hint when values are polled by SDO: mapping them in a TPDO shows them live. */
+function SourceHint({ drive }: { drive: DriveState }): ReactNode {
+  const polled = ["position", "velocity", "torque", "following_error"].filter(
+    (name) => drive.sources?.[name] === "SDO",
+  );
+  if (polled.length === 0) return null;
+  return (
+    <p className="muted small" data-testid="source-hint">
+      Values marked SDO are read in turn, a few times a second. Map them in a TPDO (PDOs page →
+      recommended mapping for your modes) to see them with every frame.
+    </p>
+  );
+}
+
 /** Mode 6060h beside its display 6061h, the actual values and the input lamps. */
 export function DriveValues({ drive }: { drive: DriveState }): ReactNode {
   const mismatch = drive.mode !== null && drive.mode !== drive.mode_display;
@@ -27,7 +61,9 @@ export function DriveValues({ drive }: { drive: DriveState }): ReactNode {
           <dd data-testid="mode">{modeLabel(drive.mode)}</dd>
         </div>
         <div>
-          <dt title="6061h Modes of operation display">Display 6061h</dt>
+          <dt title="6061h Modes of operation display">
+            Display 6061h <Source drive={drive} name="mode_display" />
+          </dt>
           <dd className={mismatch ? "drive-warn-text" : undefined} data-testid="mode-display">
             {modeLabel(drive.mode_display)}
             {mismatch && " (not yet taken)"}
@@ -38,24 +74,32 @@ export function DriveValues({ drive }: { drive: DriveState }): ReactNode {
           <dd>{drive.supported_modes.map((m) => m.toUpperCase()).join(" · ") || "—"}</dd>
         </div>
         <div>
-          <dt title="6064h Position actual value">Position</dt>
+          <dt title="6064h Position actual value">
+            Position <Source drive={drive} name="position" />
+          </dt>
           <dd className="num" data-testid="position">
             {formatRev(drive.position_rev)}
             <span className="muted small block">{formatInc(drive.position_inc)}</span>
           </dd>
         </div>
         <div>
-          <dt title="606Ch Velocity actual value">Velocity</dt>
+          <dt title="606Ch Velocity actual value">
+            Velocity <Source drive={drive} name="velocity" />
+          </dt>
           <dd className="num" data-testid="velocity">
             {formatRpm(drive.velocity_rpm)}
           </dd>
         </div>
         <div>
-          <dt title="6077h Torque actual value">Torque</dt>
+          <dt title="6077h Torque actual value">
+            Torque <Source drive={drive} name="torque" />
+          </dt>
           <dd className="num">{formatPct(drive.torque_pct)}</dd>
         </div>
         <div>
-          <dt title="60F4h Following error actual value">Following error</dt>
+          <dt title="60F4h Following error actual value">
+            Following error <Source drive={drive} name="following_error" />
+          </dt>
           <dd className="num">{formatInc(drive.following_error_inc)}</dd>
         </div>
         <div>
@@ -70,6 +114,7 @@ export function DriveValues({ drive }: { drive: DriveState }): ReactNode {
           </dd>
         </div>
       </dl>
+      <SourceHint drive={drive} />
       <h3>Digital inputs 60FDh</h3>
       <ul className="lamps inputs" aria-label="Digital inputs">
         {INPUTS.map((input) => (

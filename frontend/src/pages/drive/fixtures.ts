@@ -34,6 +34,7 @@ export const DRIVE: DriveState = {
     max_position_rev: 10,
   },
   pt_speed_limit: { rpm: 6000, source: "2006h:08 PA-103 Maximum speed" },
+  sources: { statusword: "TPDO1", position: "TPDO2", velocity: "SDO", torque: "SDO" },
 };
 
 export const ENABLED: DriveState = {

@@ -1,0 +1,99 @@
+"""The drive state from the drive's own TPDOs, checked on the bus: what a TPDO carries reaches
+the page with no SDO read of it, and the rest is polled within 2 uploads per 100 ms."""
+
+from __future__ import annotations
+
+import threading
+import time
+from typing import Any
+
+import httpx
+from fastapi.testclient import TestClient
+
+from servodesk_sim.frames import Frame
+from tests.backend.test_api_routes import services_of
+
+NODE = 3  # the CiA 402 drive
+A = {"X-Client-Id": "page-a", "X-Client-Name": "Alice"}
+SDO_REQUEST = 0x600 + NODE
+UPLOAD = 0x40  # SDO initiate upload request (CiA 301 §7.2.4.3.6)
+VELOCITY, STATUSWORD = 0x606C, 0x6041
+
+
+def ok(response: httpx.Response) -> Any:
+    assert response.status_code == 200, response.text
+    return response.json()
+
+
+class Uploads:
+    """The SDO uploads the tool asked of the drive, with when they reached it."""
+
+    def __init__(self, client: TestClient) -> None:
+        sim = services_of(client).bus.sim
+        assert sim is not None
+        self._lock = threading.Lock()
+        self.seen: list[tuple[float, int]] = []
+        self.remove = sim.add_tap(self._on_frame)
+
+    def _on_frame(self, frame: Frame, _origin: object | None) -> None:
+        if frame.can_id == SDO_REQUEST and frame.data[0] == UPLOAD:
+            with self._lock:
+                self.seen.append((time.monotonic(), frame.data[1] | frame.data[2] << 8))
+
+    def since(self, start: float) -> list[tuple[float, int]]:
+        with self._lock:
+            return [(t, index) for t, index in self.seen if t >= start]
+
+
+def mapped_and_enabled(client: TestClient) -> None:
+    ok(client.post(f"/api/nodes/{NODE}/nmt", json={"command": "start"}))
+    wanted = ok(client.get(f"/api/nodes/{NODE}/pdos/recommended", params={"modes": "pv"}))
+    ok(client.put(f"/api/nodes/{NODE}/pdos", json={"pdos": wanted["pdos"]}))
+    ok(client.post(f"/api/nodes/{NODE}/drive/enable", headers=A))
+
+
+def test_tpdo_values_reach_the_page_without_sdo_reads(client: TestClient) -> None:
+    mapped_and_enabled(client)
+    uploads = Uploads(client)
+    try:
+        jog = ok(
+            client.post(
+                f"/api/nodes/{NODE}/jog",
+                headers=A,
+                json={"mode": "pv", "velocity_rpm": 200, "keepalive_ms": 500},
+            )
+        )
+        start = time.monotonic()
+        speeds: list[float] = []
+        states: list[dict[str, Any]] = []
+        while time.monotonic() - start < 1.2:
+            ok(client.post(f"/api/jog/{jog['jog_id']}/keepalive", headers=A))
+            state = ok(client.get(f"/api/nodes/{NODE}/drive"))
+            states.append(state)
+            speeds.append(state["velocity_rpm"])
+            time.sleep(0.05)
+        end = time.monotonic()
+        ok(client.delete(f"/api/jog/{jog['jog_id']}", headers=A))
+    finally:
+        uploads.remove()
+
+    # the page saw the axis speed up, every reading of it from a TPDO
+    assert max(speeds) > 150 and speeds[0] < max(speeds), speeds
+    moving = [s for s in states if abs(s["velocity_rpm"]) > 5]
+    assert moving and all(s["sources"]["velocity"].startswith("TPDO") for s in moving)
+    assert all(s["sources"]["statusword"].startswith("TPDO") for s in moving)
+    # ... and no SDO upload of 606Ch or 6041h reached the drive meanwhile (the jog's own
+    # watch reads the frames too)
+    asked = [(t, index) for t, index in uploads.since(start) if t < end]  # not the stop's
+    assert not [index for _, index in asked if index in (VELOCITY, STATUSWORD)], asked
+    # what no TPDO carries is read within 2 uploads per 100 ms (the pages' polling)
+    for t, _ in asked:
+        window = [u for u in asked if t <= u[0] < t + 0.1]
+        assert len(window) <= 2, (t, window)
+
+
+def test_without_tpdos_the_page_says_sdo(client: TestClient) -> None:
+    """Node 2 (Kinco) maps nothing by default: every value is read, and the page says so."""
+    state = ok(client.get("/api/nodes/2/drive"))
+    assert state["sources"]["statusword"] == "SDO"
+    assert state["sources"]["velocity"] == "SDO"
