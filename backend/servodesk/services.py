@@ -129,6 +129,7 @@ def build_services(
     motion = MotionService(
         registry, settings, pdos, sync=sync, on_statusword=faults.observe_statusword
     )
+    events.subscribe(motion.on_event)  # other writes, resets: what it wrote may have changed
     audit = AuditLog(settings.data_dir, describe=describe_error)
     safety = MotionSafety(motion, bus, registry, settings, record=audit.by_tool)
     safety.jogs.add_listener(partial(jog_stopped, events.publish))

@@ -78,9 +78,11 @@ def test_tpdo_values_reach_the_page_without_sdo_reads(client: TestClient) -> Non
         uploads.remove()
 
     # the page saw the axis speed up, every reading of it from a TPDO
-    assert max(speeds) > 150 and speeds[0] < max(speeds), speeds
+    assert max(speeds) > 150, speeds
+    assert speeds[0] < max(speeds), speeds
     moving = [s for s in states if abs(s["velocity_rpm"]) > 5]
-    assert moving and all(s["sources"]["velocity"].startswith("TPDO") for s in moving)
+    assert moving
+    assert all(s["sources"]["velocity"].startswith("TPDO") for s in moving)
     assert all(s["sources"]["statusword"].startswith("TPDO") for s in moving)
     # ... and no SDO upload of 606Ch or 6041h reached the drive meanwhile (the jog's own
     # watch reads the frames too)
@@ -97,3 +99,46 @@ def test_without_tpdos_the_page_says_sdo(client: TestClient) -> None:
     state = ok(client.get("/api/nodes/2/drive"))
     assert state["sources"]["statusword"] == "SDO"
     assert state["sources"]["velocity"] == "SDO"
+
+
+class Exchanges:
+    """Every SDO request the tool sent node 3, in order: (time, command byte, index)."""
+
+    def __init__(self, client: TestClient) -> None:
+        sim = services_of(client).bus.sim
+        assert sim is not None
+        self._lock = threading.Lock()
+        self.seen: list[tuple[float, int, int]] = []
+        self.remove = sim.add_tap(self._on_frame)
+
+    def _on_frame(self, frame: Frame, _origin: object | None) -> None:
+        if frame.can_id == SDO_REQUEST:
+            with self._lock:
+                self.seen.append(
+                    (time.monotonic(), frame.data[0], frame.data[1] | frame.data[2] << 8)
+                )
+
+    def since(self, start: float) -> list[int]:
+        with self._lock:
+            return [index for t, _, index in self.seen if t >= start]
+
+
+def test_a_jog_puts_its_set_point_on_the_bus_within_3_exchanges(client: TestClient) -> None:
+    mapped_and_enabled(client)
+    ok(client.get(f"/api/nodes/{NODE}/drive"))  # the page is open: its TPDOs are followed
+    exchanges = Exchanges(client)
+    try:
+        for speed in (150, -150, 150):  # the first jog, then after a stop, then a new ramp
+            start = time.monotonic()
+            body = {"mode": "pv", "velocity_rpm": speed, "keepalive_ms": 500}
+            if speed > 0:
+                body["acceleration_rpm_s"] = 2000 if speed == 150 else 1500
+            jog = ok(client.post(f"/api/nodes/{NODE}/jog", headers=A, json=body))
+            sent = exchanges.since(start)
+            assert 0x60FF in sent[:3], [f"{i:04X}h" for i in sent]
+            assert 0x6041 not in sent  # the state came from the TPDO
+            time.sleep(0.2)
+            ok(client.delete(f"/api/jog/{jog['jog_id']}", headers=A))
+            time.sleep(0.3)
+    finally:
+        exchanges.remove()

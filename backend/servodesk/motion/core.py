@@ -146,12 +146,21 @@ class MotionCore:
     async def _write(
         self, node: int, index: int, sub: int, value: int, kind: tuple[int, bool]
     ) -> None:
+        sent = self._axis(node).sent
+        sent.pop(index, None)  # unknown until the drive confirmed it
         await self._registry.session(node).run(
             lambda remote: io.write(remote, index, sub, value, kind),
             what=f"write {index:04X}h:{sub:02X}h",
             index=index,
             subindex=sub,
         )
+        if sub == 0:
+            sent[index] = value
+
+    def forget_sent(self, node: int | None = None) -> None:
+        """What ServoDesk wrote may no longer hold: another write, a reset, a stop."""
+        for axis in self._axes.values() if node is None else [self._axis(node)]:
+            axis.sent.clear()
 
     async def _controlword(self, node: int, word: int) -> None:
         await self._write(node, 0x6040, 0, word, io.U16)  # Controlword
@@ -316,9 +325,11 @@ class MotionCore:
             ) from abort
         deadline = time.monotonic() + self._transition_timeout(node)
         while True:
-            shown = await self._run(
-                node, lambda r: io.read(r, MODES_DISPLAY, signed=True), "read 6061h"
-            )
+            shown = self._carried(node)[0].get("mode_display")  # a TPDO carrying 6061h
+            if shown is None:
+                shown = await self._run(
+                    node, lambda r: io.read(r, MODES_DISPLAY, signed=True), "read 6061h"
+                )
             if shown == mode:
                 return
             if time.monotonic() >= deadline:

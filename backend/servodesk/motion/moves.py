@@ -26,6 +26,9 @@ from servodesk.motion.schemas import (
 )
 from servodesk.motion.words import MODE_VALUES
 from servodesk_protocol.cia402 import (
+    CONTROLWORD,
+    CW_HALT,
+    MODES_OF_OPERATION,
     SW_MODE_BIT12,
     Cia402State,
     OperationMode,
@@ -163,10 +166,15 @@ class MoveOps(LimitOps):
         *,
         acceleration_rpm_s: float | None = None,
         torque_slope_pct_s: float | None = None,
-    ) -> DriveState:
+    ) -> None:
         """PV: 60FFh at `value` rpm over 6083h/6084h. PT: 6071h at `value` % rated torque over
         the slope 6087h; the drive caps the speed at its overspeed object (jog_ramp's
-        velocity_limit_rpm). The halt bit is cleared: this re-arms a jog that stop() halted."""
+        velocity_limit_rpm). The halt bit is cleared: this re-arms a jog that stop() halted.
+
+        Only what the drive does not hold already is written, the set-point as early as it is
+        safe: first while the drive cannot follow it yet (halted, or in another mode), else
+        after the ramp. From a known enabled state (a TPDO's statusword) that puts the
+        set-point on the bus within 3 exchanges; nothing is read to answer."""
         axis = self._axis(node)
         axis.cancel_queue()
         self._check_jog(node, mode, value)
@@ -175,19 +183,35 @@ class MoveOps(LimitOps):
         units = self._units(node)
         axis.move = None
         if mode == "pv":
-            await self._set_mode(node, M.PROFILE_VELOCITY)
+            wanted = M.PROFILE_VELOCITY
             accel = units.rpm_s_to_acceleration(ramp.acceleration_rpm_s or 0.0)
-            await self._write(node, io.PROFILE_ACCELERATION, 0, accel, io.U32)
-            await self._write(node, io.PROFILE_DECELERATION, 0, accel, io.U32)
-            await self._write(node, io.TARGET_VELOCITY, 0, units.rpm_to_velocity(value), io.I32)
+            ramps = [(io.PROFILE_ACCELERATION, accel), (io.PROFILE_DECELERATION, accel)]
+            setpoint = (io.TARGET_VELOCITY, units.rpm_to_velocity(value), io.I32)
         else:
-            await self._set_mode(node, M.PROFILE_TORQUE)
+            wanted = M.PROFILE_TORQUE
             slope = units.pct_per_s_to_slope(ramp.torque_slope_pct_s or DEFAULT_TORQUE_SLOPE)
-            await self._write(node, io.TORQUE_SLOPE, 0, slope, io.U32)
-            await self._write(node, io.TARGET_TORQUE, 0, units.pct_to_torque(value), io.I16)
-        await self._controlword(node, make_enable_operation())  # halt off
+            ramps = [(io.TORQUE_SLOPE, slope)]
+            setpoint = (io.TARGET_TORQUE, units.pct_to_torque(value), io.I16)
+        changed = [(index, v, io.U32) for index, v in ramps if axis.sent.get(index) != v]
+        shown = self._mode_shown(node)
+        in_mode = shown == int(wanted)
+        # known not to follow 60FFh/6071h yet: in another mode, or halted (an unknown state
+        # takes the ramp first, so the set-point never runs on an old one)
+        held = (shown is not None and not in_mode) or bool(axis.sent.get(CONTROLWORD, 0) & CW_HALT)
+        for index, v, kind in [setpoint, *changed] if held else [*changed, setpoint]:
+            await self._write(node, index, 0, v, kind)
+        if not in_mode:
+            await self._set_mode(node, wanted)
+        if axis.sent.get(CONTROLWORD) != make_enable_operation():
+            await self._controlword(node, make_enable_operation())  # halt off
         axis.jog = mode
-        return await self.state(node)
+
+    def _mode_shown(self, node: int) -> int | None:
+        """6061h as known without asking: a TPDO carrying it, else the mode ServoDesk set (and
+        saw shown) with no stop or other write since; None when unknown."""
+        given, _ = self._carried(node)
+        shown = given.get("mode_display")
+        return shown if shown is not None else self._axis(node).sent.get(MODES_OF_OPERATION)
 
     def jog_ramp(
         self,
@@ -283,8 +307,12 @@ class MoveOps(LimitOps):
         return data is None or data.quirks.pp_immediate_setpoint  # MDi: only non-immediate
 
     async def _require_enabled(self, node: int) -> None:
-        snap = await self._snapshot(node)
-        if state_of(snap.statusword) is not Cia402State.OPERATION_ENABLED:
+        """Operation enabled, as a TPDO's statusword shows it, else as 6041h read now."""
+        given, _ = self._carried(node)
+        statusword = given.get("statusword")
+        if statusword is None:
+            statusword = await self._statusword(node)
+        if state_of(statusword) is not Cia402State.OPERATION_ENABLED:
             raise await self._blocked(
                 node,
                 extra=[

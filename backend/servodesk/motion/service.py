@@ -16,6 +16,7 @@ from collections.abc import Callable
 import canopen
 
 from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError, ServodeskError
+from servodesk.events.bus import BusEvent, EventKind
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
 from servodesk.motion.ip import IpOps
@@ -77,6 +78,14 @@ class MotionService(IpOps):
     def close(self) -> None:
         if self._feeds is not None:
             self._feeds.close()
+
+    def on_event(self, event: BusEvent) -> None:
+        """A write not the motion service's own, a boot-up, an NMT command or a new bus: what it
+        last wrote may no longer be what the drive holds."""
+        if event.kind in (EventKind.TOOL_WRITE, EventKind.BOOT_UP, EventKind.NMT):
+            self.forget_sent(event.node)
+        elif event.kind is EventKind.BUS:
+            self.forget_sent()
 
     def _operational(self, node: int) -> bool:
         try:
@@ -348,6 +357,7 @@ class MotionService(IpOps):
         what an interrupted move says until the drive shows it."""
         axis = self._axis(node)
         axis.dropped_by = why
+        axis.sent.clear()  # a stop writes the controlword and ramps on its own lane
         axis.cancel_queue()
         axis.jog = None
         axis.target_user = None
