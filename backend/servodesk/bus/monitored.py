@@ -3,6 +3,10 @@
 canopen talks to `network.bus`; giving it this wrapper instead of the raw bus lets the tool count
 every transmitted frame (including python-can's cyclic SYNC task, which calls `send`) and learn
 about a failing adapter from any thread, without patching canopen.
+
+Periodic frames (`send_periodic`: canopen's SYNC producer) go to the adapter's own scheduler
+where it has one (SocketCAN: the kernel's broadcast manager), elsewhere to a thread that keeps
+time without catch-up bursts (bus/cyclic.py).
 """
 
 from __future__ import annotations
@@ -13,8 +17,10 @@ import time
 from collections.abc import Callable, Sequence
 
 import can
+from can.interfaces.socketcan import SocketcanBus
 
 from servodesk.bus.counters import BusCounters
+from servodesk.bus.cyclic import SteadyCyclicSendTask
 
 log = logging.getLogger(__name__)
 
@@ -40,6 +46,7 @@ class MonitoredBus(can.BusABC):
         self._on_failure = on_failure
         self._failed = threading.Event()
         self._closed = threading.Event()
+        self._periodic_lock = threading.Lock()  # python-can: one periodic sender at a time
         super().__init__(channel=inner.channel_info)
 
     @property
@@ -71,6 +78,31 @@ class MonitoredBus(can.BusABC):
         self._counters.sent()
         for listener in self.sent_listeners:
             listener.on_message_received(_as_sent(msg, sent_at))
+
+    def _send_periodic_internal(
+        self,
+        msgs: Sequence[can.Message] | can.Message,
+        period: float,
+        duration: float | None = None,
+        autostart: bool = True,
+        modifier_callback: Callable[[can.Message], None] | None = None,
+    ) -> can.broadcastmanager.CyclicSendTaskABC:
+        """python-can's hook behind `send_periodic` (which keeps the task, so `shutdown` stops
+        it). The kernel's broadcast manager sends without this process (its frames reach the
+        notifier through the socket's loopback: counted as received, not as sent)."""
+        if isinstance(self.inner, SocketcanBus) and modifier_callback is None:
+            return self.inner._send_periodic_internal(msgs, period, duration, autostart)
+        # A failing send already reported the adapter through `send`: the task ends quietly.
+        return SteadyCyclicSendTask(
+            self,
+            self._periodic_lock,
+            msgs,
+            period,
+            duration,
+            on_error=lambda _: False,
+            autostart=autostart,
+            modifier_callback=modifier_callback,
+        )
 
     def shutdown(self) -> None:
         self._closed.set()

@@ -1,8 +1,10 @@
 """The tool's own SYNC producer (COB-ID 80h), through canopen's SyncProducer.
 
-python-can sends it from a cyclic task bound to the bus, so it stops with the bus. After an
-automatic reconnect the producer is started again on the new connection at the same period; an
-explicit disconnect stops it for good.
+python-can sends it from a cyclic task bound to the bus, so it stops with the bus: the kernel's
+broadcast manager on SocketCAN, elsewhere a thread that sends a late SYNC once and moves its
+schedule instead of sending the missed ones back to back (bus/monitored.py, bus/cyclic.py).
+After an automatic reconnect the producer is started again on the new connection at the same
+period; an explicit disconnect stops it for good.
 """
 
 from __future__ import annotations
@@ -14,8 +16,8 @@ from servodesk.errors import InvalidValueError
 from servodesk.models import BusState, BusStatus, SyncConfig
 
 US = 1_000_000
-# python-can's thread-based cyclic sender cannot hold a shorter period steadily; drives that
-# need more (MDi: ≥ 500 µs, MDi-S1-C manual §2.6) are at the edge of what a PC can produce.
+# A sender thread cannot hold a shorter period steadily (its p99 error is a few hundred µs on a
+# quiet PC); drives that need more (MDi: ≥ 500 µs, MDi-S1-C manual §2.6) are at that edge.
 MIN_PERIOD_US = 500
 MAX_PERIOD_US = 0xFFFFFFFF  # 1006h Communication cycle period is UNSIGNED32 µs
 
