@@ -16,6 +16,7 @@ from tests.backend.test_api_routes import services_of
 NODE = 3  # the CiA 402 drive
 A = {"X-Client-Id": "page-a", "X-Client-Name": "Alice"}
 SDO_REQUEST = 0x600 + NODE
+RPDO1 = 0x200 + NODE
 UPLOAD = 0x40  # SDO initiate upload request (CiA 301 §7.2.4.3.6)
 VELOCITY, STATUSWORD = 0x606C, 0x6041
 
@@ -102,25 +103,29 @@ def test_without_tpdos_the_page_says_sdo(client: TestClient) -> None:
 
 
 class Exchanges:
-    """Every SDO request the tool sent node 3, in order: (time, command byte, index)."""
+    """Every SDO request and RPDO1 frame the tool sent node 3, in order: "60FFh" for an SDO
+    request about 60FFh, "RPDO1" for the frame."""
 
     def __init__(self, client: TestClient) -> None:
         sim = services_of(client).bus.sim
         assert sim is not None
         self._lock = threading.Lock()
-        self.seen: list[tuple[float, int, int]] = []
+        self.seen: list[tuple[float, str]] = []
         self.remove = sim.add_tap(self._on_frame)
 
     def _on_frame(self, frame: Frame, _origin: object | None) -> None:
         if frame.can_id == SDO_REQUEST:
-            with self._lock:
-                self.seen.append(
-                    (time.monotonic(), frame.data[0], frame.data[1] | frame.data[2] << 8)
-                )
-
-    def since(self, start: float) -> list[int]:
+            label = f"{frame.data[1] | frame.data[2] << 8:04X}h"
+        elif frame.can_id == RPDO1:
+            label = "RPDO1"
+        else:
+            return
         with self._lock:
-            return [index for t, _, index in self.seen if t >= start]
+            self.seen.append((time.monotonic(), label))
+
+    def since(self, start: float) -> list[str]:
+        with self._lock:
+            return [label for t, label in self.seen if t >= start]
 
 
 def test_a_jog_puts_its_set_point_on_the_bus_within_3_exchanges(client: TestClient) -> None:
@@ -135,10 +140,51 @@ def test_a_jog_puts_its_set_point_on_the_bus_within_3_exchanges(client: TestClie
                 body["acceleration_rpm_s"] = 2000 if speed == 150 else 1500
             jog = ok(client.post(f"/api/nodes/{NODE}/jog", headers=A, json=body))
             sent = exchanges.since(start)
-            assert 0x60FF in sent[:3], [f"{i:04X}h" for i in sent]
-            assert 0x6041 not in sent  # the state came from the TPDO
+            # the set-point: by SDO, or in RPDO1 where the mapping puts it (6040h 60FFh 6060h)
+            assert {"60FFh", "RPDO1"} & set(sent[:3]), sent
+            assert "6041h" not in sent  # the state came from the TPDO
             time.sleep(0.2)
             ok(client.delete(f"/api/jog/{jog['jog_id']}", headers=A))
             time.sleep(0.3)
     finally:
         exchanges.remove()
+
+
+class Frames:
+    """The frames the tool sent node 3 on the given CAN ids, in order."""
+
+    def __init__(self, client: TestClient, ids: set[int]) -> None:
+        sim = services_of(client).bus.sim
+        assert sim is not None
+        self.ids = ids
+        self.seen: list[tuple[int, bytes]] = []
+        self.remove = sim.add_tap(self._on_frame)
+
+    def _on_frame(self, frame: Frame, _origin: object | None) -> None:
+        if frame.can_id in self.ids:
+            self.seen.append((frame.can_id, bytes(frame.data)))
+
+
+def test_jog_commands_go_in_the_mapped_rpdo(client: TestClient) -> None:
+    """The recommended PV mapping puts 6040h, 60FFh and 6060h in RPDO1 (203h, on receipt):
+    a jog's set-point and controlword go there as whole frames, the stop keeps its SDO lane."""
+    mapped_and_enabled(client)
+    body = {"mode": "pv", "velocity_rpm": 150, "keepalive_ms": 500}
+    first = ok(client.post(f"/api/nodes/{NODE}/jog", headers=A, json=body))
+    time.sleep(0.2)
+    ok(client.delete(f"/api/jog/{first['jog_id']}", headers=A))  # halted on the SDO lane
+    time.sleep(0.4)
+    frames = Frames(client, {RPDO1, SDO_REQUEST})
+    try:
+        body["velocity_rpm"] = 100
+        ok(client.post(f"/api/nodes/{NODE}/jog", headers=A, json=body))
+    finally:
+        frames.remove()
+    # 100 rpm = 166 667 user units/s (10 000 per revolution, per 60 s); mode 3 = PV. First the
+    # set-point while the halt bit holds the axis, then the controlword that lets it go.
+    assert frames.seen == [
+        (RPDO1, bytes.fromhex("0f01") + (166_667).to_bytes(4, "little") + b"\x03"),
+        (RPDO1, bytes.fromhex("0f00") + (166_667).to_bytes(4, "little") + b"\x03"),
+    ]
+    state = ok(client.get(f"/api/nodes/{NODE}/drive"))
+    assert state["state"] == "operation_enabled"

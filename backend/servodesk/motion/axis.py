@@ -52,9 +52,13 @@ class Axis:
     sim_switches: bool = True  # still ask for the simulator's switch objects 5FF1h/5FF2h
     last: Snapshot | None = None
     sdo_read_at: dict[str, float] = field(default_factory=dict)  # polled SDO reads, by field
+    # the latest SDO reading of each live value (value, time.monotonic()): newer than a TPDO
+    # frame, it wins (a change the drive holds back for the TPDO's inhibit time)
+    sdo_values: dict[str, tuple[int | None, float]] = field(default_factory=dict)
     # what ServoDesk itself last wrote to the drive's command objects (index -> value): a jog
     # writes only what differs; forgotten on every stop and on any write not its own
     sent: dict[int, int] = field(default_factory=dict)
+    stop_epoch: int = 0  # counts the stops: a write asked for before one is not sent after it
     polled: DriveState | None = None  # the pages' shared reading (MotionService.polled_state)
     polled_at: float = 0.0
     poll_lock: asyncio.Lock = field(default_factory=asyncio.Lock)

@@ -22,6 +22,8 @@ from servodesk.motion.schemas import DriveState, EnableReason, MotionLimits, Spe
 from servodesk.motion.units import DriveUnits
 from servodesk.motion.words import mode_key
 from servodesk.nodes.access import NodeAccess
+from servodesk.nodes.session import StopCutInError
+from servodesk.pdo.commands import RpdoRoutes
 from servodesk.pdo.feed import TpdoFeeds
 from servodesk.settings import Settings
 from servodesk_protocol.cia402 import (
@@ -64,6 +66,7 @@ class MotionCore:
         self._settings = settings
         self._axes: dict[int, Axis] = {}
         self._feeds: TpdoFeeds | None = None  # the drive state from TPDOs (MotionService)
+        self._routes: RpdoRoutes | None = None  # commands in RPDOs (MotionService)
         # (node, statusword) after every read of 6041h, on the event loop (the fault service
         # publishes CiA 402 state changes from it)
         self._on_statusword = on_statusword
@@ -146,27 +149,56 @@ class MotionCore:
     async def _write(
         self, node: int, index: int, sub: int, value: int, kind: tuple[int, bool]
     ) -> None:
-        sent = self._axis(node).sent
-        sent.pop(index, None)  # unknown until the drive confirmed it
+        """One command object to the drive: in the mapped RPDO where there is one whose other
+        objects ServoDesk knows (pdo/commands.py), else by SDO. Refused unsent when a stop
+        went to the drive after it was asked for (a queued write must not undo the stop)."""
+        axis = self._axis(node)
+        epoch = axis.stop_epoch
+        frame = self._rpdo_frame(node, index, sub, value)
+        axis.sent.pop(index, None)  # unknown until the drive has it
+
+        def send(remote: canopen.RemoteNode) -> None:  # on the node's worker thread
+            if axis.stop_epoch != epoch:
+                raise StopCutInError
+            if frame is None:
+                io.write(remote, index, sub, value, kind)
+            else:
+                network, cob_id, data, _label = frame
+                network.send_message(cob_id, data)
+
+        route = f" in {frame[3]}" if frame is not None else ""
         await self._registry.session(node).run(
-            lambda remote: io.write(remote, index, sub, value, kind),
-            what=f"write {index:04X}h:{sub:02X}h",
-            index=index,
-            subindex=sub,
+            send, what=f"write {index:04X}h:{sub:02X}h{route}", index=index, subindex=sub
         )
         if sub == 0:
-            sent[index] = value
+            axis.sent[index] = value
+
+    def _rpdo_frame(
+        self, node: int, index: int, sub: int, value: int
+    ) -> tuple[canopen.Network, int, bytes, str] | None:
+        """(network, COB-ID, payload, "RPDOn") when the command can go in an RPDO."""
+        if self._routes is None or sub != 0:
+            return None
+        route = self._routes.route(node, index)
+        network = self._routes.network() if route is not None else None
+        if route is None or network is None:
+            return None
+        data = route.payload({**self._axis(node).sent, index: value})
+        return (network, route.cob_id, data, route.label) if data is not None else None
 
     def forget_sent(self, node: int | None = None) -> None:
         """What ServoDesk wrote may no longer hold: another write, a reset, a stop."""
-        for axis in self._axes.values() if node is None else [self._axis(node)]:
-            axis.sent.clear()
+        axes = self._axes.values() if node is None else [self._axes.get(node)]
+        for axis in axes:
+            if axis is not None:  # a node never commanded has nothing to forget
+                axis.sent.clear()
 
     async def _controlword(self, node: int, word: int) -> None:
         await self._write(node, 0x6040, 0, word, io.U16)  # Controlword
 
     async def _statusword(self, node: int) -> int:
         statusword = await self._run(node, io.read_statusword, "read 6041h")
+        self._axis(node).sdo_values["statusword"] = (statusword, time.monotonic())
         self._saw_statusword(node, statusword)
         return statusword
 
@@ -201,6 +233,11 @@ class MotionCore:
             )
             now = time.monotonic()
             axis.sdo_read_at.update((name, now) for name in asked)
+            axis.sdo_values.update((name, (getattr(snap, name), now)) for name in asked)
+            for name, index in READ_INTO_SENT.items():  # what the drive holds, read just now
+                value = getattr(snap, name)
+                if name in asked and value is not None:
+                    axis.sent[index] = value
         self._saw_statusword(node, snap.statusword)
         axis.last = snap
         axis.saw(state_of(snap.statusword))
@@ -217,9 +254,16 @@ class MotionCore:
         carried = self._feeds.values(node, keys, ask=ask)
         values: dict[str, int | None] = {}
         sources: dict[str, str] = {}
+        read = self._axis(node).sdo_values
+        now = time.monotonic()
         for key, found in carried.items():
-            values[keys[key]] = found.value
-            sources[keys[key]] = found.source
+            name = keys[key]
+            newer = read.get(name)
+            if newer is not None and newer[1] > now - found.age_s:
+                # read after the frame came: the frame's change is still in its inhibit time
+                values[name], sources[name] = newer[0], io.SDO
+            else:
+                values[name], sources[name] = found.value, found.source
         return values, sources
 
     async def _refresh_statics(self, node: int) -> None:
@@ -330,6 +374,7 @@ class MotionCore:
                 shown = await self._run(
                     node, lambda r: io.read(r, MODES_DISPLAY, signed=True), "read 6061h"
                 )
+                self._axis(node).sdo_values["mode_display"] = (shown, time.monotonic())
             if shown == mode:
                 return
             if time.monotonic() >= deadline:
@@ -339,6 +384,10 @@ class MotionCore:
                 )
             await asyncio.sleep(self._settings.motion_poll_interval)
 
+
+# Command objects a reading holds: read by SDO, they are as known as what ServoDesk wrote (an
+# RPDO that maps them beside a set-point can then be sent, pdo/commands.py)
+READ_INTO_SENT = {"controlword": 0x6040, "mode": MODES_OF_OPERATION}
 
 # How old a value read by SDO may grow in the pages' polling before its turn comes (s): the
 # statusword every reading, what moves with the axis often, the rest now and then.

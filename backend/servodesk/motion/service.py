@@ -30,10 +30,12 @@ from servodesk.motion.stopping import (
 from servodesk.motion.words import state_label
 from servodesk.network.sync import SyncService
 from servodesk.nodes.access import NodeAccess
+from servodesk.pdo.commands import RpdoRoutes
 from servodesk.pdo.feed import TpdoFeeds
 from servodesk.pdo.service import PdoService
 from servodesk.settings import Settings
 from servodesk_protocol.cia402 import (
+    CONTROLWORD,
     Cia402State,
     enable_sequence,
     make_disable_operation,
@@ -48,6 +50,9 @@ from servodesk_protocol.cia402 import (
 S = Cia402State
 log = logging.getLogger(__name__)
 
+DEVICE_PROFILE_AREA = 0x6000  # CiA 402 objects from here; 1000h–5FFFh are not motion's
+NOT_A_WRITE = frozenset({"jog-stop", "pdo-apply"})  # tool-write events that leave 6040h… be
+RESETS = frozenset({"reset-node", "reset-communication"})  # NMT commands that reset objects
 MAX_STEPS = 8  # the longest way to Operation enabled (from Quick stop active) is 4 steps
 FAULTED = (S.FAULT, S.FAULT_REACTION_ACTIVE)  # enable refuses these: a fault is reset on purpose
 # set-points a drive follows at once in Operation enabled (PV, PT): 0 before every enable
@@ -74,6 +79,7 @@ class MotionService(IpOps):
                 operational=self._operational,
                 sync_period_s=lambda: _sync_period_s(sync),
             )
+            self._routes = RpdoRoutes(pdos, operational=self._operational)
 
     def close(self) -> None:
         if self._feeds is not None:
@@ -82,8 +88,15 @@ class MotionService(IpOps):
     def on_event(self, event: BusEvent) -> None:
         """A write not the motion service's own, a boot-up, an NMT command or a new bus: what it
         last wrote may no longer be what the drive holds."""
-        if event.kind in (EventKind.TOOL_WRITE, EventKind.BOOT_UP, EventKind.NMT):
-            self.forget_sent(event.node)
+        index = event.data.get("index")
+        profile_object = not isinstance(index, int) or index >= DEVICE_PROFILE_AREA
+        if event.kind is EventKind.TOOL_WRITE:
+            if profile_object and event.data.get("action") not in NOT_A_WRITE:
+                self.forget_sent(event.node)  # a CiA 402 object, or a whole load: maybe ours
+        elif event.kind is EventKind.BOOT_UP or (
+            event.kind is EventKind.NMT and event.data.get("command") in RESETS
+        ):
+            self.forget_sent(event.node)  # the drive's objects back to their stored values
         elif event.kind is EventKind.BUS:
             self.forget_sent()
 
@@ -184,6 +197,7 @@ class MotionService(IpOps):
         await self._registry.session(node).priority(
             lambda r: io.write_controlword(r, make_quick_stop()), what=f"quick stop node {node}"
         )
+        self._axis(node).sent[CONTROLWORD] = make_quick_stop()
         try:
             return await self.state(node)
         except CommTimeoutError as error:
@@ -273,9 +287,11 @@ class MotionService(IpOps):
         what = f"stop node {node}: {reason}"
         if quick:
             await session.priority(quick_stop_axis, what=what)
+            self._axis(node).sent[CONTROLWORD] = make_quick_stop()
             return "quick stop"
         plan = self._stop_plan(node, deceleration_rpm_s, drive_deceleration)
         outcome = await session.priority(lambda r: stop_axis(r, plan), what=what)
+        self._axis(node).sent.update(outcome.wrote)
         self._saw_statusword(node, outcome.statusword)
         return outcome.how
 
@@ -357,7 +373,9 @@ class MotionService(IpOps):
         what an interrupted move says until the drive shows it."""
         axis = self._axis(node)
         axis.dropped_by = why
-        axis.sent.clear()  # a stop writes the controlword and ramps on its own lane
+        # a stop writes the controlword on its own lane (and says what it wrote, stop())
+        axis.sent.pop(CONTROLWORD, None)
+        axis.stop_epoch += 1  # motion writes queued before it are refused (MotionCore._write)
         axis.cancel_queue()
         axis.jog = None
         axis.target_user = None

@@ -13,7 +13,6 @@ ServoDesk, never the client's ramp alone: the profile deceleration objects are w
 
 from __future__ import annotations
 
-import contextlib
 from dataclasses import dataclass
 
 import canopen
@@ -22,6 +21,7 @@ from canopen.sdo.exceptions import SdoAbortedError
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
 from servodesk_protocol.cia402 import (
+    CONTROLWORD,
     CW_FAULT_RESET,
     CW_HALT,
     CW_NEW_SETPOINT,
@@ -51,6 +51,7 @@ class StopOutcome:
     statusword: int
     how: str  # "halt", "halt in profile velocity", "quick stop", "nothing moves"
     deceleration: int | None  # the raw deceleration written, if any
+    wrote: tuple[tuple[int, int], ...] = ()  # (object, value) the drive confirmed, in order
 
 
 def stop_axis(remote: canopen.RemoteNode, plan: StopPlan) -> StopOutcome:
@@ -63,19 +64,25 @@ def stop_axis(remote: canopen.RemoteNode, plan: StopPlan) -> StopOutcome:
     torque = mode == OperationMode.PROFILE_TORQUE
     if torque and not plan.pv_supported:
         io.write_controlword(remote, make_quick_stop())
-        return StopOutcome(sw, "quick stop", None)
+        return StopOutcome(sw, "quick stop", None, ((CONTROLWORD, make_quick_stop()),))
+    wrote: list[tuple[int, int]] = []
     decel = _bounded_deceleration(remote, plan)
     if decel is not None:
         for index in plan.ramp_objects:
-            _try_write(remote, index, 0, decel, io.U32)
+            if _try_write(remote, index, 0, decel, io.U32):
+                wrote.append((index, decel))
     if torque:
         io.write(remote, io.TARGET_VELOCITY, 0, 0, io.I32)
         io.write(remote, MODES_OF_OPERATION, 0, int(OperationMode.PROFILE_VELOCITY), io.I8)
-    cw = io.read(remote, 0x6040, signed=False) or 0x000F  # Controlword
-    io.write_controlword(remote, (cw | CW_HALT) & ~CW_NEW_SETPOINT & ~CW_FAULT_RESET)
-    if torque and plan.has_target_torque:
-        _try_write(remote, io.TARGET_TORQUE, 0, 0, io.I16)  # a later PT start begins at 0
-    return StopOutcome(sw, "halt in profile velocity" if torque else "halt", decel)
+        wrote += [(io.TARGET_VELOCITY, 0), (MODES_OF_OPERATION, OperationMode.PROFILE_VELOCITY)]
+    cw = io.read(remote, CONTROLWORD, signed=False) or 0x000F
+    halted = (cw | CW_HALT) & ~CW_NEW_SETPOINT & ~CW_FAULT_RESET
+    io.write_controlword(remote, halted)
+    wrote.append((CONTROLWORD, halted))
+    if torque and plan.has_target_torque and _try_write(remote, io.TARGET_TORQUE, 0, 0, io.I16):
+        wrote.append((io.TARGET_TORQUE, 0))  # a later PT start begins at 0
+    how = "halt in profile velocity" if torque else "halt"
+    return StopOutcome(sw, how, decel, tuple(wrote))
 
 
 def quick_stop_axis(remote: canopen.RemoteNode) -> int:
@@ -97,7 +104,10 @@ def _bounded_deceleration(remote: canopen.RemoteNode, plan: StopPlan) -> int | N
 
 def _try_write(
     remote: canopen.RemoteNode, index: int, sub: int, value: int, kind: tuple[int, bool]
-) -> None:
+) -> bool:
     """A write the stop can do without: a drive that refuses it still gets the halt."""
-    with contextlib.suppress(SdoAbortedError):
+    try:
         io.write(remote, index, sub, value, kind)
+    except SdoAbortedError:
+        return False
+    return True

@@ -1,0 +1,86 @@
+"""Motion commands in the drive's own RPDOs: where an RPDO maps the controlword or a set-point
+(60FFh, 6071h, 607Ah), the command goes in that RPDO's frame instead of an SDO download — one
+frame, no answer to wait for, no place in the node's SDO queue.
+
+An RPDO carries every object it maps at once, so a frame is built only when the value of each
+of them is known: what ServoDesk itself last wrote (the motion service keeps that and forgets
+it on every stop and on any other write). An object with no known value sends nothing by RPDO:
+the command falls back to SDO. Only RPDOs the drive applies on receipt (transmission types
+254/255) are used: one applied at the next SYNC would act after a stop sent meanwhile by SDO.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+
+import canopen
+
+from servodesk.errors import ServodeskError
+from servodesk.pdo.model import PdoConfig
+from servodesk.pdo.service import PdoService
+from servodesk_protocol.cia402 import CONTROLWORD
+from servodesk_protocol.pdo import DUMMY_BITS
+
+TARGET_TORQUE, TARGET_POSITION, TARGET_VELOCITY = 0x6071, 0x607A, 0x60FF
+COMMAND_OBJECTS = frozenset({CONTROLWORD, TARGET_VELOCITY, TARGET_TORQUE, TARGET_POSITION})
+ON_RECEIPT = (254, 255)  # event-driven RPDOs: the drive takes them as they arrive
+
+
+@dataclass(frozen=True, slots=True)
+class RpdoRoute:
+    """One RPDO a command can travel in."""
+
+    label: str  # "RPDO1"
+    cob_id: int
+    fields: tuple[tuple[int, int], ...]  # (index, bits) in frame order; index 0: a dummy
+
+    def payload(self, values: Mapping[int, int]) -> bytes | None:
+        """The frame for these object values; None when one mapped object has none."""
+        packed = 0
+        offset = 0
+        for index, bits in self.fields:
+            if index:
+                value = values.get(index)
+                if value is None:
+                    return None
+                packed |= (value & ((1 << bits) - 1)) << offset
+            offset += bits
+        return packed.to_bytes((offset + 7) // 8, "little")
+
+
+def route_in(pdos: Sequence[PdoConfig], index: int) -> RpdoRoute | None:
+    """The first valid, event-driven RPDO mapping `index`:00 (whole objects only)."""
+    if index not in COMMAND_OBJECTS:
+        return None
+    for pdo in pdos:
+        if pdo.kind != "rpdo" or not pdo.valid or pdo.transmission_type not in ON_RECEIPT:
+            continue
+        if not any(obj.index == index and obj.subindex == 0 for obj in pdo.mapping):
+            continue
+        if any(obj.subindex != 0 and obj.index not in DUMMY_BITS for obj in pdo.mapping):
+            continue  # a record's sub-entry: not an object the motion service writes
+        fields = tuple((0 if o.index in DUMMY_BITS else o.index, o.bits) for o in pdo.mapping)
+        return RpdoRoute(f"RPDO{pdo.number}", pdo.cob_id, fields)
+    return None
+
+
+class RpdoRoutes:
+    """The command routes of every node, from the PDO service's cache (never read for them:
+    a node whose PDOs were not read yet takes SDO)."""
+
+    def __init__(self, pdos: PdoService, *, operational: Callable[[int], bool]) -> None:
+        self._pdos = pdos
+        self._operational = operational
+
+    def route(self, node: int, index: int) -> RpdoRoute | None:
+        known = self._pdos.known(node)
+        if known is None or index not in COMMAND_OBJECTS or not self._operational(node):
+            return None
+        return route_in(known, index)
+
+    def network(self) -> canopen.Network | None:
+        try:
+            return self._pdos.network()
+        except ServodeskError:  # no bus
+            return None
