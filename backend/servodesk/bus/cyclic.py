@@ -7,10 +7,11 @@ time that passed at once, back to back: 6,869 such bursts in 10 s of a 1 ms SYNC
 host. A drive that gets several SYNCs at once takes each as a cycle. This task differs in two
 ways only:
 
-- no catch-up: a frame sent more than `late_after(period)` after its due time (the thread woke
-  late, or was held inside the send) went out once, and the schedule moves to it, so the next
-  one follows a full period later; a frame less late keeps the schedule (the next interval is
-  shorter by as much, never below half a period);
+- no bursts: two frames are never closer than half a period. A late frame goes when the thread
+  runs; the ones missed meanwhile follow half a period apart until the schedule is met again,
+  so a 1 kHz SYNC still counts 1000 per second after a stall of a few periods (the scope's
+  samples, an interpolating drive's clock). A stall longer than CATCH_UP_S (or 3 periods) is not
+  made up: the schedule moves to the next slot on it;
 - its thread asks the kernel for prompt wake-ups, as any unprivileged thread may (Linux): a timer
   slack of 1 ns (`PR_SET_TIMERSLACK`; the default adds up to 50 µs to every wake-up) and a
   0.1 ms scheduler slice (`sched_setattr`, SCHED_OTHER; Linux ≥ 6.12's EEVDF scheduler then
@@ -47,16 +48,13 @@ SLICE_NS = 100_000  # the shortest slice the kernel grants
 SCHED_SETATTR = {"x86_64": 314, "aarch64": 274, "riscv64": 274, "armv7l": 380, "i686": 351}
 # Up to this late, the next interval is shorter by as much and no frame is lost (both errors stay
 # within the SYNC target of 0.5 ms); later, the schedule moves and the lateness is not made up.
-LATE_AFTER_S = 0.0005
+# A stall up to this long is made up (half-period spacing): each SYNC made up is a real sample
+# of the scope's TPDOs, taken when it arrives; a longer one is not (the drives' SYNC-lost alarms
+# have counted it, and making it up would double the SYNC rate for as long again)
+CATCH_UP_S = 0.1
 
 Clock = Callable[[], int]  # monotonic ns
 Sleep = Callable[[float], None]  # s
-
-
-def late_after(period: float) -> float:
-    """How late (s) a frame may be and keep the schedule; at most half a period, so the interval
-    after a late frame is never shorter than half a period."""
-    return min(LATE_AFTER_S, period / 2)
 
 
 def precise_wakeups() -> None:
@@ -100,17 +98,20 @@ class SteadyCyclicSendTask(can.broadcastmanager.ThreadBasedCyclicSendTask):
     ) -> None:
         self._clock = clock  # set before the base class starts the thread
         self._sleep = sleep
-        self._late_ns = round(late_after(period) * 1e9)
         super().__init__(
             bus, lock, messages, period, duration, on_error, autostart, modifier_callback
         )
 
     def _run(self) -> None:
         precise_wakeups()
+        period = self.period_ns
+        half = period // 2
+        catch_up = max(3 * period, round(CATCH_UP_S * 1e9))
         index = 0
-        due = self._clock()
+        slot = self._clock()  # where the schedule says the next frame goes
+        last = slot - period  # when the last frame left
         while not self.stopped:
-            self._sleep_until(due)
+            self._sleep_until(max(slot, last + half))
             if self.stopped:
                 break
             if self.end_time is not None and time.perf_counter() >= self.end_time:
@@ -120,11 +121,12 @@ class SteadyCyclicSendTask(can.broadcastmanager.ThreadBasedCyclicSendTask):
                 break
             # Judged once the send returned: the thread may also be held inside it (the lock),
             # and the frame may have left only then.
-            sent = self._clock()
-            if sent - due > self._late_ns:
-                due = sent  # late: this frame went once and the schedule follows it, no burst
+            last = self._clock()
             index = (index + 1) % len(self.messages)
-            due += self.period_ns
+            slot += period
+            behind = last + half - slot
+            if behind > catch_up:  # too long to make up: the next slot on schedule
+                slot += -(-behind // period) * period
 
     def _sleep_until(self, due: int) -> None:
         """Sleep until `due` (clock ns)."""
