@@ -190,12 +190,21 @@ SIM_LIMITS = ((0x5FF1, -1000), (0x5FF2, 1000))  # simulator's limit switches, in
 _direction = [1.0]
 
 
-def start_jog(http: httpx.Client, keepalive_ms: int) -> str:
+def prepare_jog(http: httpx.Client) -> None:
     for index, rev in SIM_LIMITS:  # out of the way; and each jog reverses the last one
         ok(http.put(f"/api/nodes/{NODE}/sdo/{index:04X}/0", json={"value": rev * 131072}))
     ok(http.post(f"/api/nodes/{NODE}/drive/enable", headers=CLIENT))
+
+
+def jog_body(keepalive_ms: int) -> dict[str, Any]:
+    """The next PV jog's request: the other way than the last one."""
     _direction[0] = -_direction[0]
-    body = {"mode": "pv", "velocity_rpm": RPM * _direction[0], "keepalive_ms": keepalive_ms}
+    return {"mode": "pv", "velocity_rpm": RPM * _direction[0], "keepalive_ms": keepalive_ms}
+
+
+def start_jog(http: httpx.Client, keepalive_ms: int) -> str:
+    prepare_jog(http)
+    body = jog_body(keepalive_ms)
     jog_id: str = ok(http.post(f"/api/nodes/{NODE}/jog", headers=CLIENT, json=body))["jog_id"]
     return jog_id
 

@@ -73,8 +73,8 @@ def _eds_uploads(base: str, stop: EventType) -> None:
         http.delete(f"/api/nodes/{NODE}/od")
 
 
-def _scope(base: str, stop: EventType) -> None:
-    body = {"signals": SCOPE_SIGNALS, "sync_period_us": 1000, "duration_s": 600}
+def _scope(base: str, stop: EventType, duration_s: float = 600) -> None:
+    body = {"signals": SCOPE_SIGNALS, "sync_period_us": 1000, "duration_s": duration_s}
     with httpx.Client(base_url=base, timeout=30) as http:
         capture: dict[str, Any] | None = None
         while capture is None and not stop.is_set():
@@ -127,13 +127,23 @@ def beside(condition: str, base: str, log_frames: int) -> Iterator[None]:
     if condition == "idle":
         yield
         return
+    extra: tuple[Any, ...] = (log_frames,) if condition == "log-decode" else ()
+    with work_process(WORK[condition], base, extra, WARM_UP_S[condition]):
+        yield
+
+
+@contextmanager
+def work_process(
+    target: Callable[..., None], base: str, extra: tuple[Any, ...], warm_up: float
+) -> Iterator[None]:
+    """`target(base, stop, *extra)` in a process of its own, `warm_up` s before the block runs
+    and until it ends (then `stop` is set)."""
     context = multiprocessing.get_context("spawn")
     stop = context.Event()
-    args: tuple[Any, ...] = (base, stop, log_frames) if condition == "log-decode" else (base, stop)
-    worker = context.Process(target=WORK[condition], args=args, daemon=True)
+    worker = context.Process(target=target, args=(base, stop, *extra), daemon=True)
     worker.start()
     try:
-        time.sleep(WARM_UP_S[condition])  # until the work is under way
+        time.sleep(warm_up)  # until the work is under way
         yield
     finally:
         stop.set()

@@ -429,11 +429,9 @@ class Jogger:
             self.http.close()
 
 
-def browser(base: str, capture_id: int | None, up: Queue[Any], down: Queue[Any]) -> None:
-    """Child process: polls and jogs; answers "snap" with a LoadReport, "stop" stops it."""
-    load = Load()
-    focus = Focus()
-    halt = threading.Event()
+def page_polls(focus: Focus, capture_id: int | None) -> list[tuple[str, Callable[[], str], float]]:
+    """What the pages poll (label, path, period s): the Drive page of `focus.node`, the Faults
+    page of each node in turn, the Scope page's capture unless `capture_id` is None."""
 
     def faults_path() -> str:
         focus.faults_turn += 1
@@ -454,6 +452,15 @@ def browser(base: str, capture_id: int | None, up: Queue[Any], down: Queue[Any])
     ]
     if capture_id is None:
         polls = [poll for poll in polls if "captures" not in poll[0]]
+    return polls
+
+
+def browser(base: str, capture_id: int | None, up: Queue[Any], down: Queue[Any]) -> None:
+    """Child process: polls and jogs; answers "snap" with a LoadReport, "stop" stops it."""
+    load = Load()
+    focus = Focus()
+    halt = threading.Event()
+    polls = page_polls(focus, capture_id)
     threads = [
         threading.Thread(target=poller, args=(base, *poll, halt, load), daemon=True)
         for poll in polls
