@@ -8,6 +8,7 @@ import time
 from typing import Any
 
 import httpx
+import pytest
 from fastapi.testclient import TestClient
 
 from servodesk_sim.frames import Frame
@@ -180,7 +181,7 @@ def test_jog_commands_go_in_the_mapped_rpdo(client: TestClient) -> None:
         ok(client.post(f"/api/nodes/{NODE}/jog", headers=A, json=body))
     finally:
         frames.remove()
-    # 100 rpm = 166 667 user units/s (10 000 per revolution, per 60 s); mode 3 = PV. First the
+    # 100 rpm = 166 667 user units/s (100 000 per revolution); mode 3 = PV. First the
     # set-point while the halt bit holds the axis, then the controlword that lets it go.
     assert frames.seen == [
         (RPDO1, bytes.fromhex("0f01") + (166_667).to_bytes(4, "little") + b"\x03"),
@@ -188,3 +189,58 @@ def test_jog_commands_go_in_the_mapped_rpdo(client: TestClient) -> None:
     ]
     state = ok(client.get(f"/api/nodes/{NODE}/drive"))
     assert state["state"] == "operation_enabled"
+
+
+@pytest.mark.realtime
+def test_ip_set_points_go_in_the_rpdo_taken_at_sync(client: TestClient) -> None:
+    """The manuals' IP mapping: RPDO1 = 6040h + 60C1h:01 + 6060h, taken at each SYNC. The
+    stream's set-points travel there, the last frame is settled to the controlword the drive
+    holds afterwards (no SYNC can apply interpolation on again), and the axis follows the plan."""
+    ok(client.put("/api/sync", json={"period_us": 10_000}))  # a synchronous RPDO needs SYNC
+    ok(client.post(f"/api/nodes/{NODE}/nmt", json={"command": "start"}))
+    wanted = ok(client.get(f"/api/nodes/{NODE}/pdos/recommended", params={"modes": "ip"}))
+    rpdo1 = next(p for p in wanted["pdos"] if p["kind"] == "rpdo" and p["number"] == 1)
+    assert [(m["index"], m["subindex"]) for m in rpdo1["mapping"]][:2] == [(0x6040, 0), (0x60C1, 1)]
+    assert rpdo1["transmission_type"] == 1
+    ok(client.put(f"/api/nodes/{NODE}/pdos", json={"pdos": wanted["pdos"]}))
+    start = ok(client.get(f"/api/nodes/{NODE}/sdo/6064/0"))["value"]
+    request = {
+        "trajectory": "point_to_point",
+        "period_ms": 10,
+        "distance_rev": 0.5,
+        "duration_s": 0.5,
+    }
+    result: dict[str, Any] = {"stalled": True, "message": "refused: the host was late"}
+    for _ in range(10):  # a loaded host is retried, as in tests/backend/test_motion_ip.py
+        state = ok(client.get(f"/api/nodes/{NODE}/drive"))
+        if state["fault"] is not None:
+            ok(client.post(f"/api/nodes/{NODE}/drive/fault-reset", headers=A))
+        ok(client.post(f"/api/nodes/{NODE}/drive/enable", headers=A))
+        frames = Frames(client, {RPDO1, SDO_REQUEST})
+        try:
+            answer = client.post(f"/api/nodes/{NODE}/drive/ip-stream", headers=A, json=request)
+        finally:
+            frames.remove()
+        if answer.status_code == 409 and answer.json()["error"] == "sync_unsafe":
+            time.sleep(0.5)  # the timing check saw the host late and sent nothing
+            continue
+        result = ok(answer)
+        if not result["stalled"]:
+            break
+        start = ok(client.get(f"/api/nodes/{NODE}/sdo/6064/0"))["value"]
+    assert not result["stalled"], result["message"]
+    rpdo = [data for can_id, data in frames.seen if can_id == RPDO1]
+    points = [int.from_bytes(d[2:6], "little", signed=True) for d in rpdo[:-1]]
+    # every set-point frame: controlword 001Fh (interpolation on), 6060h = 7
+    assert {(d[:2], d[6]) for d in rpdo[:-1]} == {(bytes.fromhex("1f00"), 7)}
+    assert points == sorted(points)  # a forward point-to-point move, one point per SYNC
+    assert points[-1] == start + 50_000  # 0.5 rev of 100 000 user units (6091h 131072:100000)
+    # the settled frame: the drive's controlword after the stream (000Fh), nothing moves
+    assert rpdo[-1][:2] == bytes.fromhex("0f00")
+    # no set-point went by SDO but the first (written before interpolation starts)
+    downloads = [
+        d for can_id, d in frames.seen if can_id == SDO_REQUEST and d[1:4] == b"\xc1\x60\x01"
+    ]
+    assert len(downloads) == 2  # 60C1h:01 = start before the mode switch, then the first point
+    assert result["max_lag_rev"] <= 0.03
+    assert abs(result["final_error_inc"]) <= 300

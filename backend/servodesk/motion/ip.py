@@ -42,8 +42,10 @@ from servodesk.motion.schemas import EnableReason, IpStreamResult
 from servodesk.motion.trajectory import Trajectory, peak_velocity, setpoints, sync_jitter
 from servodesk.network.sync import SyncService
 from servodesk.nodes.access import NodeAccess
+from servodesk.pdo.commands import IP_DATA, RpdoRoute
 from servodesk.settings import Settings
 from servodesk_protocol.cia402 import (
+    CONTROLWORD,
     STATUSWORD,
     SW_FAULT,
     SW_MODE_BIT12,
@@ -79,6 +81,11 @@ class _Stream:
     not_started: bool = False  # … and did not within the transition timeout
     started_at: float = 0.0
     _timeout: float = 0.0
+    # the RPDO 60C1h:01 goes in (None: expedited SDO), the values of its other objects, and
+    # how many SYNCs ahead a set-point is sent (2 where the drive takes the RPDO at a SYNC)
+    rpdo: RpdoRoute | None = None
+    rpdo_values: dict[int, int] = field(default_factory=dict)
+    lead: int = 1
 
     def begin(self, remote: canopen.RemoteNode, controlword: int, timeout: float) -> None:
         """Switch interpolation on and start the SYNC clock in one step on the worker: the drive
@@ -86,6 +93,10 @@ class _Stream:
         the event loop or the host is doing meanwhile (bit 12 is checked while streaming)."""
         io.write_controlword(remote, controlword)
         io.write(remote, io.IP_DATA, 1, self.points[0], io.I32)
+        self.rpdo_values[CONTROLWORD] = controlword
+        for k in range(1, self.lead):  # taken at a SYNC: the next point is sent before SYNC 0
+            if k < len(self.points):
+                self._send_point(remote, self.points[k])
         self.started_at = time.perf_counter()
         self._timeout = timeout
         self.clock = SyncClock(self.started_at + self.period, self.period)
@@ -108,8 +119,8 @@ class _Stream:
                 network.sync.transmit()  # the drive takes point k, written after SYNC k - 1
                 self.syncs.append(now)
                 self.sent += 1
-                if k + 1 < len(self.points):
-                    self._send_point(remote, self.points[k + 1])
+                if k + self.lead < len(self.points):
+                    self._send_point(remote, self.points[k + self.lead])
                 if k % sample_every == 0 and k > 0:
                     self._confirm(remote)
                     if not self.active and not self._check_active(remote, now):
@@ -130,9 +141,19 @@ class _Stream:
         return not self.not_started
 
     def _send_point(self, remote: canopen.RemoteNode, value: int) -> None:
-        """60C1h:01 by an expedited SDO download, not waiting for the confirmation."""
+        """60C1h:01 in the RPDO, else by an expedited SDO download, not waiting for the
+        confirmation."""
+        if self.rpdo is not None:
+            self.rpdo_values[IP_DATA] = value
+            self.send_rpdo(remote)
+            return
         remote.sdo.send_request(EXPEDITED_4 + value.to_bytes(4, "little", signed=True))
         self.unconfirmed += 1
+
+    def send_rpdo(self, remote: canopen.RemoteNode) -> None:
+        data = self.rpdo.payload(self.rpdo_values) if self.rpdo is not None else None
+        if self.rpdo is not None and data is not None:
+            remote.network.send_message(self.rpdo.cob_id, data)
 
     def _confirm(self, remote: canopen.RemoteNode) -> None:
         """Collect the confirmations of the pipelined writes (an abort raises)."""
@@ -169,8 +190,10 @@ class IpOps(MoveOps):
         behind the plan: on the simulated drives the lag stays within one period of travel at
         the path's peak speed + 0.01 rev (1 rev point-to-point in 1 s: ≤ 0.014 rev at 2 ms,
         ≤ 0.029 rev at 10 ms) and the end within 0.002 rev (tests/backend/test_motion_ip.py).
-        Set-points go by SDO (one expedited write per period), so on a busy PC 2 ms is at the
-        edge: a stall ends the stream and the result names the drive's SYNC-lost fault."""
+        Set-points go in the RPDO that maps 60C1h:01 (sent two SYNCs ahead where the drive
+        takes it at a SYNC), else by SDO (one expedited write per period); on a busy PC 2 ms
+        is at the edge: a stall ends the stream and the result names the drive's SYNC-lost
+        fault."""
         if not 1 <= period_ms <= 20:
             raise InvalidValueError("the interpolation period must be 1–20 ms (60C2h)")
         if not 0 < duration_s <= self._settings.motion_ip_max_duration:
@@ -209,6 +232,7 @@ class IpOps(MoveOps):
         await self._write(node, io.IP_DATA, 1, start, io.I32)
         paused = await self._pause_sync()
         stream = _Stream(plan, period)
+        self._route_stream(node, stream)
         self._streams[node] = stream
         try:
             word = make_enable_operation(new_setpoint=True)
@@ -225,7 +249,7 @@ class IpOps(MoveOps):
                 )
         finally:
             self._streams.pop(node, None)
-            await self._end_stream(node, paused)
+            await self._end_stream(node, paused, stream)
         result = await self._result(node, trajectory, period_ms, duration_s, stream, plan, timing)
         entry = current_entry()
         if entry is not None and (result.stalled or result.fault or stream.cancelled):
@@ -260,11 +284,23 @@ class IpOps(MoveOps):
             for pending in inflight:
                 pending.cancel()
 
-    async def _end_stream(self, node: int, paused: int | None) -> None:
+    def _route_stream(self, node: int, stream: _Stream) -> None:
+        """Set-points in the RPDO that maps 60C1h:01 where the drive has one (its other objects
+        known: the stream's controlword, 6060h = 7), else by SDO."""
+        found = self._routes.ip_route(node) if self._routes is not None else None
+        if found is None:
+            return
+        stream.rpdo, synchronous = found
+        stream.lead = 2 if synchronous else 1
+        stream.rpdo_values = {0x6060: int(OperationMode.INTERPOLATED_POSITION), IP_DATA: 0}
+
+    async def _end_stream(self, node: int, paused: int | None, stream: _Stream) -> None:
         try:
             state = state_of(await self._statusword(node))
             if state is Cia402State.OPERATION_ENABLED:
                 await self._controlword(node, make_enable_operation())  # interpolation off
+            if stream.rpdo is not None:
+                await self._settle_rpdo(node, stream)
         finally:
             if paused is not None and self._sync is not None:
                 await self._sync.set(paused)
@@ -328,6 +364,19 @@ class IpOps(MoveOps):
             message="; ".join(words),
             state=state,
         )
+
+    async def _settle_rpdo(self, node: int, stream: _Stream) -> None:
+        """The drive holds the stream's last RPDO until the next SYNC, which would apply its
+        controlword (interpolation on) after the stream ended or a stop: send it once more with
+        the controlword the drive holds now, before any SYNC (the tool's is still paused)."""
+
+        def settle(remote: canopen.RemoteNode) -> None:
+            word = io.read(remote, CONTROLWORD, signed=False)
+            if word is not None:
+                stream.rpdo_values[CONTROLWORD] = word
+                stream.send_rpdo(remote)
+
+        await self._registry.session(node).priority(settle, what=f"settle node {node}'s RPDO")
 
     def stream_points_sent(self, node: int) -> int | None:
         """How many set-points the running stream of `node` has sent; None when none runs."""

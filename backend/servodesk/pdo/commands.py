@@ -1,6 +1,7 @@
 """Motion commands in the drive's own RPDOs: where an RPDO maps the controlword or a set-point
 (60FFh, 6071h, 607Ah), the command goes in that RPDO's frame instead of an SDO download — one
-frame, no answer to wait for, no place in the node's SDO queue.
+frame, no answer to wait for, no place in the node's SDO queue. An interpolation stream sends its
+60C1h:01 set-points in the RPDO the manuals map for it (`ip_route_in`), taken at SYNC.
 
 An RPDO carries every object it maps at once, so a frame is built only when the value of each
 of them is known: what ServoDesk itself last wrote (the motion service keeps that and forgets
@@ -65,6 +66,30 @@ def route_in(pdos: Sequence[PdoConfig], index: int) -> RpdoRoute | None:
     return None
 
 
+IP_DATA = 0x60C1  # Interpolation data record (:01 the position set-point)
+IP_COMPANIONS = frozenset({CONTROLWORD, 0x6060})  # what an IP RPDO may carry beside 60C1h:01
+
+
+def ip_route_in(pdos: Sequence[PdoConfig]) -> tuple[RpdoRoute, bool] | None:
+    """The RPDO an interpolation stream sends 60C1h:01 in, and whether the drive takes it at
+    the next SYNC (types 1–240) rather than on receipt: the first valid RPDO mapping 60C1h:01
+    with nothing else than the controlword and 6060h (the manuals' IP mapping)."""
+    for pdo in pdos:
+        if pdo.kind != "rpdo" or not pdo.valid:
+            continue
+        synchronous = 1 <= pdo.transmission_type <= 240
+        if not synchronous and pdo.transmission_type not in ON_RECEIPT:
+            continue
+        keys = {(o.index, o.subindex) for o in pdo.mapping if o.index not in DUMMY_BITS}
+        if (IP_DATA, 1) not in keys:
+            continue
+        if any(k != (IP_DATA, 1) and (k[1] != 0 or k[0] not in IP_COMPANIONS) for k in keys):
+            continue
+        fields = tuple((0 if o.index in DUMMY_BITS else o.index, o.bits) for o in pdo.mapping)
+        return RpdoRoute(f"RPDO{pdo.number}", pdo.cob_id, fields), synchronous
+    return None
+
+
 class RpdoRoutes:
     """The command routes of every node, from the PDO service's cache (never read for them:
     a node whose PDOs were not read yet takes SDO)."""
@@ -72,6 +97,12 @@ class RpdoRoutes:
     def __init__(self, pdos: PdoService, *, operational: Callable[[int], bool]) -> None:
         self._pdos = pdos
         self._operational = operational
+
+    def ip_route(self, node: int) -> tuple[RpdoRoute, bool] | None:
+        known = self._pdos.known(node)
+        if known is None or not self._operational(node):
+            return None
+        return ip_route_in(known)
 
     def route(self, node: int, index: int) -> RpdoRoute | None:
         known = self._pdos.known(node)
