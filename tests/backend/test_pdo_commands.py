@@ -6,7 +6,7 @@ from dataclasses import replace
 
 import pytest
 
-from servodesk.pdo.commands import route_in
+from servodesk.pdo.commands import ip_route_in, route_in
 from servodesk.pdo.model import MappedObject, PdoConfig
 
 
@@ -68,3 +68,30 @@ def test_a_dummy_sends_zeros() -> None:
 
 def test_an_invalid_rpdo_is_not_used() -> None:
     assert route_in([replace(PV, valid=False)], 0x60FF) is None
+
+
+@pytest.mark.parametrize(
+    ("pdos", "found"),
+    [
+        # the manuals' IP mapping, taken at SYNC
+        ([rpdo(1, [(0x6040, 0, 16), (0x60C1, 1, 32), (0x6060, 0, 8)], kind=1)], ("RPDO1", True)),
+        # on receipt works too (the drive then holds it until its next SYNC)
+        ([rpdo(2, [(0x60C1, 1, 32)])], ("RPDO2", False)),
+        # another object beside it: its value is not the stream's to send
+        ([rpdo(1, [(0x60C1, 1, 32), (0x6083, 0, 32)], kind=1)], None),
+        # no 60C1h:01
+        ([PV], None),
+        # acyclic (type 0): not one per SYNC
+        ([rpdo(1, [(0x6040, 0, 16), (0x60C1, 1, 32)], kind=0)], None),
+    ],
+)
+def test_ip_route_choice(pdos: list[PdoConfig], found: tuple[str, bool] | None) -> None:
+    route = ip_route_in(pdos)
+    assert ((route[0].label, route[1]) if route else None) == found
+
+
+def test_ip_frame() -> None:
+    route = ip_route_in([rpdo(1, [(0x6040, 0, 16), (0x60C1, 1, 32), (0x6060, 0, 8)], kind=1)])
+    assert route is not None
+    frame = route[0].payload({0x6040: 0x001F, 0x60C1: -2, 0x6060: 7})
+    assert frame == bytes.fromhex("1f00feffffff07")
