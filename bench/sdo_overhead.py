@@ -13,14 +13,18 @@ would compete with the server for the interpreter lock), and speaks plain keep-a
 over one socket: a Python HTTP library spends ~0.6 ms per request by itself, which is the
 client's cost, not the API's. Raw and API phases alternate so machine noise hits both alike.
 
-Targets (issue: backend core): the API read adds <= 1 ms median; "upload all" reaches >= 0.9x
-the raw loop's rate. Run: `make bench` or `.venv/bin/python bench/sdo_overhead.py`.
+Targets: the API read adds <= 0.5 ms median (issue 18, the real-time path; it was 1 ms);
+"upload all" reaches >= 0.9x the raw loop's rate (issue: backend core). Exits non-zero when the
+read misses its target. The load average is printed too: the figure grows with the host's load
+(each of the request's thread hops may wait for a CPU). Run: `make bench` or
+`.venv/bin/python bench/sdo_overhead.py`.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import socket
 import statistics
 import subprocess
@@ -38,6 +42,9 @@ import servodesk_data
 from servodesk.app import create_app
 from servodesk.services import Services
 from servodesk.settings import Settings
+
+READ_TARGET_MS = 0.5  # what the API may add to one SDO read, median
+UPLOAD_ALL_TARGET = 0.9  # the API job's rate over the raw loop's
 
 # The client process: plain HTTP/1.1 keep-alive on one socket; prints its results as JSON.
 CLIENT = r"""
@@ -179,14 +186,24 @@ def main() -> int:
         f"read 2006h:08, {len(api)} each: API median {median_ms(api):.3f} ms, "
         f"raw canopen median {median_ms(direct):.3f} ms"
     )
-    print(f"API adds {added:.3f} ms median (target <= 1 ms: {added:.2f}x of the budget)")
+    print(
+        f"API adds {added:.3f} ms median (target <= {READ_TARGET_MS} ms: "
+        f"{added / READ_TARGET_MS:.2f}x of the budget)"
+    )
     raw_rate, api_rate = statistics.median(raw_rates), statistics.median(api_rates)
     print(
         f"upload all node 3 ({len(entries)} entries), median of {args.rounds}: "
         f"raw loop {raw_rate:.0f}/s, API job {api_rate:.0f}/s"
     )
-    print(f"upload all rate ratio API/raw: {api_rate / raw_rate:.2f} (target >= 0.90)")
-    return 0
+    print(
+        f"upload all rate ratio API/raw: {api_rate / raw_rate:.2f} "
+        f"(target >= {UPLOAD_ALL_TARGET:.2f})"
+    )
+    load = " ".join(f"{x:.1f}" for x in os.getloadavg())
+    met = added <= READ_TARGET_MS
+    print(f"load average {load} on {os.cpu_count()} CPUs")
+    print("read target met" if met else "read target NOT met")
+    return 0 if met else 1
 
 
 if __name__ == "__main__":

@@ -2,19 +2,22 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+import re
+from collections.abc import Callable, Coroutine
+from typing import Annotated, Any
 
-from fastapi import APIRouter, Query
+from fastapi import APIRouter, Query, Request, Response
+from pydantic import TypeAdapter
 
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import Index, NodeId, ServicesDep, Subindex, parse_hex
 from servodesk.api.errors import NODE_ERRORS
 from servodesk.models import Job, SdoValue, SdoWrite
+from servodesk.services import Services
 
 router = APIRouter(tags=["sdo"], responses=NODE_ERRORS, route_class=AuditedRoute)
 
 
-@router.get("/nodes/{node}/sdo/{index}/{subindex}")
 async def read_entry(
     node: NodeId, index: Index, subindex: Subindex, services: ServicesDep
 ) -> SdoValue:
@@ -23,6 +26,48 @@ async def read_entry(
         parse_hex(index, maximum=0xFFFF, what="index"),
         parse_hex(subindex, maximum=0xFF, what="sub-index"),
     )
+
+
+SDO_VALUE = TypeAdapter(SdoValue)
+NODE_TEXT = re.compile(r"[0-9]{1,3}")
+INDEX_TEXT = re.compile(r"[0-9A-Fa-f]{4}")
+SUBINDEX_TEXT = re.compile(r"[0-9A-Fa-f]{1,2}")
+
+
+class ReadRoute(AuditedRoute):
+    """The single read, which live views poll: its path parameters checked by three patterns
+    and its answer written by a prebuilt adapter, instead of FastAPI's dependency solving and
+    response validation on each request (0.1–0.2 ms of a read). Anything else (a value
+    FastAPI might still accept, dependency overrides) gets FastAPI's own handler, and errors
+    travel the same way: the same answers, bodies and status codes."""
+
+    def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
+        generic = super().get_route_handler()
+
+        async def read(request: Request) -> Response:
+            params = request.path_params
+            node, index, subindex = params["node"], params["index"], params["subindex"]
+            if (
+                NODE_TEXT.fullmatch(node)
+                and 1 <= int(node) <= 127
+                and INDEX_TEXT.fullmatch(index)
+                and SUBINDEX_TEXT.fullmatch(subindex)
+                and not request.app.dependency_overrides
+            ):
+                services: Services = request.app.state.services
+                value = await read_entry(int(node), index, subindex, services)
+                return Response(SDO_VALUE.dump_json(value), media_type="application/json")
+            return await generic(request)
+
+        return read
+
+
+router.add_api_route(
+    "/nodes/{node}/sdo/{index}/{subindex}",
+    read_entry,
+    methods=["GET"],
+    route_class_override=ReadRoute,
+)
 
 
 @router.put("/nodes/{node}/sdo/{index}/{subindex}")

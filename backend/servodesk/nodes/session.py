@@ -29,8 +29,7 @@ import threading
 import time
 from collections import deque
 from collections.abc import AsyncIterator, Callable
-from concurrent.futures import Future
-from contextlib import asynccontextmanager
+from contextlib import asynccontextmanager, suppress
 from typing import Any, TypeVar
 
 import can
@@ -110,14 +109,20 @@ class StopCutInError(Exception):
     """Raised in a call that would write after a stop ran between its reads."""
 
 
+# A call for the worker and the event-loop future its caller awaits (None: nobody waits).
+_Item = tuple[Callable[[], Any], "asyncio.Future[Any] | None"]
+
+
 class _Worker:
     """One thread running submitted calls one at a time, with two lanes: priority items
     (stops) are taken before every normal item queued so far; each lane is FIFO. A call in
-    progress lets them run between its SDO transfers while it has only read (`between`)."""
+    progress lets them run between its SDO transfers while it has only read (`between`).
+    A caller awaits a loop future settled by one `call_soon_threadsafe` (a wrapped concurrent
+    Future cost a condition and two more callbacks per call, both sides of the hop)."""
 
     def __init__(self, name: str) -> None:
-        self._normal: deque[tuple[Callable[[], object], Future[object]]] = deque()
-        self._urgent: deque[tuple[Callable[[], object], Future[object]]] = deque()
+        self._normal: deque[_Item] = deque()
+        self._urgent: deque[_Item] = deque()
         self._ready = threading.Condition()
         self._shutdown = False
         # what the call in progress did (worker thread only)
@@ -127,15 +132,20 @@ class _Worker:
         self._thread = threading.Thread(target=self._loop, name=name, daemon=True)
         self._thread.start()
 
-    def submit(self, fn: Callable[[], T], *, urgent: bool = False) -> Future[T]:
-        future: Future[T] = Future()
+    def submit(
+        self,
+        fn: Callable[[], T],
+        future: asyncio.Future[T] | None = None,
+        *,
+        urgent: bool = False,
+    ) -> None:
+        """Queue `fn`; its result or exception goes to `future` (a cancelled one: not run)."""
         with self._ready:
             if self._shutdown:
                 raise RuntimeError("the node's worker has stopped")
             lane = self._urgent if urgent else self._normal
-            lane.append((fn, future))  # type: ignore[arg-type]
+            lane.append((fn, future))
             self._ready.notify()
-        return future
 
     def shutdown(self) -> None:
         """Stop after the items already queued (each of which ends at once: the session is
@@ -180,18 +190,37 @@ class _Worker:
             self._wrote = self._cut_in = False
             self._execute(fn, future, urgent=urgent)
 
-    def _execute(self, fn: Callable[[], object], future: Future[object], *, urgent: bool) -> None:
-        if not future.set_running_or_notify_cancel():
-            return
+    def _execute(
+        self, fn: Callable[[], Any], future: asyncio.Future[Any] | None, *, urgent: bool
+    ) -> None:
+        if future is not None and future.cancelled():
+            return  # its caller stopped waiting before it started
         self._in_urgent = urgent
         try:
             result = fn()
         except BaseException as error:  # handed to the awaiting caller
-            future.set_exception(error)
+            _settle_from_thread(future, None, error)
         else:
-            future.set_result(result)
+            _settle_from_thread(future, result, None)
         finally:
             self._in_urgent = False
+
+
+def _settle_from_thread(
+    future: asyncio.Future[Any] | None, result: Any, error: BaseException | None
+) -> None:
+    if future is not None:
+        with suppress(RuntimeError):  # the loop has closed: nobody waits any more
+            future.get_loop().call_soon_threadsafe(_settle, future, result, error)
+
+
+def _settle(future: asyncio.Future[Any], result: Any, error: BaseException | None) -> None:
+    if future.done():  # cancelled while the call ran: its result goes nowhere
+        return
+    if error is None:
+        future.set_result(result)
+    else:
+        future.set_exception(error)
 
 
 class NodeSession:
@@ -266,13 +295,13 @@ class NodeSession:
             raise RequestInterruptedError(self.node_id, CLOSED)
         call = functools.partial(self._call, fn, what, index, subindex)
         if self._inside():
-            return await asyncio.wrap_future(self._worker.submit(call))
+            return await self._queue(call)
         # Outside a transaction: wait while one holds the node, then queue (without holding
         # the gate while the call runs, so requests still pipeline on the worker).
         async with self._gate:
             if self._closed:
                 raise RequestInterruptedError(self.node_id, CLOSED)
-            pending = asyncio.wrap_future(self._worker.submit(call))
+            pending = self._queue(call)
         return await pending
 
     async def priority(self, fn: Callable[[canopen.RemoteNode], T], *, what: str) -> T:
@@ -286,7 +315,12 @@ class NodeSession:
             tx.interrupted = what
         # a stop does not wait for late answers to settle (see _quiet_until)
         call = functools.partial(self._call, fn, what, 0, 0, urgent=True)
-        return await asyncio.wrap_future(self._worker.submit(call, urgent=True))
+        return await self._queue(call, urgent=True)
+
+    def _queue(self, call: Callable[[], T], *, urgent: bool = False) -> asyncio.Future[T]:
+        future: asyncio.Future[T] = asyncio.get_running_loop().create_future()
+        self._worker.submit(call, future, urgent=urgent)
+        return future
 
     async def upload(self, index: int, subindex: int) -> bytes:
         """SDO upload (read) of one entry's raw bytes."""
