@@ -4,6 +4,7 @@ DriveState the API returns from a reading (`build_state`)."""
 from __future__ import annotations
 
 import asyncio
+import time
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -59,6 +60,7 @@ class Axis:
     # writes only what differs; forgotten on every stop and on any write not its own
     sent: dict[int, int] = field(default_factory=dict)
     stop_epoch: int = 0  # counts the stops: a write asked for before one is not sent after it
+    commanded_at: float = 0.0  # time.monotonic() of the last state-changing command or stop
     polled: DriveState | None = None  # the pages' shared reading (MotionService.polled_state)
     polled_at: float = 0.0
     poll_lock: asyncio.Lock = field(default_factory=asyncio.Lock)
@@ -75,6 +77,12 @@ class Axis:
     jog: str | None = None  # "pv" / "pt" while a jog runs
     queue_task: asyncio.Task[None] | None = None
     queued: list[object] = field(default_factory=list)
+
+    def commanded(self) -> None:
+        """A command changed (or may have changed) the drive's state: TPDO frames from before
+        it and the pages' shared reading no longer show the drive."""
+        self.commanded_at = time.monotonic()
+        self.polled = None
 
     def saw(self, state: Cia402State, taken: str | None = None) -> None:
         """Record a reading's state; `taken` names the transition when the service caused it."""

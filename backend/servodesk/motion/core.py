@@ -172,6 +172,8 @@ class MotionCore:
         )
         if sub == 0:
             axis.sent[index] = value
+        if index in STATE_OBJECTS:
+            axis.commanded()  # what the drive shows now is read, not taken from older frames
 
     def _rpdo_frame(
         self, node: int, index: int, sub: int, value: int
@@ -254,10 +256,13 @@ class MotionCore:
         carried = self._feeds.values(node, keys, ask=ask)
         values: dict[str, int | None] = {}
         sources: dict[str, str] = {}
-        read = self._axis(node).sdo_values
+        axis = self._axis(node)
+        read = axis.sdo_values
         now = time.monotonic()
         for key, found in carried.items():
             name = keys[key]
+            if now - found.age_s < axis.commanded_at:
+                continue  # a frame from before the last command: read it by SDO
             newer = read.get(name)
             if newer is not None and newer[1] > now - found.age_s:
                 # read after the frame came: the frame's change is still in its inhibit time
@@ -388,6 +393,7 @@ class MotionCore:
 # Command objects a reading holds: read by SDO, they are as known as what ServoDesk wrote (an
 # RPDO that maps them beside a set-point can then be sent, pdo/commands.py)
 READ_INTO_SENT = {"controlword": 0x6040, "mode": MODES_OF_OPERATION}
+STATE_OBJECTS = frozenset({0x6040, MODES_OF_OPERATION})  # a write changes what the drive shows
 
 # How old a value read by SDO may grow in the pages' polling before its turn comes (s): the
 # statusword every reading, what moves with the axis often, the rest now and then.

@@ -117,9 +117,12 @@ class MotionService(IpOps):
                 time.monotonic() - axis.polled_at < self._settings.drive_poll_period
             ):
                 return axis.polled
+            started = time.monotonic()
             snap = await self._snapshot(node, sdo_budget=self._settings.drive_poll_sdo_budget)
-            axis.polled, axis.polled_at = self._build(node, snap), time.monotonic()
-            return axis.polled
+            state = self._build(node, snap)
+            if started >= axis.commanded_at:  # not shared when a command came meanwhile
+                axis.polled, axis.polled_at = state, time.monotonic()
+            return state
 
     # ------------------------------------------------------------------ state machine
 
@@ -198,6 +201,7 @@ class MotionService(IpOps):
             lambda r: io.write_controlword(r, make_quick_stop()), what=f"quick stop node {node}"
         )
         self._axis(node).sent[CONTROLWORD] = make_quick_stop()
+        self._axis(node).commanded()
         try:
             return await self.state(node)
         except CommTimeoutError as error:
@@ -288,10 +292,12 @@ class MotionService(IpOps):
         if quick:
             await session.priority(quick_stop_axis, what=what)
             self._axis(node).sent[CONTROLWORD] = make_quick_stop()
+            self._axis(node).commanded()
             return "quick stop"
         plan = self._stop_plan(node, deceleration_rpm_s, drive_deceleration)
         outcome = await session.priority(lambda r: stop_axis(r, plan), what=what)
         self._axis(node).sent.update(outcome.wrote)
+        self._axis(node).commanded()
         self._saw_statusword(node, outcome.statusword)
         return outcome.how
 
@@ -376,6 +382,7 @@ class MotionService(IpOps):
         # a stop writes the controlword on its own lane (and says what it wrote, stop())
         axis.sent.pop(CONTROLWORD, None)
         axis.stop_epoch += 1  # motion writes queued before it are refused (MotionCore._write)
+        axis.commanded()
         axis.cancel_queue()
         axis.jog = None
         axis.target_user = None
