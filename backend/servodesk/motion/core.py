@@ -399,10 +399,10 @@ STATE_OBJECTS = frozenset({0x6040, MODES_OF_OPERATION})  # a write changes what 
 # statusword every reading, what moves with the axis often, the rest now and then.
 POLL_AGE = {
     "statusword": 0.1,
-    "position": 0.2,
-    "velocity": 0.2,
-    "torque": 0.2,
-    "following_error": 0.2,
+    "position": 0.1,
+    "velocity": 0.1,
+    "torque": 0.3,
+    "following_error": 0.3,
     "mode_display": 0.5,
     "error_code": 0.5,
     "inputs": 0.5,

@@ -23,6 +23,8 @@ from servodesk.motion.errors import LimitError
 from servodesk.motion.schemas import DriveLimits, MotionLimits
 
 LIMITS_REFRESH_S = 1.0  # the drive's own limits are at most this old while the state is read
+# … while the pages poll it: their 2 uploads per reading go to the live values first
+LIMITS_REFRESH_POLLED_S = 2.0
 SIM_PREFIX = "SIM "  # how the shipped dictionaries name the simulator-only objects
 
 
@@ -78,7 +80,8 @@ class LimitOps(MotionCore):
         """The drive's own limits are read again every LIMITS_REFRESH_S while the state is
         read: all at once, or one object per polled reading (within its SDO budget)."""
         axis = self._axis(node)
-        stale = time.monotonic() - axis.limits_read_at > LIMITS_REFRESH_S
+        every = LIMITS_REFRESH_S if sdo_budget is None else LIMITS_REFRESH_POLLED_S
+        stale = time.monotonic() - axis.limits_read_at > every
         if axis.statics is not None and stale:
             if sdo_budget is None:
                 await self._refresh_limits(node)
