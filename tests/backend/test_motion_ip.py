@@ -12,7 +12,9 @@ sending thread (or the simulator's) back for more than 3 periods at 2 ms: that r
 stall and the drive faults. A stalled run is therefore repeated (fault reset, enable) up to
 ATTEMPTS times (as is a stream the SYNC timing check refused) and the bound asserted on a run
 that did not stall; when every run stalled the test fails, naming whether the host missed real
-time (the tool's SYNC gaps or the simulator's own tick lateness beyond a period)."""
+time (the tool's SYNC gaps or the simulator's own tick lateness beyond a period). Only at 2 ms,
+when every try shows this host late, the run is skipped with that evidence: the drives share
+this process, so nothing is known about the stream then; 10 ms judges the same path."""
 
 from __future__ import annotations
 
@@ -33,6 +35,7 @@ MARGIN_REV = 0.01
 END_REV = 0.002
 ATTEMPTS = 6  # a stall on a loaded host is retried; every try stalling fails
 REFUSALS = 20  # so is a refusal by the SYNC timing check (it sends nothing)
+HOST_PERIOD_MS = 10  # a period every host here keeps; shorter ones only where it does
 
 
 async def stream(
@@ -42,7 +45,7 @@ async def stream(
     host_late = False
     result: IpStreamResult | None = None
     refused: SyncUnsafeError | None = None
-    stalls = refusals = 0
+    stalls = refusals = late_tries = 0
     while stalls < ATTEMPTS and refusals < REFUSALS:
         if (await r.motion.state(node)).fault is not None:
             await r.motion.fault_reset(node)  # the SYNC-lost fault of a stalled try
@@ -54,17 +57,25 @@ async def stream(
         except SyncUnsafeError as error:  # the check before the stream saw the host late
             refused, host_late = error, True
             refusals += 1
+            late_tries += 1
             await asyncio.sleep(0.5)  # a refusal costs 0.2 s: wait for a calmer moment
             continue
         stalls += 1
         if not result.stalled:
             return result
         sim_late = r.rig.sim.stats.max_lateness > period_ms / 1000
-        host_late = host_late or sim_late or result.sync_interval_max_ms > 3 * period_ms
+        late = sim_late or result.sync_interval_max_ms > 3 * period_ms
+        late_tries += late
+        host_late = host_late or late
         distance = -distance  # back towards the start
-    late = f" (the host missed {period_ms} ms real time)" if host_late else ""
     last = result.message if result is not None else str(refused)
-    raise AssertionError(f"node {node}: every stream stalled or was refused{late}: {last}")
+    if late_tries == stalls + refusals and period_ms < HOST_PERIOD_MS:
+        # the drives run in this process: at 2 ms this host's own stalls (measured above, the
+        # tool's SYNC gaps or the simulator's tick lateness) end every try; nothing is known
+        # about the stream then, so it is not judged (10 ms judges the same path every run)
+        pytest.skip(f"node {node}: this host missed {period_ms} ms real time on every try: {last}")
+    words = f" (the host missed {period_ms} ms real time)" if host_late else ""
+    raise AssertionError(f"node {node}: every stream stalled or was refused{words}: {last}")
 
 
 @pytest.mark.parametrize("period_ms", [2, 10])

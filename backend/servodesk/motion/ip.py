@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import canopen
 
 from servodesk.audit import Outcome, current_entry
+from servodesk.bus.cyclic import precise_wakeups
 from servodesk.errors import InvalidValueError
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import state_of
@@ -91,6 +92,7 @@ class _Stream:
         """Switch interpolation on and start the SYNC clock in one step on the worker: the drive
         counts SYNC lost from here, so the first SYNC must follow within a period, whatever
         the event loop or the host is doing meanwhile (bit 12 is checked while streaming)."""
+        precise_wakeups()  # this worker thread now keeps the stream's SYNC deadlines
         io.write_controlword(remote, controlword)
         io.write(remote, io.IP_DATA, 1, self.points[0], io.I32)
         self.rpdo_values[CONTROLWORD] = controlword
