@@ -129,6 +129,14 @@ class Exchanges:
             return [label for t, label in self.seen if t >= start]
 
 
+def at_rest(client: TestClient, jog_id: str) -> None:
+    """Until the stopped jog's axis is at rest (the watch says "stopped")."""
+    deadline = time.monotonic() + 5
+    while ok(client.get(f"/api/jog/{jog_id}"))["state"] != "stopped":
+        assert time.monotonic() < deadline, "the axis did not come to rest"
+        time.sleep(0.02)
+
+
 def test_a_jog_puts_its_set_point_on_the_bus_within_3_exchanges(client: TestClient) -> None:
     mapped_and_enabled(client)
     ok(client.get(f"/api/nodes/{NODE}/drive"))  # the page is open: its TPDOs are followed
@@ -146,7 +154,8 @@ def test_a_jog_puts_its_set_point_on_the_bus_within_3_exchanges(client: TestClie
             assert "6041h" not in sent  # the state came from the TPDO
             time.sleep(0.2)
             ok(client.delete(f"/api/jog/{jog['jog_id']}", headers=A))
-            time.sleep(0.3)
+            at_rest(client, jog["jog_id"])
+            time.sleep(0.15)  # a TPDO frame after the stop (event timer 100 ms) shows the state
     finally:
         exchanges.remove()
 
@@ -174,7 +183,8 @@ def test_jog_commands_go_in_the_mapped_rpdo(client: TestClient) -> None:
     first = ok(client.post(f"/api/nodes/{NODE}/jog", headers=A, json=body))
     time.sleep(0.2)
     ok(client.delete(f"/api/jog/{first['jog_id']}", headers=A))  # halted on the SDO lane
-    time.sleep(0.4)
+    at_rest(client, first["jog_id"])
+    time.sleep(0.15)  # a TPDO frame after the stop (event timer 100 ms) shows the state
     frames = Frames(client, {RPDO1, SDO_REQUEST})
     try:
         body["velocity_rpm"] = 100
