@@ -28,9 +28,9 @@ def drive_state(server: str, node: int) -> dict[str, object]:
 
 
 def velocity(server: str, node: int) -> float:
-    value = drive_state(server, node)["velocity_rpm"]
-    assert isinstance(value, int | float)
-    return float(value)
+    """606Ch read from the drive now (rpm on the three profiles): the Drive page's shared
+    reading may hold a value read in turn up to a few readings ago."""
+    return float(sdo_value(server, node, 0x606C))
 
 
 def enable(page: Page) -> None:

@@ -11,10 +11,11 @@ import time
 
 from playwright.sync_api import Page, expect
 
-from tests.e2e.test_drive import api, drive_state, enable, shot, velocity
+from tests.e2e.test_drive import api, drive_state, enable, sdo_value, shot, velocity
 
 NODE = 3
 REST_RPM = 5.0
+USER_PER_REV = 100_000  # node 3: 6091h 131072 : 100000
 QUICK_STOP_2000_RPM_S = 3333  # 6085h in user units/s/ms (100 000 per revolution)
 SIM_LIMIT_SWITCHES = ((0x5FF1, -1000), (0x5FF2, 1000))  # revolutions
 SPEED = re.compile(r"(-?[\d\s]+(?:\.\d+)?) rpm")
@@ -40,9 +41,14 @@ def hold(page: Page, server: str, name: re.Pattern[str], seconds: float) -> tupl
     press(page, name)
     expect(page.get_by_test_id("jog-pt-status")).to_contain_text("Moving")
     page.wait_for_timeout(seconds * 1000)
-    state = drive_state(server, NODE)
+    speed, where = velocity(server, NODE), position_rev(server, NODE)
     page.mouse.up()
-    return float(str(state["velocity_rpm"])), float(str(state["position_rev"]))
+    return speed, where
+
+
+def position_rev(server: str, node: int) -> float:
+    """6064h read from the drive now, in revolutions (node 3: 100 000 user units per rev)."""
+    return sdo_value(server, node, 0x6064) / USER_PER_REV
 
 
 def test_a_released_torque_jog_reads_stopping_until_the_axis_is_at_rest(
@@ -81,12 +87,12 @@ def test_a_released_torque_jog_reads_stopping_until_the_axis_is_at_rest(
     assert said[-1][0].startswith("Stopped"), said[-5:]
     expect(status).to_contain_text("Stopped")
     end = drive_state(server, NODE)
-    assert abs(float(str(end["velocity_rpm"]))) < REST_RPM
+    assert abs(velocity(server, NODE)) < REST_RPM
     assert end["state"] == "operation_enabled", end["fault"]  # braked, not faulted
     # the distance a 2000 rpm/s ramp needs from the release speed, plus 0.3 s of latency
     rev_s = abs(released_at) / 60
     allowed = rev_s**2 / (2 * 2000 / 60) + rev_s * 0.3 + 0.5
-    travelled = abs(float(str(end["position_rev"])) - position)
+    travelled = abs(position_rev(server, NODE) - position)
     assert travelled < allowed, f"{travelled:.2f} rev after the release (allowed {allowed:.2f})"
     shot(page, ".drive-jog", "drive_jog_pt_released.png")
 
