@@ -37,6 +37,7 @@ from servodesk_protocol.cia402 import (
 )
 
 DEFAULT_POSITION_WINDOW = 100  # user units = 1/1000 rev, what the drives use without 6067h
+COMMAND_LATENCY_S = 0.002  # a frame the drive sent before it took a command may arrive this late
 INPUT_BITS = {"negative_limit": 0, "positive_limit": 1, "home_switch": 2}  # 60FDh
 SOURCE_NAMES = {"inputs": "digital_inputs"}  # a Snapshot field -> its DriveState name
 
@@ -52,6 +53,7 @@ class Axis:
     limit_turn: int = 0  # which limit object a polled reading reads next
     sim_switches: bool = True  # still ask for the simulator's switch objects 5FF1h/5FF2h
     last: Snapshot | None = None
+    last_at: float = 0.0  # when the reading in `last` started (an older one never replaces it)
     sdo_read_at: dict[str, float] = field(default_factory=dict)  # polled SDO reads, by field
     # the latest SDO reading of each live value (value, time.monotonic()): newer than a TPDO
     # frame, it wins (a change the drive holds back for the TPDO's inhibit time)
@@ -78,10 +80,13 @@ class Axis:
     queue_task: asyncio.Task[None] | None = None
     queued: list[object] = field(default_factory=list)
 
-    def commanded(self) -> None:
-        """A command changed (or may have changed) the drive's state: TPDO frames from before
-        it and the pages' shared reading no longer show the drive."""
-        self.commanded_at = time.monotonic()
+    def commanded(self, sent_at: float | None = None) -> None:
+        """A command sent at `sent_at` (now) changed, or may have changed, the drive's state:
+        TPDO frames that arrived before it (and a bus latency) and the pages' shared reading no
+        longer show the drive. Called once the command is sent: a frame the drive sent in
+        answer may already have arrived, so the time is when it was asked for."""
+        at = (time.monotonic() if sent_at is None else sent_at) + COMMAND_LATENCY_S
+        self.commanded_at = max(self.commanded_at, at)
         self.polled = None
 
     def saw(self, state: Cia402State, taken: str | None = None) -> None:

@@ -154,6 +154,7 @@ class MotionCore:
         went to the drive after it was asked for (a queued write must not undo the stop)."""
         axis = self._axis(node)
         epoch = axis.stop_epoch
+        asked_at = time.monotonic()
         frame = self._rpdo_frame(node, index, sub, value)
         axis.sent.pop(index, None)  # unknown until the drive has it
 
@@ -173,7 +174,7 @@ class MotionCore:
         if sub == 0:
             axis.sent[index] = value
         if index in STATE_OBJECTS:
-            axis.commanded()  # what the drive shows now is read, not taken from older frames
+            axis.commanded(asked_at)  # what the drive shows now is read, not older frames
 
     def _rpdo_frame(
         self, node: int, index: int, sub: int, value: int
@@ -219,6 +220,7 @@ class MotionCore:
         axis = self._axis(node)
         if axis.statics is None:
             await self._refresh_statics(node)
+        started = time.monotonic()
         given, sources = self._carried(node, ask=sdo_budget is not None)
         if sdo_budget is not None and axis.last is not None:
             missing = [name for name in io.SNAPSHOT_OBJECTS if name not in given]
@@ -241,8 +243,9 @@ class MotionCore:
                 if name in asked and value is not None:
                     axis.sent[index] = value
         self._saw_statusword(node, snap.statusword)
-        axis.last = snap
-        axis.saw(state_of(snap.statusword))
+        if started >= axis.last_at:  # a reading that started earlier keeps older values
+            axis.last, axis.last_at = snap, started
+            axis.saw(state_of(snap.statusword))
         return snap
 
     def _carried(
@@ -250,10 +253,8 @@ class MotionCore:
     ) -> tuple[dict[str, int | None], dict[str, str]]:
         """The snapshot's objects the node's TPDOs carry now: (values, "TPDOn" by field);
         `ask`: read an unknown mapping in the background (TpdoFeeds.values)."""
-        if self._feeds is None:
-            return {}, {}
         keys = {(index, 0): name for name, (index, _signed) in io.SNAPSHOT_OBJECTS.items()}
-        carried = self._feeds.values(node, keys, ask=ask)
+        carried = self._feeds.values(node, keys, ask=ask) if self._feeds is not None else {}
         values: dict[str, int | None] = {}
         sources: dict[str, str] = {}
         axis = self._axis(node)
@@ -269,6 +270,9 @@ class MotionCore:
                 values[name], sources[name] = newer[0], io.SDO
             else:
                 values[name], sources[name] = found.value, found.source
+        for name, index in READ_INTO_SENT.items():  # the controlword and mode ServoDesk wrote
+            if name not in values and index in axis.sent:
+                values[name], sources[name] = axis.sent[index], WRITTEN
         return values, sources
 
     async def _refresh_statics(self, node: int) -> None:
@@ -394,6 +398,7 @@ class MotionCore:
 # RPDO that maps them beside a set-point can then be sent, pdo/commands.py)
 READ_INTO_SENT = {"controlword": 0x6040, "mode": MODES_OF_OPERATION}
 STATE_OBJECTS = frozenset({0x6040, MODES_OF_OPERATION})  # a write changes what the drive shows
+WRITTEN = "written"  # a value's source: what ServoDesk wrote and the drive confirmed
 
 # How old a value read by SDO may grow in the pages' polling before its turn comes (s): the
 # statusword every reading, what moves with the axis often, the rest now and then.

@@ -15,6 +15,7 @@ function Source({ drive, name }: { drive: DriveState; name: string }): ReactNode
   const source = drive.sources?.[name];
   if (!source) return null;
   const frames = source.startsWith("TPDO");
+  const written = source === "written";
   return (
     <span
       className={frames ? "badge source source-pdo" : "badge source source-sdo"}
@@ -22,7 +23,9 @@ function Source({ drive, name }: { drive: DriveState; name: string }): ReactNode
       title={
         frames
           ? `From the drive's ${source} frames: current with every frame`
-          : "Read by SDO, in turn with the other values no TPDO carries (at most 2 reads per 100 ms)"
+          : written
+            ? "As ServoDesk last wrote it, confirmed by the drive"
+            : "Read by SDO, in turn with the other values no TPDO carries (at most 2 reads per 100 ms)"
       }
     >
       {source}
