@@ -148,12 +148,14 @@ def test_level_trigger_with_pre_trigger_captures_the_crossing(client: TestClient
     crossing = int(np.flatnonzero(t >= 0)[0])
     assert t[crossing] == 0.0  # the trigger sample sits at the trigger time
     assert raw[crossing] >= level > raw[crossing - 1]
-    # 100 ms of pre-trigger: 100 samples at 1 kHz (SYNCs late on a busy host are made up half a
-    # period apart: docs/architecture.md). Times are when each sample arrived, so the first one
-    # sits up to a scheduling delay of the host after the window's start; none before.
-    assert crossing == pytest.approx(100, abs=3)
-    assert -0.101 <= t[0] <= -0.09
-    assert abs(np.count_nonzero(t >= 0) - 400) <= 1  # the post-trigger part: 0.4 s at 1 ms
+    # 0.5 s at 1 kHz, 0.1 s of it before the trigger. Times are when each sample arrived: a
+    # SYNC the host sent late is made up half a period later (docs/architecture.md), so the
+    # count holds while the split between before and after the trigger moves with where a
+    # stall fell. The window reaches back 100 ms: nothing before it, and its first sample no
+    # later than the longest gap between two samples after its start.
+    assert len(t) == pytest.approx(500, abs=3)
+    assert crossing >= 90
+    assert -0.101 <= t[0] <= -0.1 + float(np.diff(t).max()) + 0.001
 
 
 def capture_crossing(client: TestClient, level: int) -> tuple[dict[str, Any], dict[str, Any]]:
