@@ -27,24 +27,45 @@ def ok(response: httpx.Response) -> Any:
     return response.json()
 
 
-class Uploads:
-    """The SDO uploads the tool asked of the drive, with when they reached it."""
+class Frames:
+    """The frames the tool sent node 3 on the given CAN ids, in order, with when they reached
+    the drive (a tap on the simulated bus)."""
 
-    def __init__(self, client: TestClient) -> None:
+    def __init__(self, client: TestClient, ids: set[int]) -> None:
         sim = services_of(client).bus.sim
         assert sim is not None
+        self.ids = ids
         self._lock = threading.Lock()
-        self.seen: list[tuple[float, int]] = []
+        self.timed: list[tuple[float, int, bytes]] = []
         self.remove = sim.add_tap(self._on_frame)
 
     def _on_frame(self, frame: Frame, _origin: object | None) -> None:
-        if frame.can_id == SDO_REQUEST and frame.data[0] == UPLOAD:
+        if frame.can_id in self.ids:
             with self._lock:
-                self.seen.append((time.monotonic(), frame.data[1] | frame.data[2] << 8))
+                self.timed.append((time.monotonic(), frame.can_id, bytes(frame.data)))
 
-    def since(self, start: float) -> list[tuple[float, int]]:
+    @property
+    def seen(self) -> list[tuple[int, bytes]]:
         with self._lock:
-            return [(t, index) for t, index in self.seen if t >= start]
+            return [(can_id, data) for _, can_id, data in self.timed]
+
+    def uploads(self, start: float, end: float) -> list[tuple[float, int]]:
+        """The SDO uploads asked between `start` and `end`: (time, index)."""
+        with self._lock:
+            return [
+                (t, data[1] | data[2] << 8)
+                for t, can_id, data in self.timed
+                if can_id == SDO_REQUEST and data[0] == UPLOAD and start <= t < end
+            ]
+
+    def exchanges(self, start: float) -> list[str]:
+        """From `start`: "60FFh" for an SDO request about 60FFh, "RPDO1" for that frame."""
+        with self._lock:
+            return [
+                "RPDO1" if can_id == RPDO1 else f"{data[1] | data[2] << 8:04X}h"
+                for t, can_id, data in self.timed
+                if t >= start
+            ]
 
 
 def mapped_and_enabled(client: TestClient) -> None:
@@ -56,7 +77,7 @@ def mapped_and_enabled(client: TestClient) -> None:
 
 def test_tpdo_values_reach_the_page_without_sdo_reads(client: TestClient) -> None:
     mapped_and_enabled(client)
-    uploads = Uploads(client)
+    uploads = Frames(client, {SDO_REQUEST})
     try:
         jog = ok(
             client.post(
@@ -88,7 +109,7 @@ def test_tpdo_values_reach_the_page_without_sdo_reads(client: TestClient) -> Non
     assert all(s["sources"]["statusword"].startswith("TPDO") for s in moving)
     # ... and no SDO upload of 606Ch or 6041h reached the drive meanwhile (the jog's own
     # watch reads the frames too)
-    asked = [(t, index) for t, index in uploads.since(start) if t < end]  # not the stop's
+    asked = uploads.uploads(start, end)  # not the stop's
     assert not [index for _, index in asked if index in (VELOCITY, STATUSWORD)], asked
     # what no TPDO carries is read within 2 uploads per 100 ms (the pages' polling)
     for t, _ in asked:
@@ -103,32 +124,6 @@ def test_without_tpdos_the_page_says_sdo(client: TestClient) -> None:
     assert state["sources"]["velocity"] == "SDO"
 
 
-class Exchanges:
-    """Every SDO request and RPDO1 frame the tool sent node 3, in order: "60FFh" for an SDO
-    request about 60FFh, "RPDO1" for the frame."""
-
-    def __init__(self, client: TestClient) -> None:
-        sim = services_of(client).bus.sim
-        assert sim is not None
-        self._lock = threading.Lock()
-        self.seen: list[tuple[float, str]] = []
-        self.remove = sim.add_tap(self._on_frame)
-
-    def _on_frame(self, frame: Frame, _origin: object | None) -> None:
-        if frame.can_id == SDO_REQUEST:
-            label = f"{frame.data[1] | frame.data[2] << 8:04X}h"
-        elif frame.can_id == RPDO1:
-            label = "RPDO1"
-        else:
-            return
-        with self._lock:
-            self.seen.append((time.monotonic(), label))
-
-    def since(self, start: float) -> list[str]:
-        with self._lock:
-            return [label for t, label in self.seen if t >= start]
-
-
 def at_rest(client: TestClient, jog_id: str) -> None:
     """Until the stopped jog's axis is at rest (the watch says "stopped")."""
     deadline = time.monotonic() + 5
@@ -140,7 +135,7 @@ def at_rest(client: TestClient, jog_id: str) -> None:
 def test_a_jog_puts_its_set_point_on_the_bus_within_3_exchanges(client: TestClient) -> None:
     mapped_and_enabled(client)
     ok(client.get(f"/api/nodes/{NODE}/drive"))  # the page is open: its TPDOs are followed
-    exchanges = Exchanges(client)
+    exchanges = Frames(client, {SDO_REQUEST, RPDO1})
     try:
         for speed in (150, -150, 150):  # the first jog, then after a stop, then a new ramp
             start = time.monotonic()
@@ -148,7 +143,7 @@ def test_a_jog_puts_its_set_point_on_the_bus_within_3_exchanges(client: TestClie
             if speed > 0:
                 body["acceleration_rpm_s"] = 2000 if speed == 150 else 1500
             jog = ok(client.post(f"/api/nodes/{NODE}/jog", headers=A, json=body))
-            sent = exchanges.since(start)
+            sent = exchanges.exchanges(start)
             # the set-point: by SDO, or in RPDO1 where the mapping puts it (6040h 60FFh 6060h)
             assert {"60FFh", "RPDO1"} & set(sent[:3]), sent
             assert "6041h" not in sent  # the state came from the TPDO
@@ -158,21 +153,6 @@ def test_a_jog_puts_its_set_point_on_the_bus_within_3_exchanges(client: TestClie
             time.sleep(0.15)  # a TPDO frame after the stop (event timer 100 ms) shows the state
     finally:
         exchanges.remove()
-
-
-class Frames:
-    """The frames the tool sent node 3 on the given CAN ids, in order."""
-
-    def __init__(self, client: TestClient, ids: set[int]) -> None:
-        sim = services_of(client).bus.sim
-        assert sim is not None
-        self.ids = ids
-        self.seen: list[tuple[int, bytes]] = []
-        self.remove = sim.add_tap(self._on_frame)
-
-    def _on_frame(self, frame: Frame, _origin: object | None) -> None:
-        if frame.can_id in self.ids:
-            self.seen.append((frame.can_id, bytes(frame.data)))
 
 
 def test_jog_commands_go_in_the_mapped_rpdo(client: TestClient) -> None:
