@@ -177,13 +177,25 @@ def test_free_running_window_has_exact_counts_over_uneven_batches() -> None:
     assert scope.out.lane("events") == [(0.0, "trigger: free-running: the first sample")]
 
 
+def stalled_before(k: float) -> float:
+    """SYNCs from k=38 held up by a 3 ms stall, then made up half a period apart until back on
+    schedule at k=44 (bus/cyclic.py): k=38 and 39 arrive after the trigger time − pre_s."""
+    return t(41 + (k - 38) / 2) if 38 <= k < 44 else t(k)
+
+
 @pytest.mark.parametrize(
-    "post_times",
-    [t, lambda k: t(50) + (k - 50) * 0.01],  # on time; or late, 10 ms apart after the trigger
+    ("pre_times", "post_times"),
+    [
+        (t, t),  # on time
+        (t, lambda k: t(50) + (k - 50) * 0.01),  # late, 10 ms apart after the trigger
+        (stalled_before, t),  # a stall that moved SYNCs into the window: still 10
+    ],
 )
-def test_pre_trigger_and_trigger_sample_at_zero(post_times: Callable[[float], float]) -> None:
+def test_pre_trigger_and_trigger_sample_at_zero(
+    pre_times: Callable[[float], float], post_times: Callable[[float], float]
+) -> None:
     scope = rig([POSITION], duration_s=0.0305, trigger=level(pre_s=0.0105))  # 20 after
-    history = scope.frames(range(50), ramp)
+    history = scope.frames(range(50), ramp, times=pre_times)
     after = scope.frames(range(50, 200), ramp, times=post_times)
     scope.feed(*chunks(history, [7] * 7))  # k=49, the predecessor, alone in its batch
     assert scope.core.armed
@@ -199,7 +211,7 @@ def test_pre_trigger_and_trigger_sample_at_zero(post_times: Callable[[float], fl
     assert raw == [100.0 * k for k in range(40, 70)]
     assert rel[10] == 0.0
     assert raw[10] == 5000
-    assert rel[0] == pytest.approx(-0.010)
+    assert rel[0] == pytest.approx(pre_times(40) - t(50))
     assert scope.out.lane("events") == [
         (0.0, "trigger: node 2 6064h:00 Position actual value rose to 5000 (5000)")
     ]
@@ -279,8 +291,9 @@ def test_emcy_trigger_from_an_event() -> None:
     assert scope.core.trigger_time == t(20.2)
     assert scope.core.done()
     rel, raw = scope.out.rel[0], scope.out.raw[0]
-    assert raw == [100.0 * k for k in range(15, 31)]  # 6 before (from 14.7), 10 after
-    assert rel[5:7] == pytest.approx([-0.0002, 0.0008], abs=1e-6)
+    # 5.5 ms before at 1 ms SYNCs: the 5 SYNCs ahead of the EMCY, then 10 after it
+    assert raw == [100.0 * k for k in range(16, 31)]
+    assert rel[4:6] == pytest.approx([-0.0002, 0.0008], abs=1e-6)
     assert scope.out.lane("events") == [
         (0.0, "trigger: EMCY from node 2: EMCY 7500h from node 2"),
         (0.0, "EMCY 7500h from node 2"),

@@ -5,9 +5,10 @@ events of the captured nodes). The core decodes them per frame stream (batch.py)
 trigger while keeping `pre_s` of history, then writes the window — `pre_s` before the trigger,
 `post` after — to the samples table and the rerun recording.
 
-A TPDO signal's window after the trigger is counted in SYNC cycles (duration / SYNC period
-samples: sample k belongs to SYNC k, whatever the host's timing); an SDO-polled signal's by
-time. Pure of the bus and the loop: the service does the I/O around it.
+A TPDO signal's window is counted in SYNC cycles on both sides of the trigger (pre_s / SYNC
+period samples before it, the rest of the duration after: sample k belongs to SYNC k, whatever
+the host's timing, so a SYNC sent late and made up later moves no sample out of the window); an
+SDO-polled signal's by time. Pure of the bus and the loop: the service does the I/O around it.
 """
 
 from __future__ import annotations
@@ -60,6 +61,7 @@ class SignalTrack:
     pdo: bool
     data_type: int | None
     remaining: int  # TPDO samples still wanted after the trigger
+    before: int = 0  # TPDO samples kept from before the trigger
     count: int = 0
     first: float | None = None
     last: float | None = None  # arrival time of the latest sample (monotonic fix-up)
@@ -194,8 +196,12 @@ class CaptureCore:
             times = np.concatenate([t for t, _ in track.ring])
             raw = np.concatenate([r for _, r in track.ring])
             track.ring.clear()
-            keep = times >= start
-            self._emit(track, times[keep], raw[keep])
+            if track.pdo:  # the last `before` samples ahead of the trigger, counted in SYNCs
+                ahead = int(np.count_nonzero(times < fired.time))
+                keep = np.arange(times.size) >= ahead - track.before
+            else:
+                keep = times >= start
+            self._emit(track, times[keep], raw[keep], counted=True)
         node = self._trigger_node()
         self.output.texts(node, "events", [fired.time], [0.0], [f"trigger: {fired.words}"])
         recent, self._recent_events = self._recent_events, []
@@ -245,11 +251,13 @@ class CaptureCore:
 
     # ------------------------------------------------------------------ writing the window
 
-    def _emit(self, track: SignalTrack, times: Floats, raw: Floats) -> None:
+    def _emit(
+        self, track: SignalTrack, times: Floats, raw: Floats, *, counted: bool = False
+    ) -> None:
         if self.trigger_time is None:  # only called once triggered
             return
         start = self.trigger_time - self.pre_s
-        if times.size and times[0] < start:  # late arrivals from before the window
+        if not counted and times.size and times[0] < start:  # late arrivals from before it
             keep = times >= start
             times, raw = times[keep], raw[keep]
         if track.pdo:

@@ -117,6 +117,8 @@ def build_core(
 ) -> CaptureCore:
     post_s = request.duration_s - request.trigger.pre_s
     post_samples = max(1, round(post_s * 1e6 / request.sync_period_us))
+    # the samples a time window of pre_s holds at exact SYNC times (floor, float-safe)
+    pre_samples = int(request.trigger.pre_s * 1e6 / request.sync_period_us + 1e-6)
     number_of = {(s.node, s.index, s.subindex): i for i, s in enumerate(signals)}
     tracks = [
         SignalTrack(
@@ -127,6 +129,7 @@ def build_core(
             pdo=s.source == "pdo",
             data_type=infos[(s.node, s.index, s.subindex)].data_type,
             remaining=post_samples,
+            before=pre_samples,
         )
         for i, s in enumerate(signals)
     ]
