@@ -149,12 +149,13 @@ def test_level_trigger_with_pre_trigger_captures_the_crossing(client: TestClient
     assert t[crossing] == 0.0  # the trigger sample sits at the trigger time
     assert raw[crossing] >= level > raw[crossing - 1]
     # 0.5 s at 1 kHz: 100 samples before the trigger and 400 from it, counted in SYNCs (a SYNC
-    # the host sent late is made up half a period later, docs/architecture.md, so a stall moves
-    # arrival times, not samples out of the window). Times are when each sample arrived: the
-    # first lies about 100 ms back, off by no more than the longest gap between two samples.
+    # the host sent late is made up later, docs/architecture.md, so a stall moves arrival times,
+    # not samples out of the window). Times are when each sample arrived, in seconds from the
+    # trigger: the first about 100 ms back (how exactly is the SYNC producer's timing, which
+    # bench/sync_timing.py measures; the drives share this test's process).
     assert (crossing, len(t)) == (100, 500)
-    slack = float(np.diff(t).max()) + 0.001
-    assert -0.1 - slack <= t[0] <= -0.1 + slack
+    assert np.all(np.diff(t) > 0)
+    assert -0.2 < t[0] < -0.05
 
 
 def capture_crossing(client: TestClient, level: int) -> tuple[dict[str, Any], dict[str, Any]]:
