@@ -150,6 +150,26 @@ class RunEar(Ear):
                 self.trips.append(f"node {msg.arbitration_id - 0x80} at {at - self.started:.1f} s")
 
 
+def commission(http: httpx.Client) -> None:
+    """Node 3 as a commissioned axis: the recommended mapping for profile velocity (statusword,
+    mode, position, velocity, torque in TPDOs; controlword, mode and 60FFh in RPDOs), then
+    Operational, so drive state comes from the frames and commands go in RPDOs."""
+    pdos = ok(http.get(f"/api/nodes/{NODE}/pdos/recommended", params={"modes": "pv"}))["pdos"]
+    for pdo in pdos:
+        pdo.pop("transmission", None)
+        pdo["mapping"] = [{k: o[k] for k in ("index", "subindex", "bits")} for o in pdo["mapping"]]
+    ok(http.put(f"/api/nodes/{NODE}/pdos", json={"pdos": pdos}))
+    ok(http.post(f"/api/nodes/{NODE}/nmt", json={"command": "start"}))
+    mapped = [
+        f"{p['kind'].upper()}{p['number']} "
+        + "+".join(f"{o['index']:04X}h" for o in p["mapping"])
+        + f" (type {p['transmission_type']})"
+        for p in pdos
+        if p["valid"]
+    ]
+    print(f"    node {NODE} mapped: {', '.join(mapped)}")
+
+
 def read_rpdos(http: httpx.Client, ear: RunEar) -> None:
     answer = http.get(f"/api/nodes/{NODE}/pdos")
     if answer.status_code == 200:
@@ -280,6 +300,8 @@ def timed_run(base: str, ear: RunEar, args: argparse.Namespace) -> Results:
     capture_s = min(args.duration + 300.0, 3600.0)
     with ExitStack() as stack:
         http = stack.enter_context(httpx.Client(base_url=base, timeout=30))
+        if args.mapped:  # before the capture maps its own TPDOs beside these
+            commission(http)
         stack.enter_context(work_process(_scope, base, (capture_s,), 3.0))
         stack.enter_context(work_process(_pages, base, (), 1.0))
         read_rpdos(http, ear)
@@ -375,13 +397,24 @@ def main() -> int:
     parser.add_argument("--hogs", type=int, default=2, help="CPU-bound processes beside")
     parser.add_argument("--log-frames", type=int, default=1_000_000, help="the decoded log's")
     parser.add_argument("--sync-seconds", type=float, default=10.0)
+    parser.add_argument(
+        "--sdo-only",
+        dest="mapped",
+        action="store_false",
+        help="leave node 3's PDOs as they boot (state by SDO) instead of the recommended ones",
+    )
+    parser.add_argument("--skip-apart", action="store_true", help="no SYNC / SDO benches first")
     args = parser.parse_args()
-    print("SYNC producer (bench/sync_timing.py), quiet and beside the CPU hogs ...")
-    quiet, loaded = sync_figures(args.sync_seconds, 0), sync_figures(args.sync_seconds, args.hogs)
-    for figures in (quiet, loaded):
-        print(f"    {figures.line() if figures else 'not measured'}")
-    print("SDO read overhead (bench/sdo_overhead.py, its own app) ...")
-    sdo = sdo_added_ms()
+    quiet = loaded = None
+    sdo = None
+    if not args.skip_apart:
+        print("SYNC producer (bench/sync_timing.py), quiet and beside the CPU hogs ...")
+        quiet = sync_figures(args.sync_seconds, 0)
+        loaded = sync_figures(args.sync_seconds, args.hogs)
+        for figures in (quiet, loaded):
+            print(f"    {figures.line() if figures else 'not measured'}")
+        print("SDO read overhead (bench/sdo_overhead.py, its own app) ...")
+        sdo = sdo_added_ms()
     can_port, http_port = free_port(), free_port()
     print(f"timed run: {args.duration:g} s at least, {args.hogs} CPU hogs, conditions {CONDITIONS}")
     data_dir = tempfile.mkdtemp(prefix="servodesk-rt-")  # kept: the server's log, for diagnosis

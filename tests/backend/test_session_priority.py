@@ -180,3 +180,76 @@ async def test_a_call_that_wrote_runs_whole_before_the_stop(nodes: SimNodes) -> 
     await asyncio.gather(running, stop)
     tap.remove()
     assert objects(tap) == [PROFILE_VELOCITY, PROFILE_VELOCITY, VENDOR, CONTROLWORD]
+
+
+PROFILE_ACCELERATION = (0x6083, 0)
+
+
+async def test_a_command_goes_ahead_of_queued_reads_and_cuts_into_a_long_read(
+    nodes: SimNodes,
+) -> None:
+    """A motion command (a jog's set-point) waits for no read: it goes between two reads of the
+    call in progress and ahead of the reads queued before it; commands keep their order, and
+    the long call's later write is not refused (a command decides nothing for it)."""
+    session = nodes.session(3)
+    tap = SdoTap(nodes, 3)
+    started, go = threading.Event(), threading.Event()
+
+    def long_read_then_write(remote: canopen.RemoteNode) -> None:
+        remote.sdo.upload(*DEVICE_TYPE)
+        started.set()
+        go.wait(5)
+        remote.sdo.upload(*VENDOR)
+        remote.sdo.download(*PROFILE_VELOCITY, remote.sdo.upload(*PROFILE_VELOCITY))
+
+    running = asyncio.create_task(session.run(long_read_then_write, what="a long call"))
+    await asyncio.to_thread(started.wait, 5)
+    reads = [asyncio.create_task(session.upload(*VENDOR)) for _ in range(3)]
+    await asyncio.sleep(0)
+
+    def command(index: tuple[int, int]) -> Callable[[canopen.RemoteNode], None]:
+        return lambda remote: remote.sdo.download(*index, (1000).to_bytes(4, "little"))
+
+    commands = [
+        asyncio.create_task(session.run(command(PROFILE_ACCELERATION), what="6083h", command=True)),
+        asyncio.create_task(session.run(command(PROFILE_VELOCITY), what="6081h", command=True)),
+    ]
+    await asyncio.sleep(0.01)  # both queued in the command lane
+    go.set()
+    await asyncio.gather(running, *reads, *commands)
+    tap.remove()
+    assert objects(tap) == [
+        DEVICE_TYPE,
+        PROFILE_ACCELERATION,  # between two reads of the long call, in the commands' order
+        PROFILE_VELOCITY,
+        VENDOR,
+        PROFILE_VELOCITY,  # the long call's read and write, not refused
+        PROFILE_VELOCITY,
+        *[VENDOR] * 3,  # the reads queued before the commands
+    ]
+
+
+async def test_a_stop_goes_before_queued_commands(nodes: SimNodes) -> None:
+    session = nodes.session(2)
+    tap = SdoTap(nodes, 2)
+    started, go = threading.Event(), threading.Event()
+
+    def held(remote: canopen.RemoteNode) -> None:
+        remote.sdo.download(*PROFILE_VELOCITY, remote.sdo.upload(*PROFILE_VELOCITY))
+        started.set()
+        go.wait(5)
+
+    running = asyncio.create_task(session.run(held, what="a call that wrote"))
+    await asyncio.to_thread(started.wait, 5)
+    command = asyncio.create_task(
+        session.run(lambda r: r.sdo.upload(*VENDOR), what="a command", command=True)
+    )
+    await asyncio.sleep(0)
+    stop = asyncio.create_task(
+        session.priority(lambda remote: remote.sdo.upload(*CONTROLWORD), what="quick stop")
+    )
+    await asyncio.sleep(0.01)
+    go.set()
+    await asyncio.gather(running, command, stop)
+    tap.remove()
+    assert objects(tap) == [PROFILE_VELOCITY, PROFILE_VELOCITY, CONTROLWORD, VENDOR]

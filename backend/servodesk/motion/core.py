@@ -143,8 +143,19 @@ class MotionCore:
 
     # ------------------------------------------------------------------ node access
 
-    async def _run(self, node: int, fn: Callable[[canopen.RemoteNode], T], what: str) -> T:
-        return await self._registry.session(node).run(fn, what=f"{what} (node {node})")
+    async def _run(
+        self,
+        node: int,
+        fn: Callable[[canopen.RemoteNode], T],
+        what: str,
+        *,
+        command: bool = True,
+    ) -> T:
+        """A step of a motion command or of a jog's watch: ahead of the node's queued reads
+        (nodes/session.py). `command=False` for background reading (a page's poll, limits)."""
+        return await self._registry.session(node).run(
+            fn, what=f"{what} (node {node})", command=command
+        )
 
     async def _write(
         self, node: int, index: int, sub: int, value: int, kind: tuple[int, bool]
@@ -169,7 +180,11 @@ class MotionCore:
 
         route = f" in {frame[3]}" if frame is not None else ""
         await self._registry.session(node).run(
-            send, what=f"write {index:04X}h:{sub:02X}h{route}", index=index, subindex=sub
+            send,
+            what=f"write {index:04X}h:{sub:02X}h{route}",
+            index=index,
+            subindex=sub,
+            command=True,
         )
         if sub == 0:
             axis.sent[index] = value
@@ -233,7 +248,10 @@ class MotionCore:
         else:
             asked = [name for name in io.SNAPSHOT_OBJECTS if name not in given]
             snap = await self._run(
-                node, lambda r: io.read_snapshot(r, given, sources), "read the drive state"
+                node,
+                lambda r: io.read_snapshot(r, given, sources),
+                "read the drive state",
+                command=sdo_budget is None,  # the pages' shared reading waits its turn
             )
             now = time.monotonic()
             axis.sdo_read_at.update((name, now) for name in asked)
@@ -278,7 +296,9 @@ class MotionCore:
     async def _refresh_statics(self, node: int) -> None:
         data = self._registry.profile_data(node)
         speed_ref = data.quirks.max_speed_object if data else (0x6080, 0)  # Max motor speed
-        statics = await self._run(node, lambda r: io.read_statics(r, speed_ref), "read drive facts")
+        statics = await self._run(
+            node, lambda r: io.read_statics(r, speed_ref), "read drive facts", command=False
+        )
         axis = self._axis(node)
         first = axis.statics is None
         axis.statics = statics

@@ -110,7 +110,10 @@ class LimitOps(MotionCore):
         name = names[axis.limit_turn % len(names)]
         index, sub, signed = objects[name]
         value = await self._run(
-            node, lambda r: io.read(r, index, sub, signed=signed), "read a drive limit"
+            node,
+            lambda r: io.read(r, index, sub, signed=signed),
+            "read a drive limit",
+            command=False,  # part of the pages' shared reading
         )
         axis.limit_turn += 1
         if axis.limit_turn % len(names) == 0:

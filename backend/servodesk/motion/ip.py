@@ -276,7 +276,10 @@ class IpOps(MoveOps):
                 if stream.cancelled or stream.stalled:
                     break
                 step = first if index == 0 else lambda r: stream.chunk(r, per_chunk, sample_every)
-                inflight.append(asyncio.ensure_future(self._run(node, step, "IP")))
+                # in the normal lane: a stream keeps its next chunk queued, and commands must
+                # not starve the node's other requests (nodes/session.py)
+                call = self._run(node, step, "IP", command=False)
+                inflight.append(asyncio.ensure_future(call))
                 if len(inflight) > 1:
                     await inflight.popleft()
             while inflight:

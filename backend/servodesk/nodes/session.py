@@ -10,14 +10,19 @@ it runs, other callers' requests wait at the session's gate and none slips in be
 (see `Transaction`).
 
 A stop must not wait behind any of that: `priority()` bypasses the gate and goes to the front of
-the worker's queue. Nor does it wait for a long call in progress (a chunk of an upload-all, a
-state snapshot of ten reads): while that call has only read so far, the stop runs on the same
-thread between two of its SDO transfers (never two transfers at once, never inside a segmented
-one). A call that would write after such a stop is refused instead (RequestInterruptedError): it
-wrote nothing, and nothing it decided before the stop is sent after it. A call that has written
-runs to its end before the stop, as a whole step. If a transaction is open it then sees its step
-interrupted: the stop ran between two of its steps (`Transaction.interrupted` names it), and the
-drive it was configuring has been stopped.
+the worker's queue. A motion command (a jog's set-point, ramp, mode, controlword: `run(...,
+command=True)`) waits at the gate like any request, then goes ahead of the reads queued before
+it (a page's poll, an upload-all, a scan's identification) and behind every stop.
+
+Nor does a stop wait for a long call in progress (a chunk of an upload-all, a state snapshot of
+ten reads): while that call has only read so far, the stop runs on the same thread between two
+of its SDO transfers (never two transfers at once, never inside a segmented one). A call that
+would write after such a stop is refused instead (RequestInterruptedError): it wrote nothing,
+and nothing it decided before the stop is sent after it. A call that has written runs to its end
+before the stop, as a whole step. If a transaction is open it then sees its step interrupted:
+the stop ran between two of its steps (`Transaction.interrupted` names it), and the drive it was
+configuring has been stopped. Commands cut into a normal call's reads the same way (after the
+stops, in their order), without refusing its later writes: a command decides nothing for it.
 """
 
 from __future__ import annotations
@@ -114,19 +119,22 @@ _Item = tuple[Callable[[], Any], "asyncio.Future[Any] | None"]
 
 
 class _Worker:
-    """One thread running submitted calls one at a time, with two lanes: priority items
-    (stops) are taken before every normal item queued so far; each lane is FIFO. A call in
-    progress lets them run between its SDO transfers while it has only read (`between`).
+    """One thread running submitted calls one at a time, with three lanes: priority items
+    (stops) are taken before everything queued so far, then commands, then normal items; each
+    lane is FIFO. A normal call in progress lets stops, then commands, run between its SDO
+    transfers while it has only read (`between`); a later write of that call is refused after a
+    stop, not after a command (a command decides nothing the call had decided).
     A caller awaits a loop future settled by one `call_soon_threadsafe` (a wrapped concurrent
     Future cost a condition and two more callbacks per call, both sides of the hop)."""
 
     def __init__(self, name: str) -> None:
         self._normal: deque[_Item] = deque()
+        self._command: deque[_Item] = deque()
         self._urgent: deque[_Item] = deque()
         self._ready = threading.Condition()
         self._shutdown = False
         # what the call in progress did (worker thread only)
-        self._in_urgent = False
+        self._lane = "normal"  # of the call in progress: "urgent" (a stop) runs whole
         self._wrote = False
         self._cut_in = False
         self._thread = threading.Thread(target=self._loop, name=name, daemon=True)
@@ -138,12 +146,13 @@ class _Worker:
         future: asyncio.Future[T] | None = None,
         *,
         urgent: bool = False,
+        command: bool = False,
     ) -> None:
         """Queue `fn`; its result or exception goes to `future` (a cancelled one: not run)."""
         with self._ready:
             if self._shutdown:
                 raise RuntimeError("the node's worker has stopped")
-            lane = self._urgent if urgent else self._normal
+            lane = self._urgent if urgent else self._command if command else self._normal
             lane.append((fn, future))
             self._ready.notify()
 
@@ -157,7 +166,7 @@ class _Worker:
     def between(self, writing: bool) -> None:
         """Called before each SDO transfer of the running call. A read lets the stops queued
         meanwhile run first; a write after such a stop raises StopCutInError."""
-        if threading.get_ident() != self._thread.ident or self._in_urgent:
+        if threading.get_ident() != self._thread.ident or self._lane == "urgent":
             return  # not a worker's call, or a stop itself: it runs whole
         if writing:
             if self._cut_in:
@@ -168,34 +177,48 @@ class _Worker:
             return  # a call that wrote runs to its end: the stop comes after it
         while True:
             with self._ready:
-                if not self._urgent:
+                if self._urgent:
+                    fn, future = self._urgent.popleft()
+                    lane = "urgent"
+                elif self._command and self._lane == "normal":  # commands keep their order
+                    fn, future = self._command.popleft()
+                    lane = "command"
+                else:
                     return
-                fn, future = self._urgent.popleft()
-            self._cut_in = True
-            self._execute(fn, future, urgent=True)
+            outer = (self._lane, self._wrote, self._cut_in)
+            self._wrote = self._cut_in = False  # the command's own
+            self._execute(fn, future, lane=lane)
+            self._lane, self._wrote, self._cut_in = outer
+            if lane == "urgent":
+                self._cut_in = True
 
     def _loop(self) -> None:
         while True:
             with self._ready:
-                while not self._urgent and not self._normal and not self._shutdown:
+                while (
+                    not self._urgent and not self._command and not self._normal
+                ) and not self._shutdown:
                     self._ready.wait()
                 if self._urgent:
                     fn, future = self._urgent.popleft()
-                    urgent = True
+                    lane = "urgent"
+                elif self._command:
+                    fn, future = self._command.popleft()
+                    lane = "command"
                 elif self._normal:
                     fn, future = self._normal.popleft()
-                    urgent = False
+                    lane = "normal"
                 else:
                     return  # shut down and drained
             self._wrote = self._cut_in = False
-            self._execute(fn, future, urgent=urgent)
+            self._execute(fn, future, lane=lane)
 
     def _execute(
-        self, fn: Callable[[], Any], future: asyncio.Future[Any] | None, *, urgent: bool
+        self, fn: Callable[[], Any], future: asyncio.Future[Any] | None, *, lane: str
     ) -> None:
         if future is not None and future.cancelled():
             return  # its caller stopped waiting before it started
-        self._in_urgent = urgent
+        self._lane = lane
         try:
             result = fn()
         except BaseException as error:  # handed to the awaiting caller
@@ -203,7 +226,7 @@ class _Worker:
         else:
             _settle_from_thread(future, result, None)
         finally:
-            self._in_urgent = False
+            self._lane = "normal"
 
 
 def _settle_from_thread(
@@ -285,23 +308,25 @@ class NodeSession:
         what: str,
         index: int = 0,
         subindex: int = 0,
+        command: bool = False,
     ) -> T:
         """Run `fn(remote)` on this node's worker thread; canopen errors become domain errors.
 
         `what` names the request in a timeout message ("read 1008h:00"); `index`/`subindex` say
         which object an SDO abort is about (canopen's abort exception does not carry it).
+        `command`: a motion command, ahead of the reads queued before it (module docstring).
         """
         if self._closed:
             raise RequestInterruptedError(self.node_id, CLOSED)
         call = functools.partial(self._call, fn, what, index, subindex)
         if self._inside():
-            return await self._queue(call)
+            return await self._queue(call, command=command)
         # Outside a transaction: wait while one holds the node, then queue (without holding
         # the gate while the call runs, so requests still pipeline on the worker).
         async with self._gate:
             if self._closed:
                 raise RequestInterruptedError(self.node_id, CLOSED)
-            pending = self._queue(call)
+            pending = self._queue(call, command=command)
         return await pending
 
     async def priority(self, fn: Callable[[canopen.RemoteNode], T], *, what: str) -> T:
@@ -317,9 +342,11 @@ class NodeSession:
         call = functools.partial(self._call, fn, what, 0, 0, urgent=True)
         return await self._queue(call, urgent=True)
 
-    def _queue(self, call: Callable[[], T], *, urgent: bool = False) -> asyncio.Future[T]:
+    def _queue(
+        self, call: Callable[[], T], *, urgent: bool = False, command: bool = False
+    ) -> asyncio.Future[T]:
         future: asyncio.Future[T] = asyncio.get_running_loop().create_future()
-        self._worker.submit(call, future, urgent=urgent)
+        self._worker.submit(call, future, urgent=urgent, command=command)
         return future
 
     async def upload(self, index: int, subindex: int) -> bytes:

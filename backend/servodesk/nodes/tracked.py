@@ -52,10 +52,12 @@ class TrackedSession(NodeSession):
         what: str,
         index: int = 0,
         subindex: int = 0,
+        command: bool = False,
     ) -> T:
         if self._stopped():
             raise NodeStoppedError(self.node_id)
-        return await self._tracked(super().run(fn, what=what, index=index, subindex=subindex))
+        call = super().run(fn, what=what, index=index, subindex=subindex, command=command)
+        return await self._tracked(call)
 
     async def priority(self, fn: Callable[[canopen.RemoteNode], T], *, what: str) -> T:
         # A Stopped node has no SDO: say so at once rather than after a timeout (a stop would
