@@ -65,8 +65,11 @@ def free_port() -> int:
 
 
 class Ear:
-    """Node 3's SDO requests and EMCYs with the monotonic time each arrived here (only those:
-    a capture puts thousands of frames a second on the bus)."""
+    """Node 3's SDO requests and EMCYs (only those: a capture puts thousands of frames a second
+    on the bus), each with the monotonic time it was on the bus: the simulator's socketcand
+    server stamps every frame as its bus carries it. Not the time it reached this listener: the
+    relay to listeners is a thread of the loaded simulator, whose delay a real bus, where every
+    node sees a frame at once, does not have."""
 
     WANTED = frozenset({0x600 + NODE, 0x80 + NODE})
 
@@ -82,8 +85,9 @@ class Ear:
         while self._run:
             msg = self.bus.recv(timeout=0.1)
             if msg is not None and msg.arbitration_id in self.WANTED:
+                on_bus = msg.timestamp - (time.time() - time.monotonic())  # wall → monotonic
                 with self._lock:
-                    self.frames.append((time.monotonic(), msg))
+                    self.frames.append((on_bus, msg))
 
     def first_after(
         self, since: float, match: Callable[[can.Message], bool], timeout: float = 3.0
