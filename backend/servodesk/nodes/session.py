@@ -35,7 +35,7 @@ import time
 from collections import deque
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager, suppress
-from typing import Any, TypeVar
+from typing import Any, Literal, TypeVar
 
 import can
 import canopen
@@ -115,6 +115,9 @@ class StopCutInError(Exception):
 
 
 # A call for the worker and the event-loop future its caller awaits (None: nobody waits).
+# the worker's lanes, taken in this order: stops, motion commands, everything else
+Lane = Literal["urgent", "command", "normal"]
+LANES: tuple[Lane, ...] = ("urgent", "command", "normal")
 _Item = tuple[Callable[[], Any], "asyncio.Future[Any] | None"]
 
 
@@ -128,13 +131,11 @@ class _Worker:
     Future cost a condition and two more callbacks per call, both sides of the hop)."""
 
     def __init__(self, name: str) -> None:
-        self._normal: deque[_Item] = deque()
-        self._command: deque[_Item] = deque()
-        self._urgent: deque[_Item] = deque()
+        self._lanes: dict[Lane, deque[_Item]] = {lane: deque() for lane in LANES}
         self._ready = threading.Condition()
         self._shutdown = False
         # what the call in progress did (worker thread only)
-        self._lane = "normal"  # of the call in progress: "urgent" (a stop) runs whole
+        self._lane: Lane = "normal"  # of the call in progress: "urgent" (a stop) runs whole
         self._wrote = False
         self._cut_in = False
         self._thread = threading.Thread(target=self._loop, name=name, daemon=True)
@@ -145,15 +146,13 @@ class _Worker:
         fn: Callable[[], T],
         future: asyncio.Future[T] | None = None,
         *,
-        urgent: bool = False,
-        command: bool = False,
+        lane: Lane = "normal",
     ) -> None:
         """Queue `fn`; its result or exception goes to `future` (a cancelled one: not run)."""
         with self._ready:
             if self._shutdown:
                 raise RuntimeError("the node's worker has stopped")
-            lane = self._urgent if urgent else self._command if command else self._normal
-            lane.append((fn, future))
+            self._lanes[lane].append((fn, future))
             self._ready.notify()
 
     def shutdown(self) -> None:
@@ -175,18 +174,16 @@ class _Worker:
             return
         if self._wrote:
             return  # a call that wrote runs to its end: the stop comes after it
+        # commands keep their order: none cuts into another command
+        lanes: tuple[Lane, ...] = ("urgent", "command") if self._lane == "normal" else ("urgent",)
         while True:
             with self._ready:
-                if self._urgent:
-                    fn, future = self._urgent.popleft()
-                    lane = "urgent"
-                elif self._command and self._lane == "normal":  # commands keep their order
-                    fn, future = self._command.popleft()
-                    lane = "command"
-                else:
-                    return
+                taken = self._take(lanes)
+            if taken is None:
+                return
+            (fn, future), lane = taken
             outer = (self._lane, self._wrote, self._cut_in)
-            self._wrote = self._cut_in = False  # the command's own
+            self._wrote = self._cut_in = False  # the cutting call's own
             self._execute(fn, future, lane=lane)
             self._lane, self._wrote, self._cut_in = outer
             if lane == "urgent":
@@ -195,26 +192,24 @@ class _Worker:
     def _loop(self) -> None:
         while True:
             with self._ready:
-                while (
-                    not self._urgent and not self._command and not self._normal
-                ) and not self._shutdown:
+                while not any(self._lanes.values()) and not self._shutdown:
                     self._ready.wait()
-                if self._urgent:
-                    fn, future = self._urgent.popleft()
-                    lane = "urgent"
-                elif self._command:
-                    fn, future = self._command.popleft()
-                    lane = "command"
-                elif self._normal:
-                    fn, future = self._normal.popleft()
-                    lane = "normal"
-                else:
-                    return  # shut down and drained
+                taken = self._take(LANES)
+            if taken is None:
+                return  # shut down and drained
+            (fn, future), lane = taken
             self._wrote = self._cut_in = False
             self._execute(fn, future, lane=lane)
 
+    def _take(self, lanes: tuple[Lane, ...]) -> tuple[_Item, Lane] | None:
+        """The next item of the first of `lanes` that has one (the caller holds `_ready`)."""
+        for lane in lanes:
+            if self._lanes[lane]:
+                return self._lanes[lane].popleft(), lane
+        return None
+
     def _execute(
-        self, fn: Callable[[], Any], future: asyncio.Future[Any] | None, *, lane: str
+        self, fn: Callable[[], Any], future: asyncio.Future[Any] | None, *, lane: Lane
     ) -> None:
         if future is not None and future.cancelled():
             return  # its caller stopped waiting before it started
@@ -320,13 +315,13 @@ class NodeSession:
             raise RequestInterruptedError(self.node_id, CLOSED)
         call = functools.partial(self._call, fn, what, index, subindex)
         if self._inside():
-            return await self._queue(call, command=command)
+            return await self._queue(call, "command" if command else "normal")
         # Outside a transaction: wait while one holds the node, then queue (without holding
         # the gate while the call runs, so requests still pipeline on the worker).
         async with self._gate:
             if self._closed:
                 raise RequestInterruptedError(self.node_id, CLOSED)
-            pending = self._queue(call, command=command)
+            pending = self._queue(call, "command" if command else "normal")
         return await pending
 
     async def priority(self, fn: Callable[[canopen.RemoteNode], T], *, what: str) -> T:
@@ -340,13 +335,11 @@ class NodeSession:
             tx.interrupted = what
         # a stop does not wait for late answers to settle (see _quiet_until)
         call = functools.partial(self._call, fn, what, 0, 0, urgent=True)
-        return await self._queue(call, urgent=True)
+        return await self._queue(call, "urgent")
 
-    def _queue(
-        self, call: Callable[[], T], *, urgent: bool = False, command: bool = False
-    ) -> asyncio.Future[T]:
+    def _queue(self, call: Callable[[], T], lane: Lane = "normal") -> asyncio.Future[T]:
         future: asyncio.Future[T] = asyncio.get_running_loop().create_future()
-        self._worker.submit(call, future, urgent=urgent, command=command)
+        self._worker.submit(call, future, lane=lane)
         return future
 
     async def upload(self, index: int, subindex: int) -> bytes:
