@@ -17,6 +17,7 @@ a buffer and wake the selector.
 
 from __future__ import annotations
 
+import contextlib
 import ipaddress
 import logging
 import selectors
@@ -40,6 +41,7 @@ MAX_MESSAGE = 256  # chars of one `< … >` message; longer input is not socketc
 MAX_BUFFERED = 1 << 20  # bytes queued for one client before it is dropped as too slow
 MAX_BAD_MESSAGES = 20  # malformed messages tolerated from one client before closing it
 RECV_SIZE = 4096
+QUICKACK: int | None = getattr(socket, "TCP_QUICKACK", None)  # Linux only
 
 
 class ClientState(Enum):
@@ -289,6 +291,12 @@ class SocketcandServer:
         if not data:
             self._close(client, "disconnected")
             return
+        if QUICKACK is not None:
+            # ACK now: a client that left Nagle on holds its next frame until this ACK, and
+            # the kernel would delay it up to 40 ms when no reply is due. Linux clears the
+            # flag again by itself, so it is set after every read.
+            with contextlib.suppress(OSError):
+                client.sock.setsockopt(socket.IPPROTO_TCP, QUICKACK, 1)
         client.inbuf += data
         self._handle_input(client)
 

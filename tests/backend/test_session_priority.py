@@ -253,3 +253,36 @@ async def test_a_stop_goes_before_queued_commands(nodes: SimNodes) -> None:
     await asyncio.gather(running, command, stop)
     tap.remove()
     assert objects(tap) == [PROFILE_VELOCITY, PROFILE_VELOCITY, CONTROLWORD, VENDOR]
+
+
+@pytest.mark.parametrize("reading", [True, False])
+async def test_a_command_passes_a_reading_transaction_only(nodes: SimNodes, reading: bool) -> None:
+    """A transaction that only reads (every PDO's configuration as one picture) lets a jog's
+    command through between its steps, not a read of another caller; a transaction that
+    changes the node holds both back."""
+    session = nodes.session(2)
+    tap = SdoTap(nodes, 2)
+    inside, release = asyncio.Event(), asyncio.Event()
+
+    async def transaction() -> None:
+        async with session.exclusive(reading=reading) as tx:
+            await tx.upload(*DEVICE_TYPE)
+            inside.set()
+            await release.wait()
+            await tx.upload(*VENDOR)
+
+    running = asyncio.create_task(transaction())
+    await inside.wait()
+    read = asyncio.create_task(session.upload(*DEVICE_TYPE))
+    command = asyncio.create_task(
+        session.run(lambda r: r.sdo.upload(*PROFILE_VELOCITY), what="6081h", command=True)
+    )
+    await asyncio.sleep(0.05)  # what can go out goes now
+    release.set()
+    await asyncio.gather(running, read, command)
+    tap.remove()
+    if reading:
+        assert objects(tap) == [DEVICE_TYPE, PROFILE_VELOCITY, VENDOR, DEVICE_TYPE]
+    else:  # both waited for the transaction's end (their order after it is the worker's)
+        assert objects(tap)[:2] == [DEVICE_TYPE, VENDOR]
+        assert sorted(objects(tap)[2:]) == [DEVICE_TYPE, PROFILE_VELOCITY]

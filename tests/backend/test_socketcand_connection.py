@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import socket
 import uuid
 from collections.abc import Iterator
 from pathlib import Path
@@ -12,6 +13,8 @@ import pytest
 from fastapi.testclient import TestClient
 
 from servodesk.app import create_app
+from servodesk.bus import default_bus_factory
+from servodesk.models import BusConfig
 from servodesk.settings import Settings
 from servodesk_sim.runner import run_drives
 from servodesk_sim.socketcand_server import SocketcandServer
@@ -45,3 +48,22 @@ def test_app_reaches_drives_through_socketcand(served_drives: int, tmp_path: Pat
         assert [(n["node"], n["profile"]) for n in nodes] == [(1, "mdi-s1c"), (3, "cia402")]
         # a segmented upload across TCP
         assert client.get("/api/nodes/1/sdo/1008/0").json()["value"] == "DVS_CANOPEN"
+
+
+@pytest.mark.parametrize(("options", "nagle_off"), [({}, True), ({"tcp_tune": False}, False)])
+def test_socketcand_sends_each_frame_at_once(
+    served_drives: int, options: dict[str, object], nagle_off: bool
+) -> None:
+    """Nagle's algorithm would hold a stop written while a SYNC waits for its ACK, up to the
+    peer's delayed ACK (40 ms): ServoDesk turns it off unless the user's options say otherwise."""
+    config = BusConfig(
+        interface="socketcand",
+        channel="can0",
+        options={"host": "127.0.0.1", "port": served_drives, **options},
+    )
+    bus = default_bus_factory(config)
+    try:
+        sock: socket.socket = bus._SocketCanDaemonBus__socket  # type: ignore[attr-defined]
+        assert bool(sock.getsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY)) is nagle_off
+    finally:
+        bus.shutdown()

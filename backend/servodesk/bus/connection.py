@@ -50,6 +50,11 @@ def default_bus_factory(config: BusConfig) -> can.BusABC:
         )
         if value is not None
     }
+    if config.interface == "socketcand":
+        # python-can leaves Nagle's algorithm on for socketcand: a stop written while an earlier
+        # frame (a SYNC) waits for its ACK is held until it comes, up to the peer's 40 ms
+        # delayed ACK. `tcp_tune` sets TCP_NODELAY / TCP_QUICKACK; an explicit option still wins.
+        kwargs["tcp_tune"] = True
     kwargs.update(config.options)
     return can.Bus(**kwargs)  # type: ignore[arg-type]  # python-can takes backend kwargs
 

@@ -9,6 +9,10 @@ A multi-step change (PDO apply, DCF load) takes the node for itself with `exclus
 it runs, other callers' requests wait at the session's gate and none slips in between its steps
 (see `Transaction`).
 
+A transaction that only reads (`exclusive(reading=True)`: every PDO's configuration as one
+picture) holds back other reads and writes, but not motion commands, which change nothing it
+reads: a jog does not wait out a hundred transfers.
+
 A stop must not wait behind any of that: `priority()` bypasses the gate and goes to the front of
 the worker's queue. A motion command (a jog's set-point, ramp, mode, controlword: `run(...,
 command=True)`) waits at the gate like any request, then goes ahead of the reads queued before
@@ -257,6 +261,7 @@ class NodeSession:
         # queued (FIFO, so requests keep their order). `priority()` does not wait here.
         self._gate = asyncio.Lock()
         self._transactions: list[Transaction] = []  # open ones, told when a stop cuts in
+        self._held_reading = False  # the gate's holder only reads: commands pass (exclusive)
         # A timed-out request may still be answered late (a slow drive, a busy bus). SDO
         # answers carry no request id and canopen drops only what arrived before it sends, so a
         # late answer would be taken for the next request's (a PUT read back the value of an
@@ -272,10 +277,15 @@ class NodeSession:
         return any(tx.session is self and tx.open for tx in _HELD.get())
 
     @asynccontextmanager
-    async def exclusive(self, actor: str | None = None) -> AsyncIterator[Transaction]:
+    async def exclusive(
+        self, actor: str | None = None, *, reading: bool = False
+    ) -> AsyncIterator[Transaction]:
         """Take the node for a multi-step change: requests already queued finish first, later
         ones from other callers wait until the block ends. Nested use inside the same
-        transaction (a DCF load applying PDOs) joins it instead of waiting for itself."""
+        transaction (a DCF load applying PDOs) joins it instead of waiting for itself.
+        `reading`: the block only reads, for one consistent picture (every PDO's
+        configuration); motion commands, which change nothing such a picture holds, pass its
+        gate instead of waiting out a hundred transfers."""
         if self._inside():
             nested = Transaction(self, actor)
             try:
@@ -289,9 +299,11 @@ class NodeSession:
             tx = Transaction(self, actor)
             token = _HELD.set((*_HELD.get(), tx))
             self._transactions.append(tx)
+            self._held_reading = reading
             try:
                 yield tx
             finally:
+                self._held_reading = False
                 tx.open = False
                 self._transactions.remove(tx)
                 _HELD.reset(token)
@@ -314,7 +326,7 @@ class NodeSession:
         if self._closed:
             raise RequestInterruptedError(self.node_id, CLOSED)
         call = functools.partial(self._call, fn, what, index, subindex)
-        if self._inside():
+        if self._inside() or (command and self._held_reading):
             return await self._queue(call, "command" if command else "normal")
         # Outside a transaction: wait while one holds the node, then queue (without holding
         # the gate while the call runs, so requests still pipeline on the worker).

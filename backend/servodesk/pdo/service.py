@@ -69,7 +69,7 @@ class PdoService:
     async def read(self, node: int) -> list[PdoConfig]:
         """Every PDO of the node as the device has it now (and the cache refreshed)."""
         facts = self.facts(node)
-        async with self.access.session(node).exclusive() as tx:  # one consistent picture
+        async with self.access.session(node).exclusive(reading=True) as tx:  # one picture
             pdos = await _read_all(tx, facts)
         self._cache[node] = pdos
         return pdos
