@@ -1,10 +1,12 @@
 """What the web app adds on top of raw canopen, on the simulated drives.
 
-The app runs with its three simulated drives (uvicorn on a free loopback port). A second
-canopen.Network joins the same virtual bus, so both paths talk to the same drives in one run:
+The app runs with its three simulated drives (uvicorn on a free loopback port). Raw canopen
+calls go through the app's own canopen.Network, so both paths talk to the same drives over the
+same connection in one run:
 
 - read: median time of `GET /api/nodes/1/sdo/2006/08` (HTTP + service + SDO) against a raw
-  `node.sdo.upload(0x2006, 8)` through canopen; prints both and the difference.
+  `node.sdo.upload(0x2006, 8)` through canopen, on the app's own connection and RemoteNode
+  (from this thread, while the app is idle); prints both and the difference.
 - upload all: entries per second of the app's "upload all" job on node 3 (the CiA 402 drive,
   the largest dictionary) against a raw canopen loop uploading the same readable entries.
 
@@ -38,7 +40,6 @@ import canopen
 import uvicorn
 from fastapi import FastAPI
 
-import servodesk_data
 from servodesk.app import create_app
 from servodesk.services import Services
 from servodesk.settings import Settings
@@ -159,28 +160,27 @@ def main() -> int:
         sim = services.bus.sim
         if sim is None:
             raise SystemExit("the app did not start its simulated drives")
-        network = canopen.Network()
-        network.connect(interface="virtual", channel=services.bus.status().channel)
-        try:
-            raw1 = network.add_node(1, str(servodesk_data.eds_path("mdi-s1c")))
-            raw3 = network.add_node(3, str(servodesk_data.eds_path("cia402")))
-            raw_reads(raw1, 20)
-            api: list[float] = []
-            direct: list[float] = []
-            raw_rates: list[float] = []
-            api_rates: list[float] = []
-            entries = readable_entries(raw3)
-            for _ in range(args.rounds):
-                direct += raw_reads(raw1, args.reads)
-                times = client(port, "reads", str(args.reads))
-                api += times if isinstance(times, list) else []
-                raw_rates.append(raw_upload_all(raw3, entries))
-                job = client(port, "upload-all", "3")
-                if not isinstance(job, dict) or job["state"] != "done":
-                    raise SystemExit(f"upload-all did not finish: {job}")
-                api_rates.append(job["done"] / job["seconds"])
-        finally:
-            network.disconnect()
+        # Raw canopen on the app's own connection: the same python-can bus and notifier, the
+        # same RemoteNode objects, called straight from this thread while the app is idle.
+        # A second Network on the virtual channel would add its own listener thread, woken by
+        # every frame of both phases, to a process that shares one interpreter lock.
+        raw1 = services.registry.session(1).remote
+        raw3 = services.registry.session(3).remote
+        raw_reads(raw1, 20)
+        api: list[float] = []
+        direct: list[float] = []
+        raw_rates: list[float] = []
+        api_rates: list[float] = []
+        entries = readable_entries(raw3)
+        for _ in range(args.rounds):
+            direct += raw_reads(raw1, args.reads)
+            times = client(port, "reads", str(args.reads))
+            api += times if isinstance(times, list) else []
+            raw_rates.append(raw_upload_all(raw3, entries))
+            job = client(port, "upload-all", "3")
+            if not isinstance(job, dict) or job["state"] != "done":
+                raise SystemExit(f"upload-all did not finish: {job}")
+            api_rates.append(job["done"] / job["seconds"])
     added = median_ms(api) - median_ms(direct)
     print(
         f"read 2006h:08, {len(api)} each: API median {median_ms(api):.3f} ms, "

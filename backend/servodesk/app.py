@@ -144,6 +144,8 @@ def create_app(
         openapi_url="/api/openapi.json",
         docs_url="/api/docs",
         redoc_url=None,
+        # no OpenTelemetry here: FastAPI would otherwise ask the providers on every request
+        telemetry={"tracing": False, "metrics": False, "logs": False},
     )
     # Middleware runs last-added first: Host, then Origin, then who is asking (api/security.py,
     # access/guard.py). A bad token in the settings stops here with TokenConfigError.

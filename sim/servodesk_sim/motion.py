@@ -117,6 +117,9 @@ class MotionCore:
         self._setpoint = Setpoint(ControlKind.OFF)
         self._fault_reported = False
         self._following_error = False
+        # What the last control period ended with, if it left the axis unpowered at rest: the
+        # store's change count, the state and the controlword (see `step`).
+        self._rest_mark: tuple[int, Cia402State, int] | None = None
         axis = self._axis()
         self._update_mode(axis)
         self._publish(axis)
@@ -179,6 +182,16 @@ class MotionCore:
     # --- control period --------------------------------------------------------------------
 
     def step(self, dt: float) -> None:
+        if self._rest_mark is not None and self._rest_mark == (
+            self._values.changes,
+            self._state,
+            self._controlword,
+        ):
+            # Unpowered, at rest, and nothing written or commanded since the last period: this
+            # one would publish the same values again. Skipped, so that three idle simulated
+            # drives do not keep a core a third busy (and the tool beside them waiting for the
+            # interpreter lock).
+            return
         axis = self._axis()
         self._update_mode(axis)
         setpoint = self._control(dt, axis)
@@ -190,6 +203,10 @@ class MotionCore:
         after = self._axis()
         self._monitor(setpoint, after)
         self._publish(after)
+        resting = self._state not in _POWERED and self._plant.at_rest
+        self._rest_mark = (
+            (self._values.changes, self._state, self._controlword) if resting else None
+        )
 
     def _control(self, dt: float, axis: Axis) -> Setpoint:
         state = self._state

@@ -120,6 +120,7 @@ class ObjectStore:
                 if subs:
                     self._highest_sub[index] = max(subs)
         self._values: dict[_Key, Value] = {}
+        self._changes = 0  # every write and reset counts (ValueStore.changes)
         self._stored: dict[_Key, _Stored] = {}
         self._validators: dict[int, list[Validator]] = {}
         self._hooks: dict[int, list[WriteHook]] = {}
@@ -128,6 +129,10 @@ class ObjectStore:
     @property
     def node_id(self) -> int:
         return self._node_id
+
+    @property
+    def changes(self) -> int:
+        return self._changes
 
     # ------------------------------------------------------------------ lookup and internal access
 
@@ -159,7 +164,10 @@ class ObjectStore:
         key = (index, subindex)
         if key not in self._values:
             raise KeyError(f"{index:04X}h:{subindex:02X}h is not in the object dictionary")
-        self._values[key] = value
+        old = self._values[key]
+        if old != value or type(old) is not type(value):
+            self._values[key] = value
+            self._changes += 1
 
     def add_validator(self, index: int, fn: Validator) -> None:
         self._validators.setdefault(index, []).append(fn)
@@ -195,6 +203,7 @@ class ObjectStore:
             areas = _store_command_areas(index, subindex, value)
         for validate in self._validators.get(index, ()):
             validate(subindex, value)
+        self._changes += 1
         if areas is None:
             self._values[(index, subindex)] = value
         elif index == STORE_PARAMETERS:
@@ -255,6 +264,7 @@ class ObjectStore:
             del self._stored[key]
 
     def _load(self, keys: Iterable[_Key]) -> None:
+        self._changes += 1
         for key in keys:
             stored = self._stored.get(key)
             var = self._vars[key]

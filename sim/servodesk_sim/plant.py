@@ -43,6 +43,9 @@ def wrap_int32(value: float) -> int:
     return raw - _INT32_SPAN if raw >= 1 << 31 else raw
 
 
+REST_SPEED = 1e-6  # rad/s: a coasting motor slower than this has stopped
+
+
 @dataclass(frozen=True, slots=True)
 class Scaling:
     """Factor group: gear ratio 6091h and polarity 607Eh (MDi-S1-C manual §3.1, §5.3)."""
@@ -188,6 +191,16 @@ class Plant:
         for _ in range(substeps):
             torque = 0.0 if kind is ControlKind.OFF else self._torque_loop(command, limit)
             self._integrate(torque, h)
+        if kind is ControlKind.OFF and p.load_torque == 0.0 and abs(self._speed) < REST_SPEED:
+            # Friction alone never quite stops a coasting motor in floating point; below this
+            # (10⁻⁵ rpm, far under 606Ch's 1 rpm) it has stopped, and a drive at rest can skip
+            # its control period (MotionCore.step).
+            self._speed = 0.0
+
+    @property
+    def at_rest(self) -> bool:
+        """Stopped, unpowered and nothing pulling at it: an OFF step changes nothing."""
+        return self._speed == 0.0 and self._torque == 0.0 and self.params.load_torque == 0.0
 
     def _integrate(self, torque: float, h: float) -> None:
         p = self.params

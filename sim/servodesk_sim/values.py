@@ -17,6 +17,11 @@ class ValueStore(Protocol):
         """Publish a value from inside the drive: no access checks, no write hooks."""
         ...
 
+    @property
+    def changes(self) -> int:
+        """Grows with every change of any value: equal counts, equal values."""
+        ...
+
 
 class DictValues:
     """A plain dict-backed ValueStore for table tests of the pure cores."""
@@ -29,3 +34,9 @@ class DictValues:
 
     def set(self, index: int, subindex: int, value: int) -> None:
         self.values[(index, subindex)] = value
+
+    @property
+    def changes(self) -> int:
+        # Tests edit `values` directly, which nothing counts: report a change at every look.
+        self._looks = getattr(self, "_looks", 0) + 1
+        return self._looks

@@ -61,6 +61,18 @@ def _latest(*times: float | None) -> float | None:
     return max(known) if known else None
 
 
+def reported_state(
+    beat: tuple[float, int] | None, command: tuple[float, NmtStateName] | None
+) -> NmtStateName:
+    """The NMT state last reported: the newer of the heartbeat and the tool's own command; on a
+    tie the heartbeat (the node's own word)."""
+    if beat is not None and (command is None or beat[0] >= command[0]):
+        return state_from_byte(beat[1])
+    if command is not None:
+        return command[1]
+    return NmtStateName.UNKNOWN
+
+
 def assess(ev: Evidence, now: float, *, lost_factor: float, default_timeout: float) -> Health:
     beat_time = ev.beat[0] if ev.beat is not None else None
     last_seen = _latest(beat_time, ev.activity, ev.alive_at)
@@ -73,13 +85,7 @@ def assess(ev: Evidence, now: float, *, lost_factor: float, default_timeout: flo
             age_ms = max(0, round((now - beat_time) * MS))
     else:
         online = ev.silence_at is None or (last_seen is not None and last_seen > ev.silence_at)
-    # the newer report wins; on a tie the heartbeat (the node's own word) does
-    if ev.beat is not None and (ev.command is None or ev.beat[0] >= ev.command[0]):
-        state = state_from_byte(ev.beat[1])
-    elif ev.command is not None:
-        state = ev.command[1]
-    else:
-        state = NmtStateName.UNKNOWN
+    state = reported_state(ev.beat, ev.command)
     return Health(
         online=online,
         nmt_state=state if online else NmtStateName.UNKNOWN,

@@ -22,7 +22,7 @@ from typing import Literal
 import can
 
 from servodesk.models import LiveEvent, NmtStateName
-from servodesk.network.health import Evidence, Health, assess
+from servodesk.network.health import Evidence, Health, assess, reported_state
 from servodesk.network.nmt import BOOT_UP
 from servodesk.settings import Settings
 from servodesk_protocol import cob_id
@@ -234,6 +234,15 @@ class NodeMonitor:
             lost_factor=self._settings.heartbeat_lost_factor,
             default_timeout=self._settings.default_heartbeat_timeout,
         )
+
+    def is_stopped(self, node: int) -> bool:
+        """`health(node).nmt_state is STOPPED`, asked before every SDO request: the full
+        assessment only for a node last reported Stopped."""
+        tracked = self._nodes.get(node)
+        command = tracked.command if tracked is not None else None
+        if reported_state(self.watch.beats.get(node), command) is not NmtStateName.STOPPED:
+            return False
+        return self.health(node).nmt_state is NmtStateName.STOPPED
 
     def heard(self) -> set[int]:
         """Nodes whose heartbeat or boot-up has been heard (the passive part of a scan)."""

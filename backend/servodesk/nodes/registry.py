@@ -459,7 +459,7 @@ class NodeRegistry:
             sdo_timeout=self._settings.sdo_timeout,
             on_outcome=self._monitor.sdo_outcome,
             on_heartbeat_written=self._heartbeat_known,
-            state_of=lambda node: self._monitor.health(node).nmt_state,
+            is_stopped=self._monitor.is_stopped,
         )
 
     def _bound(self, entry: NodeEntry, network: canopen.Network) -> TrackedSession:

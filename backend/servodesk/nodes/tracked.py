@@ -16,7 +16,6 @@ from typing import TypeVar
 import canopen
 
 from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
-from servodesk.models import NmtStateName
 from servodesk.nodes.identity import PRODUCER_HEARTBEAT
 from servodesk.nodes.session import NodeSession
 
@@ -24,7 +23,7 @@ T = TypeVar("T")
 
 Outcome = Callable[[int, bool], None]  # (node, answered)
 HeartbeatWritten = Callable[[int, int], None]  # (node, period ms)
-StateOf = Callable[[int], NmtStateName]  # the node's NMT state as the monitor sees it
+IsStopped = Callable[[int], bool]  # the monitor knows the node to be NMT Stopped
 
 
 class TrackedSession(NodeSession):
@@ -35,15 +34,15 @@ class TrackedSession(NodeSession):
         sdo_timeout: float,
         on_outcome: Outcome,
         on_heartbeat_written: HeartbeatWritten,
-        state_of: StateOf | None = None,
+        is_stopped: IsStopped | None = None,
     ) -> None:
         super().__init__(remote, sdo_timeout=sdo_timeout)
         self._on_outcome = on_outcome
         self._on_heartbeat_written = on_heartbeat_written
-        self._state_of = state_of
+        self._is_stopped = is_stopped
 
     def _stopped(self) -> bool:
-        return self._state_of is not None and self._state_of(self.node_id) is NmtStateName.STOPPED
+        return self._is_stopped is not None and self._is_stopped(self.node_id)
 
     async def run(
         self,
