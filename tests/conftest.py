@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 import gc
+import os
 from collections.abc import Iterator
 
 import pytest
 from can.interfaces import virtual
+
+# Starlette's TestClient sends `Host: testserver`; the app answers only to the hosts it is
+# served on, so the tests' apps are served on that name too (a setting, as for any name).
+os.environ.setdefault("SERVODESK_ALLOWED_HOSTS", "testserver")
 
 
 @pytest.fixture(autouse=True)

@@ -39,7 +39,7 @@ from servodesk.api import events as events_api
 from servodesk.api.audited import outcome_of
 from servodesk.api.errors import install_error_handlers
 from servodesk.api.schema import install_schema
-from servodesk.api.security import HostGuard, SameOriginGuard, ServedHosts
+from servodesk.api.security import FramingGuard, HostGuard, SameOriginGuard, ServedHosts
 from servodesk.api.static import mount_frontend
 from servodesk.bus.connection import BusFactory
 from servodesk.errors import ServodeskError
@@ -162,6 +162,8 @@ def create_app(
     app.add_middleware(SameOriginGuard, hosts=hosts)
     # Requests naming another host are refused (DNS rebinding); added last, so checked first.
     app.add_middleware(HostGuard, hosts=hosts)
+    # Outermost: every answer, refusals included, says who may frame it (clickjacking).
+    app.add_middleware(FramingGuard)
     install_error_handlers(app)
     install_schema(app)
     ws.install_live_schema(app)

@@ -13,11 +13,16 @@ import json
 from collections.abc import Iterable
 from urllib.parse import urlsplit
 
-from starlette.types import ASGIApp, Receive, Scope, Send
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 LOOPBACK_HOSTS = frozenset({"127.0.0.1", "localhost", "::1", "[::1]"})
 CHANGES_STATE = frozenset({"POST", "PUT", "PATCH", "DELETE"})
-TEST_HOST = "testserver"  # Starlette's TestClient
+# Headers these checks decide on: sent twice, a proxy and the app may each read another one
+# (another site's Origin first, ours second), so such a request is refused outright.
+SINGLE = ("host", "origin", "referer", "sec-fetch-site")
+# Pages may be framed by nobody (clickjacking on Enable and jog), the rerun viewer only by our
+# own Scope page.
+FRAMED_BY_US = "/rerun"
 
 
 def _is_loopback(hostname: str) -> bool:
@@ -34,7 +39,7 @@ class ServedHosts:
 
     def allows(self, hostname: str) -> bool:
         name = hostname.lower().strip("[]")
-        return _is_loopback(name) or name in self.extra or name == TEST_HOST
+        return _is_loopback(name) or name in self.extra
 
     def describe(self) -> str:
         names = ["127.0.0.1", "localhost", "[::1]", *sorted(self.extra)]
@@ -74,8 +79,6 @@ def origin_allowed(
     if served is None:
         return False
     served_host, served_port = served
-    if served_host == TEST_HOST:
-        return True
     default = 443 if parts.scheme == "https" else 80
     same_host = served_host.lower().strip("[]") == hostname.lower().strip("[]") or (
         _is_loopback(served_host) and _is_loopback(hostname)
@@ -114,17 +117,24 @@ class HostGuard:
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] in ("http", "websocket"):
-            host = _headers(scope["headers"]).get("host", "")
+            headers, repeated = _headers(scope["headers"])
+            host = headers.get("host", "")
             served = _authority(host, 80)
-            if served is None or not self.hosts.allows(served[0]):
-                if scope["type"] == "websocket":
-                    await send({"type": "websocket.close", "code": 1008})
-                    return
+            message = None
+            if repeated:
+                message = (
+                    f"refused a request with more than one {repeated[0]} header: send each once"
+                )
+            elif served is None or not self.hosts.allows(served[0]):
                 message = (
                     f"refused a request for host {host!r}: ServoDesk answers only to "
                     f"{self.hosts.describe()}"
                 )
-                await _send_error(send, 400, "bad_host", message)
+            if message is not None:
+                if scope["type"] == "websocket":
+                    await send({"type": "websocket.close", "code": 1008})
+                    return
+                await _send_error(send, 400, "bad_header" if repeated else "bad_host", message)
                 return
         await self.app(scope, receive, send)
 
@@ -139,15 +149,68 @@ class SameOriginGuard:
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] == "http" and scope["method"] in CHANGES_STATE:
-            source = refusal(_headers(scope["headers"]), self.hosts)
+            source = refusal(_headers(scope["headers"])[0], self.hosts)
             if source is not None:
                 await _forbid(send, source)
                 return
         await self.app(scope, receive, send)
 
 
-def _headers(raw: Iterable[tuple[bytes, bytes]]) -> dict[str, str]:
-    return {name.decode("latin-1").lower(): value.decode("latin-1") for name, value in raw}
+class FramingGuard:
+    """Pure ASGI middleware: every HTTP answer says who may frame it (`X-Frame-Options` and
+    CSP `frame-ancestors`: nobody; the rerun viewer: our own pages), and that its type is
+    the one declared (`nosniff`). A page's own Content-Security-Policy is kept and given
+    `frame-ancestors` where it has none."""
+
+    def __init__(self, app: ASGIApp) -> None:
+        self.app = app
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        path: str = scope["path"]
+        ours = path == FRAMED_BY_US or path.startswith(f"{FRAMED_BY_US}/")
+        frame_option = b"SAMEORIGIN" if ours else b"DENY"
+        ancestors = "frame-ancestors 'self'" if ours else "frame-ancestors 'none'"
+
+        async def framed(message: Message) -> None:
+            if message["type"] == "http.response.start":
+                headers = [
+                    (name, value)
+                    for name, value in message.get("headers", [])
+                    if name.lower() not in (b"x-frame-options", b"x-content-type-options")
+                ]
+                csp = [v for n, v in headers if n.lower() == b"content-security-policy"]
+                if not csp:
+                    headers.append((b"content-security-policy", ancestors.encode()))
+                elif b"frame-ancestors" not in csp[0]:
+                    headers = [
+                        (n, v + b"; " + ancestors.encode())
+                        if n.lower() == b"content-security-policy"
+                        else (n, v)
+                        for n, v in headers
+                    ]
+                headers += [
+                    (b"x-frame-options", frame_option),
+                    (b"x-content-type-options", b"nosniff"),
+                ]
+                message = {**message, "headers": headers}
+            await send(message)
+
+        await self.app(scope, receive, framed)
+
+
+def _headers(raw: Iterable[tuple[bytes, bytes]]) -> tuple[dict[str, str], list[str]]:
+    """The headers by lower-case name, and which of SINGLE came more than once."""
+    headers: dict[str, str] = {}
+    repeated: list[str] = []
+    for name, value in raw:
+        key = name.decode("latin-1").lower()
+        if key in headers and key in SINGLE and key not in repeated:
+            repeated.append(key)
+        headers[key] = value.decode("latin-1")
+    return headers, repeated
 
 
 async def _forbid(send: Send, source: str) -> None:
