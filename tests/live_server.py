@@ -14,7 +14,7 @@ from typing import Any
 import pytest
 import uvicorn
 
-from servodesk.app import STATIC_DIR, create_app
+from servodesk.app import STATIC_DIR, create_app, server_options
 from servodesk.settings import Settings
 
 
@@ -37,7 +37,10 @@ def serve_simulated(
     port = free_port()
     settings = Settings(simulated=True, port=port, data_dir=data_dir, **(overrides or {}))
     app = create_app(settings, static_dir=static_dir)
-    server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
+    config = uvicorn.Config(
+        app, host="127.0.0.1", port=port, log_level="warning", **server_options(settings)
+    )
+    server = uvicorn.Server(config)
     thread = threading.Thread(target=server.run, name="live-server", daemon=True)
     thread.start()
     deadline = time.monotonic() + 20

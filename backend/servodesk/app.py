@@ -7,6 +7,7 @@ import socket
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from pathlib import Path
+from typing import Any
 
 from fastapi import APIRouter, FastAPI
 from fastapi.routing import APIRoute, APIWebSocketRoute
@@ -14,6 +15,7 @@ from starlette.types import Message
 
 from servodesk import __version__
 from servodesk.access.guard import Access, AccessGuard
+from servodesk.access.sessions import LoginLimiter
 from servodesk.access.tokens import TokenTable
 from servodesk.api import (
     access,
@@ -155,6 +157,10 @@ def create_app(
             settings.tokens.get_secret_value() if settings.tokens else None, settings.tokens_file
         ),
         secure_cookies=settings.tls_cert is not None,
+        limiter=LoginLimiter(
+            per_client=settings.token_failures_per_client,
+            overall=settings.token_failures_overall,
+        ),
     )
     app.state.hosts = hosts
     app.add_middleware(AccessGuard, access=app.state.access)
@@ -187,6 +193,13 @@ def served_hosts(settings: Settings) -> ServedHosts:
     else:
         extra.append(settings.bind)
     return ServedHosts(extra)
+
+
+def server_options(settings: Settings) -> dict[str, Any]:
+    """uvicorn's options that the app's security rests on: forwarded headers are believed only
+    from the proxies the settings name (uvicorn would otherwise believe any loopback client)."""
+    proxies = settings.forwarded_allow_ips.strip()
+    return {"proxy_headers": bool(proxies), "forwarded_allow_ips": proxies or None}
 
 
 async def _prepare_routes(app: FastAPI) -> None:

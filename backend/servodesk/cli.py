@@ -1,7 +1,8 @@
 """`servodesk` command line: the web app (`serve`) and field commands for scripts.
 
     servodesk serve [--sim] [--bind 127.0.0.1] [--port 8000] [--tokens-file F]
-                    [--allowed-host NAME] [--tls-cert PEM --tls-key PEM] [bus flags]
+                    [--allowed-host NAME] [--forwarded-allow-ips IPS]
+                    [--tls-cert PEM --tls-key PEM] [bus flags]
     servodesk scan [--sim] [bus flags]
     servodesk read NODE INDEX SUB [--sim] [bus flags]
     servodesk write NODE INDEX SUB VALUE [--size 1|2|4] [--sim] [bus flags]
@@ -104,6 +105,10 @@ def build_parser() -> argparse.ArgumentParser:
         "--allowed-host", action="append", default=[],
         help="a host name users reach the server by (repeatable; checked against Host/Origin)",
     )  # fmt: skip
+    serve.add_argument(
+        "--forwarded-allow-ips",
+        help="reverse proxies whose X-Forwarded-For is believed (comma-separated; default none)",
+    )
     serve.add_argument("--tls-cert", help="serve HTTPS: the certificate (PEM)")
     serve.add_argument("--tls-key", help="serve HTTPS: the private key (PEM)")
 
@@ -209,7 +214,7 @@ def _quiet_libraries(debug: bool) -> None:
 def serve(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
     import uvicorn
 
-    from servodesk.app import create_app
+    from servodesk.app import create_app, server_options
 
     settings = _serve_settings(args)
     refusal = serve_refusal(settings)
@@ -228,6 +233,7 @@ def serve(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
         log_level="info",
         ssl_certfile=settings.tls_cert,
         ssl_keyfile=settings.tls_key,
+        **server_options(settings),
     )
     return 0
 
@@ -259,6 +265,8 @@ def _serve_settings(args: argparse.Namespace) -> Settings:
         given["tokens_file"] = Path(args.tokens_file)
     if args.allowed_host:
         given["allowed_hosts"] = ",".join(args.allowed_host)
+    if args.forwarded_allow_ips is not None:
+        given["forwarded_allow_ips"] = args.forwarded_allow_ips
     if args.tls_cert or args.tls_key:
         given["tls_cert"] = Path(args.tls_cert) if args.tls_cert else None
         given["tls_key"] = Path(args.tls_key) if args.tls_key else None

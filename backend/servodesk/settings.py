@@ -22,6 +22,15 @@ class Settings(BaseSettings):
     # Host names (besides loopback and the bound address) the app may be reached by,
     # comma-separated: checked against Host and Origin headers (DNS rebinding).
     allowed_hosts: str = ""
+    # Reverse proxies whose X-Forwarded-For / X-Forwarded-Proto are believed, comma-separated
+    # addresses or networks ("*": any), as uvicorn's --forwarded-allow-ips. None by default: a
+    # header any local program can send must not choose the client address that the audit log
+    # records and the login limit counts.
+    forwarded_allow_ips: str = ""
+    # Wrong tokens (logins and bearer tokens) one client address may send per minute, and all
+    # addresses together, before they wait (429); a right token is refused too meanwhile.
+    token_failures_per_client: int = Field(default=5, ge=1, le=100_000)
+    token_failures_overall: int = Field(default=30, ge=1, le=1_000_000)
     # HTTPS with uvicorn's own TLS: both files, PEM
     tls_cert: Path | None = None
     tls_key: Path | None = None

@@ -156,6 +156,23 @@ def test_login_with_a_wrong_token_then_rate_limited(tmp_path: Path) -> None:
         assert "try again in" in body["message"]
 
 
+def test_wrong_bearer_tokens_count_like_failed_logins(tmp_path: Path) -> None:
+    settings = Settings(simulated=False, data_dir=tmp_path, tokens=SecretStr(TOKENS))
+    with TestClient(create_app(settings, static_dir=None)) as client:
+        for n in range(5):
+            wrong = client.get("/api/session", headers=bearer(f"guess-{n:012d}"))
+            assert wrong.status_code == 401
+        for attempt in (
+            client.get("/api/session", headers=bearer(ENGINEER)),  # even the right one
+            client.post("/api/login", json={"token": ENGINEER}),  # and by logging in
+        ):
+            assert attempt.status_code == 429, attempt.text
+            body = attempt.json()
+            assert body["error"] == "rate_limited"
+            assert 1 <= body["retry_after_s"] <= 60
+            assert attempt.headers["retry-after"] == str(body["retry_after_s"])
+
+
 def test_cookie_is_secure_when_served_over_tls(tmp_path: Path) -> None:
     cert = tmp_path / "cert.pem"
     settings = Settings(

@@ -5,6 +5,7 @@ for the audit log (docs/security.md)."""
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Mapping
 
 from starlette.requests import cookie_parser
@@ -22,10 +23,16 @@ POLICY_VIOLATION = 1008
 class Access:
     """The app's tokens, login sessions and login rate limit."""
 
-    def __init__(self, tokens: TokenTable, *, secure_cookies: bool = False) -> None:
+    def __init__(
+        self,
+        tokens: TokenTable,
+        *,
+        secure_cookies: bool = False,
+        limiter: LoginLimiter | None = None,
+    ) -> None:
         self.tokens = tokens
         self.sessions = SessionStore()
-        self.limiter = LoginLimiter()
+        self.limiter = limiter or LoginLimiter()
         self.secure_cookies = secure_cookies  # served over TLS: the cookie says Secure
 
     @property
@@ -46,6 +53,17 @@ class Access:
             if session is not None:
                 return Actor(session.user, session.role, client)
         return None
+
+
+def client_host(scope: Scope) -> str:
+    """The client's address without its port, as the login limit counts it."""
+    client = scope.get("client")
+    return str(client[0]) if client else "unknown"
+
+
+def _presents_bearer(headers: Mapping[str, str]) -> bool:
+    scheme, _, token = headers.get("authorization", "").partition(" ")
+    return scheme.lower() == "bearer" and bool(token.strip())
 
 
 def client_address(scope: Scope) -> str | None:
@@ -72,7 +90,19 @@ class AccessGuard:
         method = "WEBSOCKET" if scope["type"] == "websocket" else scope["method"]
         path: str = scope["path"]
         needed = required_role(method, path)
+        guessing = self.access.required and _presents_bearer(headers)
+        host = client_host(scope)
+        if guessing:  # a bearer token counts toward the login limit (api/access.py)
+            wait = self.access.limiter.retry_after(host)
+            if wait > 0:
+                if scope["type"] == "websocket":
+                    await send({"type": "websocket.close", "code": POLICY_VIOLATION})
+                    return
+                await _too_many(send, host, wait)
+                return
         actor = self.access.actor(headers, client_address(scope))
+        if guessing and actor is None:
+            self.access.limiter.failed(host)
         if needed is not None and (actor is None or not actor.may(needed)):
             if scope["type"] == "websocket":
                 await send({"type": "websocket.close", "code": POLICY_VIOLATION})
@@ -114,8 +144,18 @@ def _forbidden(actor: Actor, needed: Role, method: str, path: str) -> dict[str, 
     }
 
 
+async def _too_many(send: Send, host: str, wait: float) -> None:
+    seconds = max(1, math.ceil(wait))
+    body = {
+        "error": "rate_limited",
+        "message": f"too many wrong access tokens from {host}: try again in {seconds} s",
+        "retry_after_s": seconds,
+    }
+    await _send_json(send, 429, body, {"retry-after": str(seconds)})
+
+
 async def _send_json(
-    send: Send, status: int, content: dict[str, str], headers: dict[str, str] | None = None
+    send: Send, status: int, content: Mapping[str, object], headers: dict[str, str] | None = None
 ) -> None:
     body = json.dumps(content).encode()
     raw = [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]

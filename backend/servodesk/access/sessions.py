@@ -57,8 +57,10 @@ class SessionStore:
 
 
 class LoginLimiter:
-    """Failed logins per client address in a sliding window, plus a cap over all addresses
-    (guessing from many addresses at once). Successful logins are not counted."""
+    """Failed logins and bearer tokens per client address in a sliding window, plus a cap over
+    all addresses (guessing from many addresses at once) that holds back only addresses that
+    failed too: one that has not failed is never locked out by others' guessing. Successes are
+    not counted."""
 
     def __init__(
         self,
@@ -80,13 +82,13 @@ class LoginLimiter:
         now = time.monotonic() if now is None else now
         self._expire(self._all, now)
         waits = [0.0]
-        if len(self._all) >= self.overall:
-            waits.append(self._all[0] + self.window_s - now)
         mine = self._failures.get(client)
         if mine is not None:
             self._expire(mine, now)
             if len(mine) >= self.per_client:
                 waits.append(mine[0] + self.window_s - now)
+            if mine and len(self._all) >= self.overall:
+                waits.append(self._all[0] + self.window_s - now)
         return max(waits)
 
     def failed(self, client: str, now: float | None = None) -> None:
