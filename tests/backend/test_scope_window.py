@@ -279,6 +279,19 @@ def test_state_lane_texts_on_statusword_changes(
     assert {node for node, *_ in scope.out.lanes} == {NODE}
 
 
+def test_a_frame_from_before_the_trigger_that_arrives_after_it_is_not_counted() -> None:
+    """The EMCY is handed over before a TPDO frame of an earlier SYNC (the frame's batch comes
+    later): the window still holds exactly 5 SYNCs before and 10 after."""
+    scope = rig(
+        [POSITION], duration_s=0.0155, trigger=TriggerRequest(kind="emcy", node=NODE, pre_s=0.0055)
+    )
+    frames = scope.frames(range(40), ramp)
+    scope.feed(frames[:20], events=[emcy(NODE, t(20.2))])  # fires on k = 0 … 19
+    scope.feed(frames[20:])  # k = 20, from before the EMCY, comes only now
+    assert scope.core.done()
+    assert scope.out.raw[0] == [100.0 * k for k in (*range(15, 20), *range(21, 31))]
+
+
 def test_emcy_trigger_from_an_event() -> None:
     scope = rig(
         [POSITION], duration_s=0.0155, trigger=TriggerRequest(kind="emcy", node=NODE, pre_s=0.0055)

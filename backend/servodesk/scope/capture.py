@@ -257,8 +257,11 @@ class CaptureCore:
         if self.trigger_time is None:  # only called once triggered
             return
         start = self.trigger_time - self.pre_s
-        if not counted and times.size and times[0] < start:  # late arrivals from before it
-            keep = times >= start
+        # late arrivals from before the window (a TPDO's: from before the trigger, whose
+        # `before` SYNCs were taken from the ring when it fired) are not the window's
+        first = self.trigger_time if track.pdo else start
+        if not counted and times.size and times[0] < first:
+            keep = times >= first
             times, raw = times[keep], raw[keep]
         if track.pdo:
             # the window after the trigger is counted in SYNC cycles
