@@ -46,11 +46,9 @@ class SimNodes:
         *,
         sdo_timeout: float = 0.5,
         bus_bitrate: int | None = None,
-        loop_reads: bool = False,
     ) -> None:
         self.channel = f"servodesk-test-{uuid.uuid4().hex}"
         self.sdo_timeout = sdo_timeout
-        self.loop_reads = loop_reads  # short reads on the event loop (nodes/loop_upload.py)
         self.drive_bus = can.Bus(interface="virtual", channel=self.channel)
         self.sim: SimBus = run_drives(self.drive_bus, drives, bus_bitrate=bus_bitrate)
         self.network = canopen.Network()
@@ -91,9 +89,7 @@ class SimNodes:
         self.network.add_node(remote)
         self.profiles[node] = profile
         self._models[node] = model
-        self._sessions[node] = NodeSession(
-            remote, sdo_timeout=self.sdo_timeout, loop_reads=self.loop_reads
-        )
+        self._sessions[node] = NodeSession(remote, sdo_timeout=self.sdo_timeout)
 
     def set_od(self, node: int, model: ObjectDictionaryModel) -> None:
         """Use another dictionary for `node` (as after a user's EDS upload); the drive stays."""

@@ -22,7 +22,7 @@ from servodesk.motion.schemas import DriveState, EnableReason, MotionLimits, Spe
 from servodesk.motion.units import DriveUnits
 from servodesk.motion.words import mode_key
 from servodesk.nodes.access import NodeAccess
-from servodesk.nodes.worker import StopCutInError
+from servodesk.nodes.session import StopCutInError
 from servodesk.pdo.commands import RpdoRoutes
 from servodesk.pdo.feed import TpdoFeeds
 from servodesk.settings import Settings

@@ -44,7 +44,6 @@ from servodesk.network.nmt import STATE_AFTER, send_broadcast, send_to_node
 from servodesk.network.scan import NODE_IDS, SweepListener, send_sweep
 from servodesk.nodes.entry import NodeEntry, OdSource, live_row
 from servodesk.nodes.identity import DEVICE_TYPE, PRODUCER_HEARTBEAT, Identity, read_identity
-from servodesk.nodes.loop_upload import sends_without_blocking
 from servodesk.nodes.profile_models import ProfileModels
 from servodesk.nodes.rediscovery import Rediscovery
 from servodesk.nodes.session import NodeSession
@@ -458,7 +457,6 @@ class NodeRegistry:
         return TrackedSession(
             remote,
             sdo_timeout=self._settings.sdo_timeout,
-            loop_reads=sends_without_blocking(remote.network.bus if remote.network else None),
             on_outcome=self._monitor.sdo_outcome,
             on_heartbeat_written=self._heartbeat_known,
             is_stopped=self._monitor.is_stopped,

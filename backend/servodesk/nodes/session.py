@@ -5,9 +5,6 @@ canopen's SDO client blocks (it polls and sleeps) and has no lock: two callers o
 each other's replies. So all calls to a node go through `NodeSession.run`, which runs them one at
 a time on that node's own thread, off the event loop, and turns canopen's exceptions into ours.
 
-A single short read may instead be sent and answered on the event loop (`loop_reads`,
-nodes/loop_upload.py): only while the worker is idle, which it then stays until the answer.
-
 A multi-step change (PDO apply, DCF load) takes the node for itself with `exclusive()`: while
 it runs, other callers' requests wait at the session's gate and none slips in between its steps
 (see `Transaction`).
@@ -37,10 +34,12 @@ from __future__ import annotations
 import asyncio
 import contextvars
 import functools
+import threading
 import time
-from collections.abc import AsyncIterator, Awaitable, Callable
-from contextlib import asynccontextmanager
-from typing import Any, TypeVar
+from collections import deque
+from collections.abc import AsyncIterator, Callable
+from contextlib import asynccontextmanager, suppress
+from typing import Any, Literal, TypeVar
 
 import can
 import canopen
@@ -54,8 +53,6 @@ from servodesk.errors import (
     SdoAbortError,
     SdoProtocolError,
 )
-from servodesk.nodes.loop_upload import LoopUpload
-from servodesk.nodes.worker import Lane, NodeWorker, StopCutInError
 
 T = TypeVar("T")
 
@@ -117,21 +114,147 @@ class Transaction:
         return await self._live().write_and_read(index, subindex, data, read_back=read_back)
 
 
+class StopCutInError(Exception):
+    """Raised in a call that would write after a stop ran between its reads."""
+
+
+# A call for the worker and the event-loop future its caller awaits (None: nobody waits).
+# the worker's lanes, taken in this order: stops, motion commands, everything else
+Lane = Literal["urgent", "command", "normal"]
+LANES: tuple[Lane, ...] = ("urgent", "command", "normal")
+_Item = tuple[Callable[[], Any], "asyncio.Future[Any] | None"]
+
+
+class _Worker:
+    """One thread running submitted calls one at a time, with three lanes: priority items
+    (stops) are taken before everything queued so far, then commands, then normal items; each
+    lane is FIFO. A normal call in progress lets stops, then commands, run between its SDO
+    transfers while it has only read (`between`); a later write of that call is refused after a
+    stop, not after a command (a command decides nothing the call had decided).
+    A caller awaits a loop future settled by one `call_soon_threadsafe` (a wrapped concurrent
+    Future cost a condition and two more callbacks per call, both sides of the hop)."""
+
+    def __init__(self, name: str) -> None:
+        self._lanes: dict[Lane, deque[_Item]] = {lane: deque() for lane in LANES}
+        self._ready = threading.Condition()
+        self._shutdown = False
+        # what the call in progress did (worker thread only)
+        self._lane: Lane = "normal"  # of the call in progress: "urgent" (a stop) runs whole
+        self._wrote = False
+        self._cut_in = False
+        self._thread = threading.Thread(target=self._loop, name=name, daemon=True)
+        self._thread.start()
+
+    def submit(
+        self,
+        fn: Callable[[], T],
+        future: asyncio.Future[T] | None = None,
+        *,
+        lane: Lane = "normal",
+    ) -> None:
+        """Queue `fn`; its result or exception goes to `future` (a cancelled one: not run)."""
+        with self._ready:
+            if self._shutdown:
+                raise RuntimeError("the node's worker has stopped")
+            self._lanes[lane].append((fn, future))
+            self._ready.notify()
+
+    def shutdown(self) -> None:
+        """Stop after the items already queued (each of which ends at once: the session is
+        closed, so `_call` refuses them)."""
+        with self._ready:
+            self._shutdown = True
+            self._ready.notify()
+
+    def between(self, writing: bool) -> None:
+        """Called before each SDO transfer of the running call. A read lets the stops queued
+        meanwhile run first; a write after such a stop raises StopCutInError."""
+        if threading.get_ident() != self._thread.ident or self._lane == "urgent":
+            return  # not a worker's call, or a stop itself: it runs whole
+        if writing:
+            if self._cut_in:
+                raise StopCutInError
+            self._wrote = True
+            return
+        if self._wrote:
+            return  # a call that wrote runs to its end: the stop comes after it
+        # commands keep their order: none cuts into another command
+        lanes: tuple[Lane, ...] = ("urgent", "command") if self._lane == "normal" else ("urgent",)
+        while True:
+            with self._ready:
+                taken = self._take(lanes)
+            if taken is None:
+                return
+            (fn, future), lane = taken
+            outer = (self._lane, self._wrote, self._cut_in)
+            self._wrote = self._cut_in = False  # the cutting call's own
+            self._execute(fn, future, lane=lane)
+            self._lane, self._wrote, self._cut_in = outer
+            if lane == "urgent":
+                self._cut_in = True
+
+    def _loop(self) -> None:
+        while True:
+            with self._ready:
+                while not any(self._lanes.values()) and not self._shutdown:
+                    self._ready.wait()
+                taken = self._take(LANES)
+            if taken is None:
+                return  # shut down and drained
+            (fn, future), lane = taken
+            self._wrote = self._cut_in = False
+            self._execute(fn, future, lane=lane)
+
+    def _take(self, lanes: tuple[Lane, ...]) -> tuple[_Item, Lane] | None:
+        """The next item of the first of `lanes` that has one (the caller holds `_ready`)."""
+        for lane in lanes:
+            if self._lanes[lane]:
+                return self._lanes[lane].popleft(), lane
+        return None
+
+    def _execute(
+        self, fn: Callable[[], Any], future: asyncio.Future[Any] | None, *, lane: Lane
+    ) -> None:
+        if future is not None and future.cancelled():
+            return  # its caller stopped waiting before it started
+        self._lane = lane
+        try:
+            result = fn()
+        except BaseException as error:  # handed to the awaiting caller
+            _settle_from_thread(future, None, error)
+        else:
+            _settle_from_thread(future, result, None)
+        finally:
+            self._lane = "normal"
+
+
+def _settle_from_thread(
+    future: asyncio.Future[Any] | None, result: Any, error: BaseException | None
+) -> None:
+    if future is not None:
+        with suppress(RuntimeError):  # the loop has closed: nobody waits any more
+            future.get_loop().call_soon_threadsafe(_settle, future, result, error)
+
+
+def _settle(future: asyncio.Future[Any], result: Any, error: BaseException | None) -> None:
+    if future.done():  # cancelled while the call ran: its result goes nowhere
+        return
+    if error is None:
+        future.set_result(result)
+    else:
+        future.set_exception(error)
+
+
 class NodeSession:
     """Serialized, off-loop access to one remote node."""
 
-    def __init__(
-        self, remote: canopen.RemoteNode, *, sdo_timeout: float, loop_reads: bool = False
-    ) -> None:
-        """`loop_reads`: short reads are sent and answered on the event loop
-        (nodes/loop_upload.py); only for a bus whose send never blocks."""
+    def __init__(self, remote: canopen.RemoteNode, *, sdo_timeout: float) -> None:
         if remote.id is None:
             raise ValueError("a node session needs a node id")
         self._node_id: int = remote.id
         self.remote = remote
         remote.sdo.RESPONSE_TIMEOUT = sdo_timeout
-        self._loop_upload = LoopUpload(remote) if loop_reads else None
-        self._worker = NodeWorker(f"node{remote.id}")
+        self._worker = _Worker(f"node{remote.id}")
         _announce_transfers(remote, self._worker)
         self._closed = False
         # Held by a transaction for its whole run; every other request passes it only to be
@@ -233,10 +356,6 @@ class NodeSession:
 
     async def upload(self, index: int, subindex: int) -> bytes:
         """SDO upload (read) of one entry's raw bytes."""
-        if self._loop_upload is not None and self._may_read_on_loop(index, subindex):
-            data = await self._reported(self._read_on_loop(self._loop_upload, index, subindex))
-            if data is not None:
-                return data
         return await self.run(
             lambda remote: bytes(remote.sdo.upload(index, subindex)),
             what=f"read {index:04X}h:{subindex:02X}h",
@@ -274,33 +393,6 @@ class NodeSession:
         return await self.run(
             step, what=f"write {index:04X}h:{subindex:02X}h", index=index, subindex=subindex
         )
-
-    def _may_read_on_loop(self, index: int, subindex: int) -> bool:
-        """A short entry (the dictionary says at most 4 bytes: an expedited answer), nobody
-        holding the node, no late answer to wait out, and the worker idle (then claimed)."""
-        if self._closed or self._quiet_until is not None or self._gate.locked():
-            return False
-        try:
-            variable = self.remote.object_dictionary.get_variable(index, subindex)
-        except (KeyError, AttributeError):
-            return False
-        if variable is None or not variable.fixed_size or len(variable) > 32:
-            return False
-        return self._worker.claim()
-
-    async def _read_on_loop(self, reader: LoopUpload, index: int, subindex: int) -> bytes | None:
-        try:
-            return await reader.upload(index, subindex, self.remote.sdo.RESPONSE_TIMEOUT)
-        except CommTimeoutError:
-            # a late answer must not be taken for the next request's (see _quiet_until)
-            self._quiet_until = time.monotonic() + self.remote.sdo.RESPONSE_TIMEOUT
-            raise
-        finally:
-            self._worker.release()
-
-    async def _reported(self, call: Awaitable[T]) -> T:
-        """Hook for what a subclass learns from a request made outside `run` (tracked.py)."""
-        return await call
 
     def replace_dictionary(
         self, od: ObjectDictionary, *, then: Callable[[], None] | None = None
@@ -377,12 +469,10 @@ class NodeSession:
         cancelled (their callers would see a bare CancelledError): each ends at once with
         RequestInterruptedError, and no new calls are accepted."""
         self._closed = True
-        if self._loop_upload is not None:
-            self._loop_upload.close()
         self._worker.shutdown()
 
 
-def _announce_transfers(remote: canopen.RemoteNode, worker: NodeWorker) -> None:
+def _announce_transfers(remote: canopen.RemoteNode, worker: _Worker) -> None:
     """Every SDO transfer of the node opens a stream (upload and download do too): the worker
     hears of each before it starts, to let a stop cut in or refuse a write after one."""
     sdo = remote.sdo

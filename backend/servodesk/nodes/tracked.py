@@ -32,12 +32,11 @@ class TrackedSession(NodeSession):
         remote: canopen.RemoteNode,
         *,
         sdo_timeout: float,
-        loop_reads: bool = False,
         on_outcome: Outcome,
         on_heartbeat_written: HeartbeatWritten,
         is_stopped: IsStopped | None = None,
     ) -> None:
-        super().__init__(remote, sdo_timeout=sdo_timeout, loop_reads=loop_reads)
+        super().__init__(remote, sdo_timeout=sdo_timeout)
         self._on_outcome = on_outcome
         self._on_heartbeat_written = on_heartbeat_written
         self._is_stopped = is_stopped
@@ -65,13 +64,6 @@ class TrackedSession(NodeSession):
         if self._stopped():
             raise NodeStoppedError(self.node_id)
         return await self._tracked(super().priority(fn, what=what))
-
-    def _may_read_on_loop(self, index: int, subindex: int) -> bool:
-        # a Stopped node is refused by `run`, at once
-        return not self._stopped() and super()._may_read_on_loop(index, subindex)
-
-    async def _reported(self, call: Awaitable[T]) -> T:
-        return await self._tracked(call)
 
     async def _tracked(self, call: Awaitable[T]) -> T:
         """Await `call` and tell the monitor whether the node answered."""
