@@ -97,7 +97,9 @@ class _Recording:
                 time.sleep(WRITER_IDLE)
                 continue
             if self.format is RecordingFormat.MF4:
-                msg = _mf4_frame(msg)
+                msg = _fit_channel(msg, 0xFF)
+            elif self.format is RecordingFormat.BLF:
+                msg = _fit_channel(msg, 0xFFFE)  # written as a 16-bit number + 1
             try:
                 self._writer.on_message_received(msg)
             except Exception:  # the thread goes on: the file is still closed properly
@@ -114,12 +116,13 @@ class _Recording:
         self._thread.join()
 
 
-def _mf4_frame(msg: can.Message) -> can.Message:
-    """MF4 keeps the bus channel as a number 0–255 (python-can takes the digits that end the
-    channel's name: can0 → 0); a channel it cannot hold is left out (a copy: the message is
-    shared with the other listeners)."""
+def _fit_channel(msg: can.Message, highest: int) -> can.Message:
+    """MF4 and BLF keep the bus channel as a number (python-can takes the digits that end the
+    channel's name: can0 → 0, and a simulated bus "servodesk-sim-…4817290" → 4817290, which
+    stopped every frame of a BLF recording); a channel the file cannot hold is left out (a
+    copy: the message is shared with the other listeners)."""
     channel = can.util.channel2int(msg.channel)
-    if msg.channel is None or (channel is not None and 0 <= channel <= 0xFF):
+    if msg.channel is None or (channel is not None and 0 <= channel <= highest):
         return msg
     frame = copy.copy(msg)
     frame.channel = None
