@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 from fastapi.testclient import TestClient
 from pydantic import SecretStr
+from starlette.testclient import WebSocketTestSession
 from starlette.websockets import WebSocketDisconnect
 
 from servodesk.app import create_app
@@ -198,6 +199,54 @@ def test_live_socket_needs_a_login(client: TestClient) -> None:
         while (message := ws.receive_json())["type"] not in ("pong", "error"):
             pass
         assert message["type"] == "pong"
+
+
+def login_cookie(client: TestClient, token: str) -> dict[str, str]:
+    """A fresh login's cookie as a header (the client's own jar is left empty)."""
+    answer = client.post("/api/login", json={"token": token})
+    assert answer.status_code == 200
+    sid = answer.cookies["servodesk_session"]
+    client.cookies.clear()
+    return {"cookie": f"servodesk_session={sid}"}
+
+
+def closed_by_server(ws: WebSocketTestSession) -> int:
+    """Read until the server closes the socket; its close code."""
+    for _ in range(10_000):  # status pushes may come first
+        try:
+            ws.receive_json()
+        except WebSocketDisconnect as closed:
+            return closed.code
+    raise AssertionError("the socket stayed open")
+
+
+def test_logging_out_closes_that_logins_live_sockets_only(client: TestClient) -> None:
+    mine, other = login_cookie(client, OPERATOR), login_cookie(client, OPERATOR)
+    with (
+        client.websocket_connect("/api/ws", headers=mine) as ws,
+        client.websocket_connect("/api/ws", headers=other) as kept,
+    ):
+        ws.send_json({"type": "ping"})
+        while ws.receive_json()["type"] != "pong":
+            pass
+        assert client.post("/api/logout", headers=mine).status_code == 204
+        assert closed_by_server(ws) == 1008  # the page shows its login again
+        kept.send_json({"type": "ping"})  # the same user's other login goes on
+        while kept.receive_json()["type"] != "pong":
+            pass
+    assert client.get("/api/session", headers=other).status_code == 200
+
+
+def test_logins_evict_only_that_users_oldest(client: TestClient) -> None:
+    engineer = login_cookie(client, ENGINEER)
+    first = login_cookie(client, VIEWER)
+    with client.websocket_connect("/api/ws", headers=first) as ws:
+        later = [login_cookie(client, VIEWER) for _ in range(25)]
+        assert closed_by_server(ws) == 1008  # evicted: its socket closes too
+    assert client.get("/api/session", headers=first).status_code == 401
+    assert client.get("/api/session", headers=engineer).json()["user"] == "engineer"
+    working = [client.get("/api/session", headers=c).status_code for c in later]
+    assert working == [401] * 5 + [200] * 20  # 20 logins per user at most
 
 
 def test_live_socket_from_a_foreign_origin_is_refused(client: TestClient) -> None:

@@ -154,6 +154,32 @@ def test_sessions_expire_and_end() -> None:
     assert len(third) >= 40
 
 
+def test_sessions_are_bounded_per_user_and_watchers_hear_every_end() -> None:
+    store = SessionStore(max_per_user=2)
+    ended: list[str] = []
+    alice = store.create("alice", Role.ENGINEER)
+    bob = store.create("bob", Role.VIEWER)
+    store.watch(alice, lambda: ended.append("alice"))
+    second = store.create("alice", Role.ENGINEER)
+    third = store.create("alice", Role.ENGINEER)  # alice's oldest goes, not bob's
+    assert store.get(alice) is None
+    assert ended == ["alice"]
+    assert store.get(bob) is not None
+    assert (store.count("alice"), store.count("bob")) == (2, 1)
+    unwatch = store.watch(second, lambda: ended.append("second"))
+    assert unwatch is not None
+    store.watch(third, lambda: ended.append("third"))
+    unwatch()  # a closed socket stops watching: nothing calls it later
+    store.end(second)
+    store.end(third)
+    store.end(third)  # ending twice tells once
+    assert ended == ["alice", "third"]
+    assert store.watch(third, lambda: None) is None  # an ended session cannot be watched
+    expiring = SessionStore(max_age_s=-1)
+    sid = expiring.create("carol", Role.VIEWER)
+    assert expiring.watch(sid, lambda: ended.append("carol")) is None  # already expired
+
+
 def test_login_limiter_per_client_and_overall() -> None:
     limiter = LoginLimiter(per_client=3, overall=5, window_s=60)
     for _ in range(3):

@@ -47,12 +47,19 @@ class Access:
         if scheme.lower() == "bearer" and token.strip():
             credential = self.tokens.lookup(token.strip())
             return None if credential is None else Actor(credential.user, credential.role, client)
-        sid = cookie_parser(headers.get("cookie", "")).get(COOKIE)
+        sid = self.session_id(headers)
         if sid:
             session = self.sessions.get(sid)
             if session is not None:
                 return Actor(session.user, session.role, client)
         return None
+
+    def session_id(self, headers: Mapping[str, str]) -> str | None:
+        """The login session a request rides on: its cookie's, unless a bearer token (which
+        wins in `actor`) is presented or no tokens are configured."""
+        if not self.required or _presents_bearer(headers):
+            return None
+        return cookie_parser(headers.get("cookie", "")).get(COOKIE) or None
 
 
 def client_host(scope: Scope) -> str:

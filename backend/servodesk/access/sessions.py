@@ -10,6 +10,7 @@ from __future__ import annotations
 import secrets
 import time
 from collections import OrderedDict, deque
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from servodesk.access.actor import Role
@@ -24,16 +25,36 @@ class LoginSession:
     expires: float  # time.monotonic()
 
 
+Ended = Callable[[], None]
+
+
 class SessionStore:
-    def __init__(self, *, max_age_s: float = 12 * 3600, max_sessions: int = 1000) -> None:
+    """Logins by session id. Each user holds at most `max_per_user` (a new login ends that
+    user's oldest), and all users together `max_sessions` (the oldest login overall goes), so
+    logging in again and again evicts only the guesser's own sessions. Whoever holds on to a
+    session (a live WebSocket) can `watch` it and is told once when it ends: logged out,
+    evicted or expired."""
+
+    def __init__(
+        self,
+        *,
+        max_age_s: float = 12 * 3600,
+        max_sessions: int = 1000,
+        max_per_user: int = 20,
+    ) -> None:
         self.max_age_s = max_age_s
         self._max = max_sessions
+        self._max_per_user = max_per_user
         self._sessions: OrderedDict[str, LoginSession] = OrderedDict()
+        self._watchers: dict[str, list[Ended]] = {}
 
     def create(self, user: str, role: Role) -> str:
         self._prune()
+        mine = [sid for sid, s in self._sessions.items() if s.user == user]  # oldest first
+        for sid in mine[: max(0, len(mine) - self._max_per_user + 1)]:
+            self._drop(sid)
         while len(self._sessions) >= self._max:
-            self._sessions.popitem(last=False)  # the oldest login goes first
+            self._drop(next(iter(self._sessions)))  # the oldest login goes first
         sid = secrets.token_urlsafe(32)
         self._sessions[sid] = LoginSession(user, role, time.monotonic() + self.max_age_s)
         return sid
@@ -43,17 +64,42 @@ class SessionStore:
         if session is None:
             return None
         if session.expires < time.monotonic():
-            del self._sessions[sid]
+            self._drop(sid)
             return None
         return session
 
     def end(self, sid: str) -> None:
+        self._drop(sid)
+
+    def count(self, user: str) -> int:
+        return sum(1 for s in self._sessions.values() if s.user == user)
+
+    def watch(self, sid: str, ended: Ended) -> Ended | None:
+        """Call `ended` once when the session ends (at its expiry at the latest, when the
+        watcher asks `get` or a login prunes); returns the call that stops watching, or None
+        when there is no such session (it has ended already)."""
+        if self.get(sid) is None:
+            return None
+        self._watchers.setdefault(sid, []).append(ended)
+
+        def unwatch() -> None:
+            watchers = self._watchers.get(sid, [])
+            if ended in watchers:
+                watchers.remove(ended)
+            if not watchers:
+                self._watchers.pop(sid, None)
+
+        return unwatch
+
+    def _drop(self, sid: str) -> None:
         self._sessions.pop(sid, None)
+        for ended in self._watchers.pop(sid, []):
+            ended()
 
     def _prune(self) -> None:
         now = time.monotonic()
         for sid in [sid for sid, s in self._sessions.items() if s.expires < now]:
-            del self._sessions[sid]
+            self._drop(sid)
 
 
 class LoginLimiter:

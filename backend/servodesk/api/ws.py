@@ -6,11 +6,15 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any
 
 from fastapi import APIRouter, FastAPI, WebSocket, WebSocketDisconnect
 from pydantic import ValidationError
 
+from servodesk.access.guard import POLICY_VIOLATION, Access
 from servodesk.api.audited import outcome_of
 from servodesk.api.errors import describe, validation_message
 from servodesk.api.security import LOOPBACK, ServedHosts, origin_allowed
@@ -50,8 +54,13 @@ async def live(websocket: WebSocket) -> None:
         return
     services: Services = websocket.app.state.services
     await websocket.accept()
+    ends = _login_end(websocket)
+    if ends is None:  # the login ended between the access check and here
+        await websocket.close(code=POLICY_VIOLATION, reason=LOGIN_ENDED)
+        return
     client = services.live.connect()
     sender = asyncio.create_task(_send(websocket, client))
+    closer = asyncio.create_task(_close_at(websocket, ends))
     try:
         while True:
             raw = await websocket.receive_json()
@@ -66,9 +75,48 @@ async def live(websocket: WebSocket) -> None:
             services.safety.socket_closed(client.client.id)
             services.safety.socket_idle(client.client.id)
         services.live.disconnect(client)
-        sender.cancel()
-        with contextlib.suppress(asyncio.CancelledError, WebSocketDisconnect, RuntimeError):
-            await sender
+        ends.unwatch()
+        for task in (sender, closer):
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError, WebSocketDisconnect, RuntimeError):
+                await task
+
+
+LOGIN_ENDED = "the login ended: log in again"
+
+
+@dataclass
+class _LoginEnd:
+    """When a socket's login session ends: set on logout or eviction, else at its expiry."""
+
+    ended: asyncio.Event = field(default_factory=asyncio.Event)
+    expires_in: float | None = None  # s; None: a token or no login, nothing ends it
+    unwatch: Callable[[], None] = lambda: None
+
+
+def _login_end(websocket: WebSocket) -> _LoginEnd | None:
+    """Watch the socket's login session (the access check let it in); None if it has ended."""
+    access: Access = websocket.app.state.access
+    sid = access.session_id(websocket.headers)
+    end = _LoginEnd()
+    if sid is None:
+        return end
+    session = access.sessions.get(sid)
+    unwatch = access.sessions.watch(sid, end.ended.set)
+    if session is None or unwatch is None:
+        return None
+    end.unwatch = unwatch
+    end.expires_in = max(0.0, session.expires - time.monotonic())
+    return end
+
+
+async def _close_at(websocket: WebSocket, end: _LoginEnd) -> None:
+    """Close the socket when its login ends: a logged-out page must not keep receiving the
+    drives' state or sending commands (its jogs stop, as on any close)."""
+    with contextlib.suppress(TimeoutError):
+        await asyncio.wait_for(end.ended.wait(), end.expires_in)
+    with contextlib.suppress(RuntimeError, WebSocketDisconnect):
+        await websocket.close(code=POLICY_VIOLATION, reason=LOGIN_ENDED)
 
 
 async def _handle(services: Services, client: LiveClient, raw: Any) -> dict[str, Any] | None:
