@@ -53,10 +53,10 @@ from servodesk.errors import (
     SdoAbortError,
     SdoProtocolError,
 )
+from servodesk.nodes.write_step import WriteStep, write_step
 
 T = TypeVar("T")
 
-WRITE_ONLY = 0x06010001  # SDO abort: attempt to read a write-only object
 NO_RESPONSE = "No SDO response received"  # canopen's SdoCommunicationError on a timeout
 CLOSED = "the connection to it was renewed (bus reconnected or node moved) while the request waited"
 
@@ -373,26 +373,32 @@ class NodeSession:
         )
 
     async def write_and_read(
-        self, index: int, subindex: int, data: bytes, *, read_back: bool
+        self,
+        index: int,
+        subindex: int,
+        data: bytes,
+        *,
+        read_back: bool,
+        read_first: bool = False,
+        seen: WriteStep | None = None,
     ) -> bytes | None:
         """Download `data` and upload the entry again as one step on the node's thread, so no
-        other request's write can land between the two. None when there is nothing to read
+        other request's write can land between the two; with `read_first`, the value before is
+        uploaded in the same step (into `seen.before`). None when there is nothing to read
         back (`read_back` false, or the drive calls the entry write-only)."""
-
-        def step(remote: canopen.RemoteNode) -> bytes | None:
-            remote.sdo.download(index, subindex, data)
-            if not read_back:
-                return None
-            try:
-                return bytes(remote.sdo.upload(index, subindex))
-            except SdoAbortedError as abort:
-                if int(abort.code) == WRITE_ONLY:
-                    return None
-                raise
-
-        return await self.run(
+        step = functools.partial(
+            write_step,
+            index=index,
+            subindex=subindex,
+            data=data,
+            read_first=read_first,
+            read_back=read_back,
+            seen=seen if seen is not None else WriteStep(),
+        )
+        done = await self.run(
             step, what=f"write {index:04X}h:{subindex:02X}h", index=index, subindex=subindex
         )
+        return done.after
 
     def replace_dictionary(
         self, od: ObjectDictionary, *, then: Callable[[], None] | None = None

@@ -18,6 +18,7 @@ import canopen
 from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
 from servodesk.nodes.identity import PRODUCER_HEARTBEAT
 from servodesk.nodes.session import NodeSession
+from servodesk.nodes.write_step import WriteStep
 
 T = TypeVar("T")
 
@@ -86,9 +87,18 @@ class TrackedSession(NodeSession):
             self._on_heartbeat_written(self.node_id, int.from_bytes(data[:2], "little"))
 
     async def write_and_read(
-        self, index: int, subindex: int, data: bytes, *, read_back: bool
+        self,
+        index: int,
+        subindex: int,
+        data: bytes,
+        *,
+        read_back: bool,
+        read_first: bool = False,
+        seen: WriteStep | None = None,
     ) -> bytes | None:
-        result = await super().write_and_read(index, subindex, data, read_back=read_back)
+        result = await super().write_and_read(
+            index, subindex, data, read_back=read_back, read_first=read_first, seen=seen
+        )
         if index == PRODUCER_HEARTBEAT and subindex == 0 and data:
             self._on_heartbeat_written(self.node_id, int.from_bytes(data[:2], "little"))
         return result

@@ -6,12 +6,14 @@ is refused before a frame is sent. SDO aborts arrive as SdoAbortError from the n
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Callable
 
 from servodesk.audit.entry import current_entry
-from servodesk.errors import InvalidValueError, ServodeskError
+from servodesk.errors import InvalidValueError
 from servodesk.models import SdoValue
 from servodesk.nodes.access import NodeAccess
+from servodesk.nodes.write_step import WriteStep
 from servodesk.od import ObjectDictionaryModel
 from servodesk.od import datatypes as dt
 from servodesk.sdo import codec
@@ -81,26 +83,28 @@ class SdoService:
         model = self._access.od(node)
         data = self.encode(model, index, subindex, value, size)
         sub = model.get(index, subindex)
-        # The audit entry of a single write names its object and the value it replaces
-        # (read just before: that is what an undo writes back).
+        readable = sub is None or sub.access != "wo"
+        # The audit entry of a single write names its object and the value it replaces (what
+        # an undo writes back), read in the same step as the write and its read-back: a
+        # parallel write cannot land in between, so entries chain old → new without gaps.
         entry = current_entry()
-        if entry is not None and entry.records_object():
-            readable = sub is None or sub.access != "wo"
-            old = await self._old_value(node, index, subindex) if readable else None
-            entry.set_object(index, subindex, old)
-            if entry.action == "sdo-write":  # a parameter or an undo words its own entry
-                was = f"{old} → " if old is not None else ""
-                entry.what = f"write node {node} {where(index, subindex)}: {was}{value}"
-        else:
+        if entry is None or not entry.records_object():
             entry = None
-        # one step on the node: a parallel write cannot land between the write and its read-back
+        seen = WriteStep()
+        read_first = entry is not None and readable
         try:
             back = await session.write_and_read(
-                index, subindex, data, read_back=sub is None or sub.access != "wo"
+                index, subindex, data, read_back=readable, read_first=read_first, seen=seen
             )
         finally:
             if self._on_write is not None:
                 self._on_write(node, index, subindex)
+            if entry is not None:
+                old = self._decoded(node, model, index, subindex, seen.before)
+                entry.set_object(index, subindex, old)
+                if entry.action == "sdo-write":  # a parameter or an undo words its own entry
+                    was = f"{old} → " if old is not None else ""
+                    entry.what = f"write node {node} {where(index, subindex)}: {was}{value}"
         written = sdo_value(node, model, index, subindex, data if back is None else back)
         if entry is not None:
             entry.new = written.value
@@ -109,11 +113,16 @@ class SdoService:
                 entry.what = f"write node {node} {where(index, subindex)}: {was}{written.text}"
         return written
 
-    async def _old_value(self, node: int, index: int, subindex: int) -> int | float | str | None:
+    @staticmethod
+    def _decoded(
+        node: int, model: ObjectDictionaryModel, index: int, subindex: int, data: bytes | None
+    ) -> int | float | str | None:
+        if data is None:
+            return None  # unreadable before the write: the entry says old unknown
         try:
-            return (await self.read(node, index, subindex)).value
-        except ServodeskError:
-            return None  # unreadable now: the write goes ahead, the entry says old unknown
+            return sdo_value(node, model, index, subindex, data).value
+        except (ValueError, struct.error):
+            return None  # bytes the dictionary cannot decode: old unknown, as unreadable
 
     @staticmethod
     def encode(
