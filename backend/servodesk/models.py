@@ -326,7 +326,10 @@ class IdentityCheck(BaseModel):
     matches: bool
     file: str  # "vendor 0x0000026C, product 0x000000C5, device type 0x00020192"
     device: str
-    message: str | None = None  # what differs, when it does
+    message: str | None = None  # what differs, or why it cannot be told
+    # False when no identity value is known on both sides (a file without 1018h/1000h/
+    # [DeviceInfo] numbers): a set that cannot be checked is confirmed like a mismatch
+    checked: bool = True
 
 
 class CompareResult(BaseModel):
@@ -335,6 +338,9 @@ class CompareResult(BaseModel):
     # read-only and status values (6041h …), listed apart and never flagged as differences
     read_only: list[CompareRow] = Field(default_factory=list)
     identity: IdentityCheck | None = None  # when a file was given
+    # what loading the file needs the user to confirm first, in words (another or an unknown
+    # device, a heartbeat faster than the bus should carry)
+    confirm: list[str] = Field(default_factory=list)
 
 
 class LiveEvent(BaseModel):

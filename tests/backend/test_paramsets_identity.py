@@ -4,6 +4,7 @@ The bitrate dialog gets only what each drive supports."""
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import pytest
@@ -63,6 +64,62 @@ def test_the_same_device_loads_without_a_question(client: TestClient) -> None:
     assert loaded.status_code == 200, loaded.text
     assert loaded.json()["identity"]["matches"] is True
     assert value(client, 3, "6081") == 555
+
+
+def without_sections(dcf: str, names: set[str]) -> str:
+    """`dcf` without the named [sections] (a hand-edited file)."""
+    kept = re.split(r"(?m)^(?=\[)", dcf)
+    return "".join(part for part in kept if part.split("]")[0].lstrip("[") not in names)
+
+
+def with_value(dcf: str, section: str, value: str) -> str:
+    """`dcf` with the ParameterValue of [section] set to `value`."""
+    head, _, rest = dcf.partition(f"[{section}]")
+    body, bracket, tail = rest.partition("\n[")
+    body = re.sub(r"(?m)^ParameterValue=.*$", f"ParameterValue={value}", body)
+    assert f"ParameterValue={value}" in body
+    return f"{head}[{section}]{body}{bracket}{tail}"
+
+
+def test_a_set_without_identity_is_confirmed_like_a_mismatch(client: TestClient) -> None:
+    mdi_set = saved_set(client, 1, 4321).decode()
+    stripped = without_sections(mdi_set, {"1000", "1018sub1", "1018sub2", "1018sub3", "1018sub4"})
+    stripped = re.sub(r"(?m)^(VendorNumber|ProductNumber)=.*\n", "", stripped)
+    assert "[1018sub1]" not in stripped and "VendorNumber" not in stripped
+    before = value(client, 3, "6081")
+    preview = client.post("/api/nodes/3/compare", files={"file": ("bare.dcf", stripped)}).json()
+    assert preview["identity"]["checked"] is False
+    assert preview["identity"]["matches"] is False
+    assert preview["confirm"] == [preview["identity"]["message"]]
+    refused = load(client, 3, stripped.encode())
+    assert refused.status_code == 428
+    assert refused.json()["error"] == "identity_mismatch"
+    assert refused.json()["message"].startswith("set.dcf names no device")
+    assert "node 3 (vendor 0x0000026C" in refused.json()["message"]
+    assert value(client, 3, "6081") == before  # nothing written
+    assert load(client, 3, stripped.encode(), confirm="true").status_code == 200
+    assert value(client, 3, "6081") == 4321
+
+
+def test_a_set_with_a_1_ms_heartbeat_needs_confirm(client: TestClient) -> None:
+    fast = with_value(saved_set(client, 3, 888).decode(), "1017", "0x1")
+    before, velocity = value(client, 3, "1017"), value(client, 3, "6081")
+    assert velocity != 888
+    preview = client.post("/api/nodes/3/compare", files={"file": ("fast.dcf", fast)}).json()
+    assert preview["identity"]["matches"] is True
+    assert preview["confirm"] == [
+        "fast.dcf sets a heartbeat every 1 ms (1017h): 1000 frames/s from one node; "
+        "below 10 ms needs confirm"
+    ]
+    refused = load(client, 3, fast.encode())
+    assert refused.status_code == 428
+    assert refused.json()["error"] == "confirmation_required"
+    assert "nothing was written" in refused.json()["message"]
+    assert (value(client, 3, "1017"), value(client, 3, "6081")) == (before, velocity)
+    loaded = load(client, 3, fast.encode(), confirm="true")
+    assert loaded.status_code == 200, loaded.text
+    assert (value(client, 3, "1017"), value(client, 3, "6081")) == (1, 888)
+    client.put("/api/nodes/3/heartbeat", json={"producer_ms": before, "confirm": True})
 
 
 def test_compare_shows_the_identity_and_keeps_status_apart(client: TestClient) -> None:

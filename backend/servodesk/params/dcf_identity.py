@@ -4,14 +4,17 @@ identity is compared with the node's before anything is written."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from servodesk.models import IdentityCheck, NodeInfo
+from servodesk.nodes.registry import HEARTBEAT_FLOOR_MS
 from servodesk.od import ObjectDictionaryModel
 
 DEVICE_TYPE = (0x1000, 0)  # Device type
 VENDOR_ID = (0x1018, 1)  # Identity object: vendor-ID
 PRODUCT_CODE = (0x1018, 2)  # Identity object: product code
+PRODUCER_HEARTBEAT_KEY = (0x1017, 0)
 
 
 @dataclass(frozen=True)
@@ -69,15 +72,56 @@ def check_identity(model: ObjectDictionaryModel, filename: str, info: NodeInfo) 
         )
         if mine is not None and other is not None and mine != other
     ]
+    compared = [
+        (mine, other)
+        for mine, other in (
+            (ours.vendor, theirs.vendor),
+            (ours.product, theirs.product),
+            (ours.device_type, theirs.device_type),
+        )
+        if mine is not None and other is not None
+    ]
     message = None
     if differs:
         message = (
             f"{filename} is for {ours.describe()}; node {info.node} is {theirs.describe()} "
             f"({', '.join(differs)} differ)"
         )
+    elif not compared:
+        # Stripping a file's identity must not get it past the check: unknown is not "same".
+        message = (
+            f"{filename} names no device (no vendor, product or device type in 1018h, 1000h "
+            f"or [DeviceInfo]): it cannot be checked against node {info.node} "
+            f"({theirs.describe()})"
+            if ours.describe() == "no identity"
+            else f"node {info.node}'s identity is unknown: {filename} ({ours.describe()}) "
+            "cannot be checked against it"
+        )
     return IdentityCheck(
-        matches=not differs,
+        matches=not differs and bool(compared),
         file=ours.describe(),
         device=theirs.describe(),
         message=message,
+        checked=bool(compared),
     )
+
+
+def heartbeat_question(filename: str, values: Mapping[tuple[int, int], object]) -> str | None:
+    """Why a set's producer heartbeat time (1017h) needs confirming, as the heartbeat editor
+    asks: below the floor one node alone puts 100+ frames/s on the bus."""
+    ms = values.get(PRODUCER_HEARTBEAT_KEY)
+    if not isinstance(ms, int) or isinstance(ms, bool) or not 0 < ms < HEARTBEAT_FLOOR_MS:
+        return None
+    return (
+        f"{filename} sets a heartbeat every {ms} ms (1017h): {1000 // ms} frames/s from "
+        f"one node; below {HEARTBEAT_FLOOR_MS} ms needs confirm"
+    )
+
+
+def load_questions(
+    identity: IdentityCheck, filename: str, values: Mapping[tuple[int, int], object]
+) -> list[str]:
+    """What a load of the file needs confirmed, in words (empty: nothing)."""
+    questions = [] if identity.matches or identity.message is None else [identity.message]
+    heartbeat = heartbeat_question(filename, values)
+    return questions if heartbeat is None else [*questions, heartbeat]

@@ -9,6 +9,7 @@ from collections.abc import Callable
 
 from servodesk.errors import (
     CommTimeoutError,
+    ConfirmationRequiredError,
     IdentityMismatchError,
     SdoAbortError,
 )
@@ -26,7 +27,7 @@ from servodesk.od import ObjectDictionaryModel, OdSub, export_dcf
 from servodesk.od import datatypes as dt
 from servodesk.od.model import Value
 from servodesk.od.parser import OdParser
-from servodesk.params.dcf_identity import check_identity
+from servodesk.params.dcf_identity import check_identity, load_questions
 from servodesk.params.dcf_order import Write, plan_writes, skip_reason
 from servodesk.pdo.file_values import apply_file_values, is_pdo_entry
 from servodesk.pdo.service import PdoService
@@ -177,13 +178,14 @@ class ParamSetService:
         session = self._access.session(node)
         model = await self._load_file(data, filename, node)
         identity = check_identity(model, filename, self._access.info(node))
-        if not identity.matches and not confirm:
-            raise IdentityMismatchError(
-                f"{identity.message}: nothing was written. Load it anyway with confirm"
-            )
+        in_file = file_values(model, node)
+        questions = load_questions(identity, filename, {k: v for k, (_, v) in in_file.items()})
+        if questions and not confirm:
+            error = ConfirmationRequiredError if identity.matches else IdentityMismatchError
+            raise error(f"{questions[0]}: nothing was written. Load it anyway with confirm")
         values: dict[Key, Value] = {}
         skipped = 0
-        for key, (file_sub, value) in sorted(file_values(model, node).items()):
+        for key, (file_sub, value) in sorted(in_file.items()):
             sub = target.get(*key)
             if sub is None or skip_reason(file_sub) or skip_reason(sub):
                 skipped += 1
@@ -272,7 +274,12 @@ class ParamSetService:
                     ),
                 )
             )
-        return CompareResult(rows=rows, read_only=read_only, identity=identity)
+        questions = (
+            []
+            if identity is None
+            else load_questions(identity, filename, {k: v for k, (_, v) in in_file.items()})
+        )
+        return CompareResult(rows=rows, read_only=read_only, identity=identity, confirm=questions)
 
     # ------------------------------------------------------------------------------ helpers
 

@@ -1690,6 +1690,8 @@ export interface components {
         ClientMessage: components["schemas"]["HelloMessage"] | components["schemas"]["PingMessage"] | components["schemas"]["JogKeepaliveMessage"] | components["schemas"]["JogStopMessage"] | components["schemas"]["PageHiddenMessage"] | components["schemas"]["QuickStopMessage"] | components["schemas"]["WatchDriveMessage"] | components["schemas"]["UnwatchDriveMessage"];
         /** CompareResult */
         CompareResult: {
+            /** Confirm */
+            confirm?: string[];
             identity?: components["schemas"]["IdentityCheck"] | null;
             /** Read Only */
             read_only?: components["schemas"]["CompareRow"][];
@@ -2242,6 +2244,11 @@ export interface components {
          * @description Whether a parameter set is for the node's kind of device (vendor, product, type).
          */
         IdentityCheck: {
+            /**
+             * Checked
+             * @default true
+             */
+            checked: boolean;
             /** Device */
             device: string;
             /** File */

@@ -32,7 +32,10 @@ export function LoadDcfDialog({
   const [otherDevice, setOtherDevice] = useState(false);
   const changes = preview.rows.filter((row) => row.differs_from_file);
   const identity = preview.identity;
-  const mismatch = identity !== null && identity !== undefined && !identity.matches;
+  // another device, a file that names none, a heartbeat the bus should not carry: each asked
+  const questions = preview.confirm ?? [];
+  const otherKind = identity?.checked !== false && identity?.matches === false;
+  const mismatch = questions.length > 0;
   const count = changes.length;
   return (
     <Dialog
@@ -57,10 +60,24 @@ export function LoadDcfDialog({
     >
       {mismatch && (
         <div className="warning" role="alert">
-          <p>
-            <strong>This file is for another device.</strong> {identity.message}. Its values may
-            mean something else on node {node}.
-          </p>
+          {questions.map((question) => (
+            <p key={question}>
+              {question === identity?.message ? (
+                <>
+                  <strong>
+                    {otherKind
+                      ? "This file is for another device."
+                      : "This file cannot be checked against the node."}
+                  </strong>{" "}
+                  {question}. Its values may mean something else on node {node}.
+                </>
+              ) : (
+                <>
+                  <strong>Check before writing:</strong> {question}.
+                </>
+              )}
+            </p>
+          ))}
           <label className="check">
             <input
               type="checkbox"
