@@ -24,8 +24,9 @@ UNDO_ERRORS: dict[int | str, dict[str, object]] = {
     404: {"model": ErrorBody, "description": "No such entry, or its node is not on the bus"},
     409: {
         "model": ErrorBody,
-        "description": "not_undoable (why), changed_since (the value changed: use force), or "
-        "the drive refused the write (sdo_abort with its code)",
+        "description": "not_undoable (why), already_undone (another undo of the entry took it "
+        "back or is doing so: an entry is undone once, forced or not), changed_since (the value "
+        "changed: use force), or the drive refused the write (sdo_abort with its code)",
     },
 }
 

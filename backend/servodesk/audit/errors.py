@@ -11,7 +11,7 @@ import os
 import sqlite3
 from pathlib import Path
 
-from servodesk.errors import ServodeskError
+from servodesk.errors import ServodeskError, StateConflictError
 
 
 class AuditUnavailableError(ServodeskError):
@@ -61,3 +61,16 @@ def _no_space(data_dir: Path) -> bool:
         return os.statvfs(data_dir).f_bavail == 0
     except OSError:
         return False
+
+
+class AlreadyUndoneError(StateConflictError):
+    """An entry is undone once: another undo of it succeeded or is running (API 409)."""
+
+    def __init__(self, entry: int, undo: int, user: str, result: str) -> None:
+        self.entry, self.undo, self.user = entry, undo, user
+        how = "is being undone" if result == "pending" else "was already undone"
+        super().__init__(
+            "already_undone",
+            f"entry {entry} {how} by entry {undo} ({user}), so nothing was written; an entry is "
+            f"undone once (undo entry {undo} to reverse that undo)",
+        )

@@ -29,11 +29,15 @@ class AuditEntry(BaseModel):
     error: str | None  # the API's error code ("sdo_abort", "timeout" …)
     message: str | None  # the abort code's meaning or the error in words
     undo_of: int | None  # the entry this one undid
-    undoable: bool  # a single parameter/OD write that succeeded with a known old value
+    undone_by: int | None  # the undo that took this entry back (or is doing so): undone once
+    # a single parameter/OD write that succeeded with a known old value, not undone yet
+    undoable: bool
 
     @classmethod
     def of(cls, row: AuditRow) -> AuditEntry:
-        return cls.model_validate(row, from_attributes=True)
+        entry = cls.model_validate(row, from_attributes=True)
+        entry.undoable = row.undoable and row.undone_by is None
+        return entry
 
 
 class UndoRequest(RequestBody):

@@ -12,6 +12,7 @@ cannot be written (disk full, read-only, I/O error) fails its future with AuditU
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import json
@@ -23,7 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from servodesk.audit.entry import AuditValue, Outcome, Pending
-from servodesk.audit.errors import unavailable
+from servodesk.audit.errors import AlreadyUndoneError, unavailable
 
 FILENAME = "audit.sqlite"
 CRASHED = "the server stopped before this write completed: check the drive's value"
@@ -57,6 +58,7 @@ CREATE TABLE IF NOT EXISTS results (
 );
 CREATE INDEX IF NOT EXISTS entries_node ON entries(node, id);
 CREATE INDEX IF NOT EXISTS entries_time ON entries(time);
+CREATE INDEX IF NOT EXISTS entries_undo_of ON entries(undo_of) WHERE undo_of IS NOT NULL;
 CREATE TRIGGER IF NOT EXISTS entries_append_only_u BEFORE UPDATE ON entries
     BEGIN SELECT RAISE(ABORT, 'the audit log is append-only'); END;
 CREATE TRIGGER IF NOT EXISTS entries_append_only_d BEFORE DELETE ON entries
@@ -71,8 +73,18 @@ _SELECT = """
 SELECT e.id, e.time, r.time, e.user, e.role, e.client, e.node, e.action,
        COALESCE(r.what, e.what), r.obj_index, r.obj_subindex, r.old, COALESCE(r.new, e.new),
        COALESCE(r.result, 'pending'), r.abort_code, r.error, r.message, e.undo_of,
-       COALESCE(r.undoable, 0)
+       COALESCE(r.undoable, 0),
+       (SELECT MIN(u.id) FROM entries u LEFT JOIN results ur ON ur.entry = u.id
+        WHERE u.undo_of = e.id AND COALESCE(ur.result, 'pending') IN ('ok', 'pending'))
 FROM entries e LEFT JOIN results r ON r.entry = e.id
+"""
+# The undo that took (or is taking) an entry back: one that succeeded or is still running. A
+# failed or interrupted ("unknown") undo leaves the entry to be undone again.
+_UNDONE_BY = """
+SELECT e.id, e.user, COALESCE(r.result, 'pending') FROM entries e
+LEFT JOIN results r ON r.entry = e.id
+WHERE e.undo_of = ? AND COALESCE(r.result, 'pending') IN ('ok', 'pending')
+ORDER BY e.id LIMIT 1
 """
 CSV_COLUMNS = (
     "id",
@@ -117,6 +129,7 @@ class AuditRow:
     message: str | None
     undo_of: int | None
     undoable: bool
+    undone_by: int | None = None  # the undo entry that took this one back (or is doing so)
 
 
 @dataclass(frozen=True)
@@ -159,10 +172,11 @@ def _load(text: str | None) -> AuditValue:
 
 def _row(raw: tuple[Any, ...]) -> AuditRow:
     (id_, begun, finished, user, role, client, node, action, what, index, subindex, old, new,
-     result, abort_code, error, message, undo_of, undoable) = raw  # fmt: skip
+     result, abort_code, error, message, undo_of, undoable, undone_by) = raw  # fmt: skip
     return AuditRow(
         id_, begun, finished, user, role, client, node, action, what, index, subindex,
         _load(old), _load(new), result, abort_code, error, message, undo_of, bool(undoable),
+        undone_by,
     )  # fmt: skip
 
 
@@ -219,8 +233,28 @@ class AuditStore:
             raise unavailable(error, self.path.parent) from error
 
     def _insert_begin(self, entry: Pending, when: float) -> int:
+        db = self._conn()
+        if entry.undo_of is None:
+            return self._insert_entry(db, entry, when)
+        # An undo claims its entry: the check and the insert in one write transaction, so of
+        # several undos of one entry (this process's or another's) exactly one is entered.
+        db.execute("BEGIN IMMEDIATE")
+        try:
+            taken = db.execute(_UNDONE_BY, (entry.undo_of,)).fetchone()
+            if taken is not None:
+                raise AlreadyUndoneError(entry.undo_of, *taken)
+            row = self._insert_entry(db, entry, when)
+        except BaseException:
+            with contextlib.suppress(sqlite3.Error):  # the error that got here says more
+                db.execute("ROLLBACK")
+            raise
+        db.execute("COMMIT")
+        return row
+
+    @staticmethod
+    def _insert_entry(db: sqlite3.Connection, entry: Pending, when: float) -> int:
         actor = entry.actor
-        cursor = self._conn().execute(
+        cursor = db.execute(
             "INSERT INTO entries (time, user, role, client, node, action, what, new, undo_of) "
             "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
             (when, actor.user, actor.role.label, actor.client, entry.node, entry.action,

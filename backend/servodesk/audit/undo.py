@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Awaitable, Callable
 
 from servodesk.audit.entry import Outcome
+from servodesk.audit.errors import AlreadyUndoneError
 from servodesk.audit.log import AuditLog
 from servodesk.audit.store import AuditRow
 from servodesk.errors import NotFoundError, StateConflictError
@@ -46,6 +47,8 @@ async def undo(
     node, index, subindex, old = row.node, row.index, row.subindex, row.old
     if reason is not None or node is None or index is None or subindex is None or old is None:
         raise StateConflictError("not_undoable", reason or f"entry {entry_id} cannot be undone")
+    if row.undone_by is not None:  # said before the drive is read; the claim below decides
+        await _refuse_undone(audit, entry_id, row.undone_by)
     place = f"{row.index:04X}h:{row.subindex:02X}h"
     if not force:
         now = await read(node, index, subindex)
@@ -55,7 +58,16 @@ async def undo(
                 f"node {node} {place} is {now.text} now, not {row.new} as entry {entry_id} "
                 "left it: undo with force to write the old value anyway",
             )
+    # the undo's begin row claims the entry: of concurrent undos one is entered, the others
+    # get AlreadyUndoneError before anything is sent
     what = f"undo entry {entry_id}: write node {node} {place} = {old} (back from {row.new})"
     async with audit.entry("undo", node, what, describe, new=old, undo_of=entry_id) as pending:
         await write(node, index, subindex, old)
     return pending.row.result()
+
+
+async def _refuse_undone(audit: AuditLog, entry_id: int, undo_id: int) -> None:
+    undo_row = await audit.get(undo_id)
+    user = undo_row.user if undo_row is not None else "?"
+    result = undo_row.result if undo_row is not None else "ok"
+    raise AlreadyUndoneError(entry_id, undo_id, user, result)

@@ -18,6 +18,7 @@ export type ApiErrorKind =
   | "forbidden"
   | "rate_limited"
   | "not_undoable"
+  | "already_undone"
   | "changed_since"
   | "network"
   | "error";
@@ -39,6 +40,7 @@ const KNOWN_KINDS: ReadonlySet<string> = new Set<ApiErrorKind>([
   "forbidden",
   "rate_limited",
   "not_undoable",
+  "already_undone",
   "changed_since",
   "network",
   "error",

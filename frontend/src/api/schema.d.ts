@@ -1379,6 +1379,8 @@ export interface components {
             undo_of: number | null;
             /** Undoable */
             undoable: boolean;
+            /** Undone By */
+            undone_by: number | null;
             /** User */
             user: string;
             /** What */
@@ -3728,7 +3730,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description not_undoable (why), changed_since (the value changed: use force), or the drive refused the write (sdo_abort with its code) */
+            /** @description not_undoable (why), already_undone (another undo of the entry took it back or is doing so: an entry is undone once, forced or not), changed_since (the value changed: use force), or the drive refused the write (sdo_abort with its code) */
             409: {
                 headers: {
                     [name: string]: unknown;

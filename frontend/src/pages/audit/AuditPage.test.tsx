@@ -32,6 +32,7 @@ const entry = (id: number, fields: Partial<AuditEntry> = {}): AuditEntry => ({
   error: null,
   message: null,
   undo_of: null,
+  undone_by: null,
   undoable: true,
   ...fields,
 });

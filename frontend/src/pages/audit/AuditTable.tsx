@@ -39,6 +39,9 @@ function AuditRow({
         {entry.undo_of !== null && (
           <span className="muted small block">undoes entry {entry.undo_of}</span>
         )}
+        {entry.undone_by !== null && (
+          <span className="muted small block">undone by entry {entry.undone_by}</span>
+        )}
       </td>
       <td className="mono nowrap">{objectText(entry)}</td>
       <td className="mono audit-change">{changeText(entry)}</td>
