@@ -81,6 +81,10 @@ class BusNotConnectedError(ServodeskError):
         super().__init__(detail)
 
 
+class BusOpenError(ServodeskError):
+    """The bus asked for could not be opened; the bus that was connected stays connected."""
+
+
 class InvalidValueError(ServodeskError):
     """User input that cannot be written (wrong type, out of range, unknown parameter)."""
 

@@ -251,9 +251,14 @@ def test_bus_disconnect_and_reconnect(client: TestClient) -> None:
     assert refused.status_code == 422
     assert "unknown CAN interface 'nonexistent-if'" in refused.json()["message"]
     assert ok(client.get("/api/bus"))["state"] == "connected"  # the working bus is kept
-    bad = ok(client.post("/api/bus/connect", json={"interface": "socketcan", "channel": "nocan9"}))
-    assert bad["state"] == "error"
-    assert bad["error"]
+    # an adapter that does not open is refused and the bus the drives are on stays
+    bad = client.post("/api/bus/connect", json={"interface": "socketcan", "channel": "nocan9"})
+    assert bad.status_code == 422
+    assert bad.json()["error"] == "bus_open_failed"
+    assert bad.json()["message"].startswith("could not open socketcan nocan9 (")
+    assert "stays connected" in bad.json()["message"]
+    assert ok(client.get("/api/bus"))["state"] == "connected"
+    assert ok(client.get("/api/nodes/1/sdo/1008/0"))["value"] == "DVS_CANOPEN"
 
 
 def test_foreign_host_header_is_refused(client: TestClient) -> None:

@@ -11,7 +11,7 @@ from can.interfaces import VALID_INTERFACES
 
 from servodesk.bus.connection import BusManager
 from servodesk.bus.interfaces import INTERFACES
-from servodesk.errors import BusNotConnectedError, InvalidValueError
+from servodesk.errors import BusNotConnectedError, BusOpenError, InvalidValueError
 from servodesk.models import BusConfig, BusState, BusStatus, NmtCommandName
 from servodesk.network.sync import SyncService
 from tests.backend.network_rig import (
@@ -90,6 +90,28 @@ async def test_connect_failure_is_reported_and_not_retried() -> None:
     assert len(calls) == 1
     assert manager.status().state is BusState.ERROR
     await manager.close()
+
+
+@pytest.mark.anyio
+async def test_an_adapter_that_does_not_open_leaves_the_working_bus_connected() -> None:
+    async with sim_rig() as rig:
+        await rig.registry.scan(sdo_sweep=True, timeout_ms=50)
+        network = rig.bus.network
+        with pytest.raises(BusOpenError) as refused:
+            await rig.bus.connect(BusConfig(interface="socketcan", channel="nope0"))
+        assert str(refused.value).startswith("could not open socketcan nope0 (")
+        assert str(refused.value).endswith(
+            f"virtual {rig.channel} stays connected; check the interface and channel"
+        )
+        status = rig.bus.status()
+        assert (status.state, status.channel) == (BusState.CONNECTED, rig.channel)
+        assert rig.bus.network is network  # not even re-opened
+        assert rig.registry.info(1).name == "DVS_CANOPEN"
+        assert (await rig.registry.heartbeat(1)) >= 0  # the drives still answer
+        # another adapter that opens replaces the bus as before
+        other = new_channel()
+        status = await rig.bus.connect(BusConfig(interface="virtual", channel=other))
+        assert (status.state, status.channel) == (BusState.CONNECTED, other)
 
 
 @pytest.mark.anyio

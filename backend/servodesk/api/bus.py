@@ -6,7 +6,7 @@ from fastapi import APIRouter
 
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
-from servodesk.api.errors import BUS_ERRORS
+from servodesk.api.errors import BUS_ERRORS, CONNECT_ERRORS
 from servodesk.bus.interfaces import INTERFACES
 from servodesk.models import BusConfig, BusStatus, InterfaceInfo, SyncConfig
 
@@ -18,7 +18,7 @@ async def bus_status(services: ServicesDep) -> BusStatus:
     return services.bus.status()
 
 
-@router.post("/connect")
+@router.post("/connect", responses=CONNECT_ERRORS)
 async def connect(config: BusConfig, services: ServicesDep) -> BusStatus:
     return await services.bus.connect(config)
 

@@ -21,6 +21,7 @@ from servodesk.api.schema import allowed_methods
 from servodesk.audit.errors import AuditUnavailableError
 from servodesk.errors import (
     BusNotConnectedError,
+    BusOpenError,
     CommTimeoutError,
     ConfirmationRequiredError,
     IdentityMismatchError,
@@ -138,6 +139,8 @@ def describe(error: ServodeskError) -> tuple[int, ErrorBody]:
         return 404, ErrorBody(error="node_not_found", message=str(error), node=error.node_id)
     if isinstance(error, BusNotConnectedError):
         return 503, ErrorBody(error="bus_not_connected", message=str(error))
+    if isinstance(error, BusOpenError):
+        return 422, ErrorBody(error="bus_open_failed", message=str(error))
     if isinstance(error, PdoInvalidError):
         problems = [PdoProblem.model_validate(p, from_attributes=True) for p in error.problems]
         return 422, ErrorBody(error="invalid_value", message=str(error), problems=problems)
@@ -286,4 +289,10 @@ JOG_ERRORS: dict[int | str, dict[str, object]] = {
 }
 BUS_ERRORS: dict[int | str, dict[str, object]] = {
     503: _error("Bus not connected"),
+}
+CONNECT_ERRORS: dict[int | str, dict[str, object]] = {
+    422: _error(
+        "Not a bus configuration, or the bus asked for could not be opened (the "
+        "connected bus stays)"
+    ),
 }

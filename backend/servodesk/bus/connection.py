@@ -24,7 +24,7 @@ from servodesk.bus.counters import BusCounters
 from servodesk.bus.interfaces import REFUSED
 from servodesk.bus.link import Link, close_link, open_link
 from servodesk.bus.simulated import SIM_INTERFACE, SimulatedDrives, prepare_simulated_drives
-from servodesk.errors import BusNotConnectedError, InvalidValueError
+from servodesk.errors import BusNotConnectedError, BusOpenError, InvalidValueError
 from servodesk.models import BusConfig, BusState, BusStatus
 from servodesk.settings import Settings
 
@@ -109,6 +109,15 @@ class BusManager:
         config = check_bus_config(config)
         async with self._lock:
             self._loop = asyncio.get_running_loop()
+            if self._replaces_working_bus(config):
+                # The new adapter is opened before the working bus is closed: a mistyped
+                # channel must not cost the user the bus the drives are on.
+                raw = await self._open_beside(config)
+                await self._shutdown()
+                self._config = config
+                self._counters = BusCounters()
+                await self._open_and_report(start_sim=False, reconnecting=False, raw=raw)
+                return self.status()
             await self._shutdown()
             # The configuration asked for is the one used: `--sim` only chooses what the app
             # connects at start-up, the user may switch to a real adapter afterwards.
@@ -116,6 +125,33 @@ class BusManager:
             self._counters = BusCounters()
             await self._open_and_report(start_sim=config.simulated, reconnecting=False)
             return self.status()
+
+    def _replaces_working_bus(self, config: BusConfig) -> bool:
+        """A connected bus is being replaced by another real adapter (not the same device,
+        which may not open twice, and not the simulated drives, which start their own bus)."""
+        current = self._effective_config()
+        return (
+            self._state is BusState.CONNECTED
+            and self._link is not None
+            and current is not None
+            and not config.simulated
+            and (current.interface, current.channel) != (config.interface, config.channel)
+        )
+
+    async def _open_beside(self, config: BusConfig) -> can.BusABC:
+        """Open `config`'s bus while the current one stays; refuse in words if it cannot."""
+        if config.interface in REFUSED:
+            raise InvalidValueError(_refused(config.interface))
+        try:
+            return await self._build_bus(config)
+        except Exception as exc:
+            log.warning("could not open the CAN bus", exc_info=True)
+            current = self._effective_config()
+            kept = f"{current.interface} {current.channel}" if current else "the connected bus"
+            raise BusOpenError(
+                f"could not open {config.interface} {config.channel} ({_describe(exc)}): "
+                f"{kept} stays connected; check the interface and channel"
+            ) from exc
 
     async def disconnect(self) -> BusStatus:
         async with self._lock:
@@ -218,18 +254,22 @@ class BusManager:
             return BusConfig(interface=SIM_INTERFACE, channel=self._sim.channel, simulated=True)
         return self._config
 
-    async def _open_and_report(self, *, start_sim: bool, reconnecting: bool) -> None:
+    async def _open_and_report(
+        self, *, start_sim: bool, reconnecting: bool, raw: can.BusABC | None = None
+    ) -> None:
         self._set_state(BusState.CONNECTING)
         try:
             if start_sim:
                 self._sim = await asyncio.to_thread(prepare_simulated_drives)
-            self._link = await self._open_link()
+            self._link = await self._open_link(raw)
             if start_sim and self._sim is not None:
                 await asyncio.to_thread(self._sim.start)
         except Exception as exc:
             # Any failure to open (unknown interface, missing driver, busy device, bad bitrate)
             # is shown to the user as the bus state; the traceback goes to the log.
             log.warning("could not open the CAN bus", exc_info=True)
+            if raw is not None and self._link is None:
+                await asyncio.to_thread(raw.shutdown)  # opened for a link that never was
             if start_sim:
                 await self._stop_sim()
             self._set_state(BusState.ERROR, _describe(exc))
@@ -238,16 +278,15 @@ class BusManager:
             self._counters.reconnected()
         self._set_state(BusState.CONNECTED)
 
-    async def _open_link(self) -> Link:
+    async def _open_link(self, raw: can.BusABC | None = None) -> Link:
+        """A link on `raw` (opened already) or on a bus opened now from the configuration."""
         config = self._effective_config()
         if config is None:
             raise BusNotConnectedError("no bus configuration")
         if config.interface in REFUSED:
-            raise InvalidValueError(
-                f"the {config.interface} interface sends every frame onto the local network; "
-                "use a CAN adapter, socketcand or the simulated drives"
-            )
-        raw = await self._build_bus(config)
+            raise InvalidValueError(_refused(config.interface))
+        if raw is None:
+            raw = await self._build_bus(config)
         token = object()  # failures of this link only; stale reports are ignored
         listeners = list(self._frame_listeners)
         link = open_link(
@@ -370,6 +409,13 @@ class BusManager:
             except Exception:
                 # One broken listener must not stop the others from hearing about the bus.
                 log.exception("bus status listener failed")
+
+
+def _refused(interface: str) -> str:
+    return (
+        f"the {interface} interface sends every frame onto the local network; "
+        "use a CAN adapter, socketcand or the simulated drives"
+    )
 
 
 def _shutdown_orphan(future: Future[can.BusABC]) -> None:
