@@ -13,8 +13,6 @@ cannot be written (disk full, read-only, I/O error) fails its future with AuditU
 from __future__ import annotations
 
 import contextlib
-import csv
-import io
 import json
 import sqlite3
 import time
@@ -23,8 +21,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from servodesk.audit.csv_cells import csv_rows
 from servodesk.audit.entry import AuditValue, Outcome, Pending
 from servodesk.audit.errors import AlreadyUndoneError, unavailable
+from servodesk.bounded import TEXT_LIMIT, is_shortened, shorten
 
 FILENAME = "audit.sqlite"
 CRASHED = "the server stopped before this write completed: check the drive's value"
@@ -160,7 +160,20 @@ class AuditFilter:
 
 
 def _dump(value: AuditValue) -> str | None:
-    return None if value is None else json.dumps(value)
+    """A value as stored: a long text shortened, its length noted (bounded.py)."""
+    if value is None:
+        return None
+    return json.dumps(shorten(value) if isinstance(value, str) else value)
+
+
+def _text(words: str | None) -> str | None:
+    return None if words is None else shorten(words, TEXT_LIMIT)
+
+
+def _undoable(entry: Pending) -> bool:
+    # an old text kept shortened is not the value it replaced: writing it back would be wrong
+    old = entry.old
+    return entry.undoable and not (isinstance(old, str) and is_shortened(old))
 
 
 def _load(text: str | None) -> AuditValue:
@@ -257,8 +270,8 @@ class AuditStore:
         cursor = db.execute(
             "INSERT INTO entries (time, user, role, client, node, action, what, new, undo_of) "
             "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
-            (when, actor.user, actor.role.label, actor.client, entry.node, entry.action,
-             entry.what, _dump(entry.new), entry.undo_of),
+            (when, _text(actor.user), actor.role.label, _text(actor.client), entry.node,
+             _text(entry.action), _text(entry.what), _dump(entry.new), entry.undo_of),
         )  # fmt: skip
         if cursor.lastrowid is None:
             raise RuntimeError("SQLite gave the audit entry no id")
@@ -275,9 +288,9 @@ class AuditStore:
         self._conn().execute(
             "INSERT INTO results (entry, time, result, what, obj_index, obj_subindex, old, new, "
             "abort_code, error, message, undoable) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-            (row, when, outcome.result, entry.what, entry.index, entry.subindex,
-             _dump(entry.old), _dump(entry.new), outcome.abort_code, outcome.error,
-             outcome.message, int(outcome.result == "ok" and entry.undoable)),
+            (row, when, outcome.result, _text(entry.what), entry.index, entry.subindex,
+             _dump(entry.old), _dump(entry.new), outcome.abort_code, _text(outcome.error),
+             _text(outcome.message), int(outcome.result == "ok" and _undoable(entry))),
         )  # fmt: skip
 
     def _query(self, filters: AuditFilter) -> list[AuditRow]:
@@ -295,16 +308,14 @@ class AuditStore:
         joiner = " AND " if where else " WHERE "
         sql = f"{_SELECT}{where}{joiner}e.id > ? ORDER BY e.id LIMIT 1000"
         rows = [_row(r) for r in self._conn().execute(sql, [*args, after])]
-        out = io.StringIO()
-        writer = csv.writer(out)
-        for row in rows:
-            writer.writerow(
-                [row.id, _iso(row.time), _iso(row.finished), row.user, row.role, row.client,
-                 row.node, row.action, row.what, _hex(row.index, 4), _hex(row.subindex, 2),
-                 row.old, row.new, row.result, row.abort_code, row.error, row.message,
-                 row.undo_of]
-            )  # fmt: skip
-        return out.getvalue(), rows[-1].id if rows else None
+        text = csv_rows(
+            [row.id, _iso(row.time), _iso(row.finished), row.user, row.role, row.client,
+             row.node, row.action, row.what, _hex(row.index, 4), _hex(row.subindex, 2),
+             row.old, row.new, row.result, row.abort_code, row.error, row.message,
+             row.undo_of]
+            for row in rows
+        )  # fmt: skip
+        return text, rows[-1].id if rows else None
 
     # --- the async side --------------------------------------------------------------------
 
@@ -339,9 +350,7 @@ class AuditStore:
 
 
 def csv_header() -> str:
-    out = io.StringIO()
-    csv.writer(out).writerow(CSV_COLUMNS)
-    return out.getvalue()
+    return csv_rows([CSV_COLUMNS])
 
 
 def _iso(when: float | None) -> str:

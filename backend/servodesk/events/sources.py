@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from servodesk.bounded import TEXT_LIMIT, shorten
 from servodesk.events.bus import BusEvent, EventBus, EventKind, event
 from servodesk.models import LiveEvent, SdoValue
 from servodesk.nodes.access import NodeAccess
@@ -51,19 +52,20 @@ class PublishingSdoService(SdoService):
         size: int | None = None,
     ) -> SdoValue:
         place = where(index, subindex)
+        # what a client sent, bounded: the timeline and the live channel carry no 100 MB text
+        shown = shorten(value) if isinstance(value, str) else value
         data: dict[str, object] = {
             "action": "sdo",
             "index": index,
             "subindex": subindex,
-            "value": value,
+            "value": shown,
         }
         try:
             result = await super().write(node, index, subindex, value, size)
         except Exception as error:
-            data["error"] = str(error)
-            self._events.publish(
-                event(EventKind.TOOL_WRITE, node, f"write {place} = {value} failed: {error}", data)
-            )
+            data["error"] = shorten(str(error), TEXT_LIMIT)
+            message = f"write {place} = {shown} failed: {data['error']}"
+            self._events.publish(event(EventKind.TOOL_WRITE, node, message, data))
             raise
         data["value"] = result.value
         self._events.publish(

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from servodesk.bounded import TEXT_LIMIT, bounded_json, shorten
 from servodesk.events.bus import BusEvent
 from servodesk.storage.migrations import migrate
 
@@ -150,15 +151,17 @@ class Storage:
 
     def add_event(self, item: BusEvent) -> None:
         """Queue an event for the timeline (a bus subscriber: no I/O here) and give it its id
-        (`id_of`)."""
-        data = json.dumps(item.data, ensure_ascii=False, default=str)
+        (`id_of`). Its words and detail are stored bounded, whatever a client sent."""
+        data = bounded_json(item.data)
         event_id = self._next_id
         if event_id is not None:
             self._next_id = event_id + 1
             self._last = (item, event_id)
         self._queue(
-            self._events, (event_id, item.time, item.kind.value, item.node, item.message, data)
-        )
+            self._events,
+            (event_id, item.time, item.kind.value, item.node, shorten(item.message, TEXT_LIMIT),
+             data),
+        )  # fmt: skip
 
     def id_of(self, item: BusEvent) -> int | None:
         """The id `add_event` gave `item`, asked by a later subscriber of the same publish (the
