@@ -40,6 +40,7 @@ from servodesk.models import BusConfig, BusState
 from servodesk.od import OdImportError, lint_report, load_od
 from servodesk.services import Services, build_services
 from servodesk.settings import Settings
+from servodesk.storage.data_dir import data_dir_problem
 
 T = TypeVar("T")
 USAGE_ERROR = 2
@@ -286,6 +287,9 @@ def serve_refusal(settings: Settings) -> str | None:
             'it could move the drives. Set SERVODESK_TOKENS="engineer=…,operator=…,viewer=…" '
             "or --tokens-file FILE (one role=token per line; see docs/security.md)"
         )
+    storage = data_dir_problem(settings.data_dir)
+    if storage is not None:
+        return storage
     if (settings.tls_cert is None) != (settings.tls_key is None):
         return "HTTPS needs both --tls-cert and --tls-key (PEM files)"
     for what, path in (("certificate", settings.tls_cert), ("key", settings.tls_key)):

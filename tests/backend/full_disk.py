@@ -18,11 +18,13 @@ CHUNK = 1 << 16
 
 
 @contextlib.contextmanager
-def small_filesystem(path: Path) -> Iterator[Path]:
-    """`path` as the mount point of a fresh tmpfs of SIZE; unmounted afterwards."""
+def small_filesystem(path: Path, *, read_only: bool = False) -> Iterator[Path]:
+    """`path` as the mount point of a fresh tmpfs of SIZE (read-only if asked: a write fails
+    with EROFS even for root); unmounted afterwards."""
     path.mkdir(parents=True, exist_ok=True)
+    options = f"size={SIZE},mode=0700" + (",ro" if read_only else "")
     mount = subprocess.run(
-        ["mount", "-t", "tmpfs", "-o", f"size={SIZE},mode=0700", "tmpfs", str(path)],
+        ["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(path)],
         capture_output=True,
         text=True,
         check=False,

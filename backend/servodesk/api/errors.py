@@ -8,6 +8,7 @@ and anything unexpected (500, with the traceback in the server log only).
 
 from __future__ import annotations
 
+import errno
 import logging
 from collections.abc import Sequence
 from typing import Any
@@ -221,6 +222,10 @@ def install_error_handlers(app: FastAPI) -> None:
         return body_response(error.status_code, body, headers or None)
 
     async def unexpected(request: Request, error: Exception) -> JSONResponse:
+        storage = storage_failure(error)
+        if storage is not None:  # not a bug: the disk under the data directory said no
+            log.warning("%s %s: %s", request.method, request.url.path, storage[1].message)
+            return body_response(*storage)
         # A bug of ours: the user gets one line in the documented shape, the log the traceback.
         log.error("%s %s failed", request.method, request.url.path, exc_info=error)
         body = ErrorBody(
@@ -232,6 +237,32 @@ def install_error_handlers(app: FastAPI) -> None:
     app.add_exception_handler(RequestValidationError, validation)
     app.add_exception_handler(HTTPException, http)
     app.add_exception_handler(Exception, unexpected)
+
+
+DISK_FULL = frozenset({errno.ENOSPC, errno.EDQUOT})
+
+
+def storage_failure(error: BaseException) -> tuple[int, ErrorBody] | None:
+    """A file system that is full or read-only, wherever the request met it (a log spooled
+    for decoding, a capture, a recording): 507 or 503 in words instead of an internal error."""
+    seen: set[int] = set()
+    cause: BaseException | None = error
+    while cause is not None and id(cause) not in seen:
+        seen.add(id(cause))
+        if isinstance(cause, OSError) and cause.errno in DISK_FULL:
+            return 507, ErrorBody(
+                error="storage_full",
+                message="no space left on the disk of ServoDesk's data directory: free space "
+                "there and try again (stops and disables still work)",
+            )
+        if isinstance(cause, OSError) and cause.errno == errno.EROFS:
+            return 503, ErrorBody(
+                error="storage_read_only",
+                message="ServoDesk's data directory is on a read-only disk: give it a writable "
+                "one (SERVODESK_DATA_DIR) and restart it",
+            )
+        cause = cause.__cause__ or cause.__context__
+    return None
 
 
 def _error(description: str) -> dict[str, object]:
