@@ -34,6 +34,7 @@ from servodesk.sdo.jobs import JobManager
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
 from servodesk.storage import Retention, Storage
+from servodesk.storage.usage import UsageMeter
 
 
 @dataclass
@@ -62,6 +63,7 @@ class Services:
     scope: ScopeService
     audit: AuditLog  # every write to a drive: who, when, old → new, result
     loop_watch: LoopWatch  # the event loop's lag (GET /api/health) and its stalls (the log)
+    usage: UsageMeter  # what the data directory holds against its quotas (GET /api/health)
 
     async def open(self) -> None:
         """The audit log, the event bus and the timeline store, before the bus connects
@@ -137,6 +139,12 @@ def build_services(
     # the timeline and the active faults on the WebSocket (subscribed after the store: ids)
     live.follow_diagnostics(events, storage.id_of, faults.add_listener, faults.all_active)
     viewer = RerunServer(settings.data_dir / "rerun")
+    usage = UsageMeter(
+        settings.data_dir,
+        logs_keep_mb=settings.logs_keep_mb,
+        captures_keep_mb=settings.captures_keep_mb,
+        min_free_mb=settings.data_min_free_mb,
+    )
     scope = ScopeService(
         registry,
         pdos,
@@ -146,6 +154,7 @@ def build_services(
         CaptureStore(settings.data_dir / "scope"),
         viewer=viewer if settings.scope_live_view else None,
         known_nodes=lambda: [info.node for info in registry.all()],
+        usage=usage,
     )
     return Services(
         settings=settings,
@@ -172,6 +181,7 @@ def build_services(
         scope=scope,
         audit=audit,
         loop_watch=LoopWatch(),
+        usage=usage,
     )
 
 

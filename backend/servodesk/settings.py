@@ -107,5 +107,12 @@ class Settings(BaseSettings):
     # .rrd files; off, captures are only recorded (the viewer can still open them)
     scope_live_view: bool = True
 
+    # What the data directory keeps: decoded logs and scope captures beyond these quotas go,
+    # oldest first; a capture ends when the disk's free space falls below data_min_free_mb
+    # (the audit log and the timeline must still be written)
+    logs_keep_mb: int = Field(default=2048, ge=1)
+    captures_keep_mb: int = Field(default=8192, ge=1)
+    data_min_free_mb: int = Field(default=512, ge=0)
+
     # Files: uploaded object dictionaries live here, per node
     data_dir: Path = Path.home() / ".local" / "share" / "servodesk"

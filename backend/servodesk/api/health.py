@@ -8,6 +8,7 @@ from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.loop_watch import LoopLag
 from servodesk.models import BusStatus
+from servodesk.storage.usage import DataUsage
 
 router = APIRouter(tags=["health"], route_class=AuditedRoute)
 
@@ -17,10 +18,15 @@ class Health(BaseModel):
     version: str
     bus: BusStatus
     loop: LoopLag
+    data: DataUsage  # the data directory: what it holds, its quotas, its disk's free space
 
 
 @router.get("/health")
 async def health(services: ServicesDep) -> Health:
     return Health(
-        status="ok", version=__version__, bus=services.bus.status(), loop=services.loop_watch.lag()
+        status="ok",
+        version=__version__,
+        bus=services.bus.status(),
+        loop=services.loop_watch.lag(),
+        data=await services.usage.usage(),
     )

@@ -28,6 +28,7 @@ from servodesk.pdo.procedure import Procedure
 from servodesk.pdo.service import PdoService
 from servodesk.pdo_models import BusLoadResult
 from servodesk.scope import export as exports
+from servodesk.scope import retention
 from servodesk.scope.checks import SilentSignalsError, check_request, overload, trigger_nodes
 from servodesk.scope.frames import FrameSink
 from servodesk.scope.plan import NodePlan, plan_node
@@ -52,11 +53,13 @@ from servodesk.scope_models import (
     ExportFormat,
     ScopePlan,
 )
+from servodesk.storage.usage import UsageMeter
 from servodesk_protocol.cia402 import STATUSWORD
 
 log = logging.getLogger(__name__)
 
 MAX_LOAD_PERCENT = 100.0
+ROOM_CHECK_S = 1.0  # how often a recording capture checks its size and the disk's free space
 TEARDOWN_WAIT_S = 10.0  # a new capture waits this long for the last one's setup to be undone
 ENCODER_RESOLUTION = 0x608F  # :01 increments per :02 motor revolutions
 GEAR_RATIO = 0x6091  # :01 motor increments per :02 user units (position factor)
@@ -91,8 +94,10 @@ class ScopeService:
         viewer: RerunServer | None,
         *,
         known_nodes: Callable[[], Sequence[int]],
+        usage: UsageMeter | None = None,
     ) -> None:
         self.known_nodes = known_nodes
+        self.usage = usage  # its quotas keep captures within bounds (scope/retention.py)
         self.access = access
         self.pdos = pdos
         self.sync = sync
@@ -107,6 +112,8 @@ class ScopeService:
 
     async def open(self) -> None:
         await asyncio.to_thread(self.store.open)
+        if self.usage is not None:
+            await asyncio.to_thread(retention.prune, self.store, self.usage.captures_keep)
 
     # ------------------------------------------------------------------ planning
 
@@ -360,6 +367,7 @@ class ScopeService:
             while True:
                 await self._record(run)
                 self._keep(setup, run.capture)
+                await self._prune(run.capture)
                 again = (
                     setup.request.trigger.mode == "normal"
                     and run.stop_reason is None
@@ -382,9 +390,16 @@ class ScopeService:
         final: CaptureState = "done"  # set once the files are closed: done means exportable
         try:
             saved_state = capture.state
+            room_check = time.monotonic() + ROOM_CHECK_S
             while run.stop_reason is None:
                 await asyncio.sleep(FLUSH_S)
                 await run.flush()
+                if time.monotonic() >= room_check:
+                    room_check = time.monotonic() + ROOM_CHECK_S
+                    no_room = await self._no_room(capture.id)
+                    if no_room is not None:
+                        capture.notes.append(no_room)
+                        break
                 if capture.state != saved_state:
                     saved_state = capture.state
                     await asyncio.to_thread(self.store.save, capture.model_copy(deep=True))
@@ -423,6 +438,25 @@ class ScopeService:
             capture.ended = time.time()
             capture.size_bytes = await asyncio.to_thread(self.store.size_bytes, capture.id)
             capture.state = final
+            await asyncio.to_thread(self.store.save, capture.model_copy(deep=True))
+
+    async def _no_room(self, capture_id: int) -> str | None:
+        usage = self.usage
+        if usage is None:
+            return None
+        return await asyncio.to_thread(
+            retention.room_left, self.store, capture_id, usage.captures_keep, usage.min_free
+        )
+
+    async def _prune(self, capture: Capture) -> None:
+        """Keep captures within their quota; the one just ended stays and notes what went."""
+        if self.usage is None:
+            return
+        keep = self.usage.captures_keep
+        removed = await asyncio.to_thread(retention.prune, self.store, keep, {capture.id})
+        self.usage.forget()
+        if removed:
+            capture.notes.append(retention.pruned_note(removed, keep))
             await asyncio.to_thread(self.store.save, capture.model_copy(deep=True))
 
     def _nmt_states(self, nodes: Sequence[int]) -> dict[int, str]:

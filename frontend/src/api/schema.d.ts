@@ -1778,6 +1778,28 @@ export interface components {
             /** You */
             you: boolean;
         };
+        /**
+         * DataUsage
+         * @description Bytes under the data directory, by what they are, against the quotas that keep them.
+         */
+        DataUsage: {
+            /** Captures Bytes */
+            captures_bytes: number;
+            /** Captures Keep Bytes */
+            captures_keep_bytes: number;
+            /** Free Bytes */
+            free_bytes: number;
+            /** Logs Bytes */
+            logs_bytes: number;
+            /** Logs Keep Bytes */
+            logs_keep_bytes: number;
+            /** Min Free Bytes */
+            min_free_bytes: number;
+            /** Recordings Bytes */
+            recordings_bytes: number;
+            /** Total Bytes */
+            total_bytes: number;
+        };
         /** DcfDifference */
         DcfDifference: {
             /** Actual */
@@ -2139,6 +2161,7 @@ export interface components {
         /** Health */
         Health: {
             bus: components["schemas"]["BusStatus"];
+            data: components["schemas"]["DataUsage"];
             loop: components["schemas"]["LoopLag"];
             /** Status */
             status: string;
