@@ -364,8 +364,9 @@ async def _field_command(args: argparse.Namespace) -> int:
             print(value.text)
             return 0
         if args.command == "write":
+            # typed at the terminal by the user it acts as: that is the confirmation
             written = await services.sdo.write(
-                args.node, args.index, args.sub, args.value, size=args.size
+                args.node, args.index, args.sub, args.value, size=args.size, confirm=True
             )
             print(written.text)
             return 0

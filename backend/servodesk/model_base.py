@@ -16,6 +16,15 @@ def _not_text(value: object) -> object:
     return value
 
 
+def _not_bool(value: object) -> object:
+    if isinstance(value, bool):
+        raise ValueError("true/false is not a value here: send a number or text")
+    return value
+
+
+# A value written to a drive: a number or text, never true/false (true would write 1).
+NOT_BOOL = BeforeValidator(_not_bool)
+
 # A JSON integer: 12 and 12.0 (JSON Schema's integer), never "12" or 12.5.
 JsonInt = Annotated[int, BeforeValidator(_not_text)]
 # Bounds for JsonInt in an alias: Annotated[Annotated[int, Field(ge=…)], NOT_TEXT]. Given as

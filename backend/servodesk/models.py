@@ -12,7 +12,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, Field, StrictBool
 
-from servodesk.model_base import NOT_TEXT
+from servodesk.model_base import NOT_BOOL, NOT_TEXT
 from servodesk.model_base import JsonInt as JsonInt
 from servodesk.model_base import RequestBody as RequestBody
 from servodesk.model_base import Value as Value
@@ -186,8 +186,10 @@ class SdoValue(BaseModel):
 
 
 class SdoWrite(RequestBody):
-    value: JsonInt | float | str
+    value: Annotated[JsonInt | float | str, NOT_BOOL]
     size: Literal[1, 2, 4] | None = None
+    # a heartbeat time (1017h) below 10 ms floods the bus: only on purpose
+    confirm: StrictBool = False
 
 
 class JobResult(BaseModel):

@@ -3,6 +3,7 @@ undo of a parameter or OD write (docs/security.md, "Audit log")."""
 
 from __future__ import annotations
 
+import functools
 from dataclasses import replace
 from typing import Annotated, Literal
 
@@ -87,7 +88,8 @@ async def undo(
         services.audit,
         entry_id,
         read=services.sdo.read,
-        write=services.sdo.write,
+        # the value the drive held before (a heartbeat time too): the undo is the confirmation
+        write=functools.partial(services.sdo.write, confirm=True),
         describe=outcome_of,
         force=body.force if body is not None else False,
     )

@@ -17,6 +17,7 @@ from fastapi.routing import APIRoute
 from starlette.exceptions import HTTPException
 
 from servodesk.api.errors import HTTP_ERRORS, describe, validation_message
+from servodesk.api.no_body import refuse_body
 from servodesk.audit import AuditLog, Outcome
 from servodesk.audit.entry import enter, leave
 from servodesk.audit.log import URGENT_WAIT_S
@@ -174,6 +175,16 @@ def _node(request: Request) -> int | None:
     return node if node is not None and 1 <= node <= 127 else None
 
 
+def _without_body(
+    handler: Callable[[Request], Coroutine[Any, Any, Response]],
+) -> Callable[[Request], Coroutine[Any, Any, Response]]:
+    async def strict(request: Request) -> Response:
+        await refuse_body(request)  # inside the entry: the refusal is audited as failed
+        return await handler(request)
+
+    return strict
+
+
 class AuditedRoute(APIRoute):
     def __init__(self, path: str, endpoint: Callable[..., Any], **kwargs: Any) -> None:
         methods = {m.upper() for m in kwargs.get("methods") or ()}
@@ -186,6 +197,8 @@ class AuditedRoute(APIRoute):
 
     def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
         handler = super().get_route_handler()
+        if self.body_field is None and set(self.methods or ()) & CHANGES_STATE:
+            handler = _without_body(handler)
         name = self.endpoint.__name__
         if not self.audited:
             return handler

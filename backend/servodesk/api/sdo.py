@@ -11,7 +11,7 @@ from pydantic import TypeAdapter
 
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import Index, NodeId, ServicesDep, Subindex, parse_hex
-from servodesk.api.errors import NODE_ERRORS
+from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
 from servodesk.models import Job, SdoValue, SdoWrite
 from servodesk.services import Services
 
@@ -70,7 +70,7 @@ router.add_api_route(
 )
 
 
-@router.put("/nodes/{node}/sdo/{index}/{subindex}")
+@router.put("/nodes/{node}/sdo/{index}/{subindex}", responses=CONFIRM_ERRORS)
 async def write_entry(
     node: NodeId, index: Index, subindex: Subindex, body: SdoWrite, services: ServicesDep
 ) -> SdoValue:
@@ -80,6 +80,7 @@ async def write_entry(
         parse_hex(subindex, maximum=0xFF, what="sub-index"),
         body.value,
         size=body.size,
+        confirm=body.confirm,
     )
 
 

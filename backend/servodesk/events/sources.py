@@ -50,6 +50,8 @@ class PublishingSdoService(SdoService):
         subindex: int,
         value: int | float | str,
         size: int | None = None,
+        *,
+        confirm: bool = False,
     ) -> SdoValue:
         place = where(index, subindex)
         # what a client sent, bounded: the timeline and the live channel carry no 100 MB text
@@ -61,7 +63,7 @@ class PublishingSdoService(SdoService):
             "value": shown,
         }
         try:
-            result = await super().write(node, index, subindex, value, size)
+            result = await super().write(node, index, subindex, value, size, confirm=confirm)
         except Exception as error:
             data["error"] = shorten(str(error), TEXT_LIMIT)
             message = f"write {place} = {shown} failed: {data['error']}"

@@ -25,7 +25,6 @@ from servodesk.bus.connection import BusManager
 from servodesk.errors import (
     BusNotConnectedError,
     CommTimeoutError,
-    ConfirmationRequiredError,
     InvalidValueError,
     NodeNotFoundError,
     NodeStoppedError,
@@ -43,6 +42,8 @@ from servodesk.network.monitor import EventKind, NodeMonitor
 from servodesk.network.nmt import STATE_AFTER, send_broadcast, send_to_node
 from servodesk.network.scan import NODE_IDS, SweepListener, send_sweep
 from servodesk.nodes.entry import NodeEntry, OdSource, live_row
+from servodesk.nodes.heartbeat_floor import HEARTBEAT_FLOOR_MS as HEARTBEAT_FLOOR_MS
+from servodesk.nodes.heartbeat_floor import check_heartbeat_time
 from servodesk.nodes.identity import DEVICE_TYPE, PRODUCER_HEARTBEAT, Identity, read_identity
 from servodesk.nodes.profile_models import ProfileModels
 from servodesk.nodes.rediscovery import Rediscovery
@@ -61,7 +62,6 @@ EventListener = Callable[[LiveEvent], None]
 OdListener = Callable[[int], None]  # (node) whose dictionary was replaced
 P = ParamSpec("P")
 MAX_HEARTBEAT_MS = 0xFFFF  # 1017h is UNSIGNED16
-HEARTBEAT_FLOOR_MS = 10  # faster is 100+ frames/s from one node: only with confirmation
 
 
 def _free(od: ObjectDictionary) -> None:
@@ -297,11 +297,7 @@ class NodeRegistry:
         """Write 1017h and return the value read back."""
         if not 0 <= ms <= MAX_HEARTBEAT_MS:
             raise InvalidValueError(f"heartbeat time {ms} ms is outside 0–{MAX_HEARTBEAT_MS} ms")
-        if 0 < ms < HEARTBEAT_FLOOR_MS and not confirm:
-            raise ConfirmationRequiredError(
-                f"a heartbeat every {ms} ms puts {1000 // ms} frames/s on the bus from node "
-                f"{node} alone; below {HEARTBEAT_FLOOR_MS} ms needs confirm"
-            )
+        check_heartbeat_time(node, ms, confirm=confirm)
         await self.session(node).download(PRODUCER_HEARTBEAT, 0, ms.to_bytes(2, "little"))
         return await self.heartbeat(node)
 

@@ -13,6 +13,8 @@ from servodesk.audit.entry import current_entry
 from servodesk.errors import InvalidValueError
 from servodesk.models import SdoValue
 from servodesk.nodes.access import NodeAccess
+from servodesk.nodes.heartbeat_floor import check_heartbeat_time
+from servodesk.nodes.identity import PRODUCER_HEARTBEAT
 from servodesk.nodes.write_step import WriteStep
 from servodesk.od import ObjectDictionaryModel
 from servodesk.od import datatypes as dt
@@ -73,15 +75,20 @@ class SdoService:
         subindex: int,
         value: int | float | str,
         size: int | None = None,
+        *,
+        confirm: bool = False,
     ) -> SdoValue:
         """Check and encode `value`, download it, and return the entry as read back.
 
         An entry unknown to the dictionary takes raw hex bytes ("E8 03 00 00") or an integer
         with `size` 1, 2 or 4; `size` is ignored for known entries (their type decides).
+        A heartbeat time (1017h) below the floor needs `confirm`, as on the heartbeat route.
         """
         session = self._access.session(node)
         model = self._access.od(node)
         data = self.encode(model, index, subindex, value, size)
+        if (index, subindex) == (PRODUCER_HEARTBEAT, 0):
+            check_heartbeat_time(node, int.from_bytes(data[:2], "little"), confirm=confirm)
         sub = model.get(index, subindex)
         readable = sub is None or sub.access != "wo"
         # The audit entry of a single write names its object and the value it replaces (what

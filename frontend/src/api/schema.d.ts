@@ -3383,6 +3383,11 @@ export interface components {
         };
         /** SdoWrite */
         SdoWrite: {
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
             /** Size */
             size?: (1 | 2 | 4) | null;
             /** Value */
@@ -10145,6 +10150,15 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
                 headers: {
                     [name: string]: unknown;
                 };

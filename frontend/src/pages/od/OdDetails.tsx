@@ -72,9 +72,13 @@ export function OdDetails({ node, entry, onValue }: Props): ReactNode {
     setLast(value);
     onValue(value);
   });
-  const write = useAction(async (value: number | string) => {
+  // confirm: a write the server asked about first (a heartbeat time below 10 ms, 1017h)
+  const write = useAction(async (value: number | string, confirm: boolean) => {
     const readBack = await call(
-      api.PUT("/api/nodes/{node}/sdo/{index}/{subindex}", { params: { path }, body: { value } }),
+      api.PUT("/api/nodes/{node}/sdo/{index}/{subindex}", {
+        params: { path },
+        body: { value, confirm },
+      }),
     );
     setLast(readBack);
     onValue(readBack);
@@ -88,8 +92,14 @@ export function OdDetails({ node, entry, onValue }: Props): ReactNode {
       return;
     }
     setInputError(null);
-    void write.run(parsed.value);
+    void write.run(parsed.value, false);
   }
+
+  function confirmWrite(): void {
+    const parsed = parseValue(text, entry);
+    if (parsed.ok) void write.run(parsed.value, true);
+  }
+  const needsConfirm = inputError === null && write.error?.kind === "confirmation_required";
 
   const kind = typeClass(entry.data_type_name);
   const hint = rangeHint(entry);
@@ -170,6 +180,16 @@ export function OdDetails({ node, entry, onValue }: Props): ReactNode {
             {hint && ` · ${hint}`}
           </p>
           <ErrorText error={inputError ?? write.error} />
+          {needsConfirm && (
+            <button
+              type="button"
+              className="small danger"
+              disabled={write.busy || !configure.allowed}
+              onClick={confirmWrite}
+            >
+              Write anyway
+            </button>
+          )}
         </form>
       ) : (
         <p className="muted small">

@@ -166,7 +166,34 @@ describe("OdPage", () => {
     );
     expect(JSON.parse(fetch.calls.find((c) => c.method === "PUT")?.body ?? "{}")).toEqual({
       value: -2,
+      confirm: false,
     });
+  });
+
+  it("sends a write the server asks about again only when confirmed", async () => {
+    const fetch = stubFetch({
+      "GET /api/nodes/3/od": TREE,
+      "PUT /api/nodes/3/sdo/6060/00": async (request: Request) => {
+        const body = (await request.json()) as { confirm: boolean };
+        return body.confirm
+          ? { node: 3, index: 0x6060, subindex: 0, value: 1, raw_hex: "01", text: "1" }
+          : json({ error: "confirmation_required", message: "below 10 ms needs confirm" }, 428);
+      },
+    });
+    renderPage(<OdPage node={3} />, "/nodes/3/od");
+    await userEvent.click(
+      await screen.findByRole("button", { name: /^6060\s*Modes of operation$/ }),
+    );
+    await userEvent.type(screen.getByLabelText("New value"), "1");
+    await userEvent.click(screen.getByRole("button", { name: "Write" }));
+    await userEvent.click(await screen.findByRole("button", { name: "Write anyway" }));
+    const puts = fetch.calls
+      .filter((c) => c.method === "PUT")
+      .map((c) => JSON.parse(c.body) as unknown);
+    expect(puts).toEqual([
+      { value: 1, confirm: false },
+      { value: 1, confirm: true },
+    ]);
   });
 
   it("fills the values column from an upload-all job, polling only for new results", async () => {
