@@ -44,3 +44,11 @@ export function shortPath(path: string, parts = 2): string {
   const segments = path.split(/[\\/]/).filter(Boolean);
   return segments.slice(-parts).join("/") || path;
 }
+
+/** Bytes in binary units: "512 B", "715 KiB", "9.9 MiB", "1.4 GiB". */
+export function formatBytes(bytes: number): string {
+  if (bytes < 1024) return `${bytes} B`;
+  if (bytes < 1024 * 1024) return `${(bytes / 1024).toFixed(0)} KiB`;
+  if (bytes < 1024 ** 3) return `${(bytes / (1024 * 1024)).toFixed(1)} MiB`;
+  return `${(bytes / 1024 ** 3).toFixed(1)} GiB`;
+}

@@ -8,6 +8,7 @@ import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
 import { useMay } from "../../session/context";
 import { ConnectForm } from "./ConnectForm";
+import { DataUsageLine } from "../../components/DataUsage";
 import { LoopLag } from "./LoopLag";
 
 const STATE_LABELS: Readonly<Record<BusState, string>> = {
@@ -98,6 +99,7 @@ export function BusCard({ onConnected }: { onConnected: () => void }): ReactNode
           </div>
           <ErrorText error={action.error} />
           <LoopLag />
+          <DataUsageLine />
         </div>
         {/* Keyed so the form takes its defaults from the first status that arrives. */}
         <ConnectForm key={bus ? "ready" : "waiting"} bus={bus} onConnected={onConnected} />

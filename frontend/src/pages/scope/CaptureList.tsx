@@ -1,6 +1,7 @@
 import { useId, useState, type ReactNode } from "react";
 
 import type { ApiError } from "../../api/errors";
+import { DataUsageLine } from "../../components/DataUsage";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
@@ -22,6 +23,11 @@ function signalList(capture: Capture): string {
   return capture.signals
     .map((s) => `node ${s.node} ${odAddress(s.index, s.subindex)} ${s.name}`)
     .join("\n");
+}
+
+/** Read the usage again when a capture comes, goes or finishes (its size is then known). */
+function usageVersion(captures: readonly Capture[] | undefined): number {
+  return (captures ?? []).reduce((sum, c) => sum + c.id * 31 + c.size_bytes, 0);
 }
 
 /** The captures kept, newest first: open one in the viewer, export it, delete it. */
@@ -59,6 +65,7 @@ export function CaptureList({
           Refresh
         </button>
       </header>
+      <DataUsageLine kind="captures" version={usageVersion(captures)} />
       <ErrorText error={error} onRetry={onReload} />
       {captures?.length === 0 && <p className="muted">No captures yet.</p>}
       {captures && captures.length > 0 && (

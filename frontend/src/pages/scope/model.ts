@@ -2,7 +2,9 @@
 // capture request built from what the user typed (with the reason when it cannot be sent), a
 // signal's source in words, a trigger in words, values with their units.
 import type { OdEntry, OdObject } from "../../api/types";
-import { odAddress } from "../../lib/format";
+import { formatBytes, odAddress } from "../../lib/format";
+
+export { formatBytes }; // the capture list's sizes; kept here for its callers
 import { filterOd, parseOdQuery } from "../od/odFilter";
 import { formatCobId } from "../pdo/model";
 import type {
@@ -255,12 +257,6 @@ export function shortNumber(value: number): string {
   if (value !== 0 && (magnitude >= 1e12 || magnitude < 1e-4)) return value.toExponential(3);
   if (magnitude >= 1e4) return value.toLocaleString("en-US", { maximumFractionDigits: 0 });
   return value.toLocaleString("en-US", { maximumSignificantDigits: 5 });
-}
-
-export function formatBytes(bytes: number): string {
-  if (bytes < 1024) return `${bytes} B`;
-  if (bytes < 1024 * 1024) return `${(bytes / 1024).toFixed(0)} KiB`;
-  return `${(bytes / (1024 * 1024)).toFixed(1)} MiB`;
 }
 
 /** Local date and time of an epoch-seconds timestamp: "2026-11-25 09:09:03". */
