@@ -153,9 +153,9 @@ def _decode(tmp: Path, name: str, data: bytes) -> LogResult | None:
             assert len(frame) <= 64
     except LogFormatError:
         raise  # the suffix is known: only the content can be wrong
-    except ValueError as error:  # where it stopped: a line, a frame count, the header
-        complaint = str(error)
-    assert not complaint or any(w in complaint for w in ("line", "frame", "header"))
+    except ValueError as error:  # where it stopped: a line, a frame count, the header, or
+        complaint = str(error)  # the byte where a BLF object's size is refused (logs/blf.py)
+    assert not complaint or any(w in complaint for w in ("line", "frame", "header", "byte"))
     try:
         result = decode_in_worker(tmp, path, None)
     except LogReadError as error:

@@ -19,6 +19,7 @@ import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
+from servodesk.logs.blf import LogBoundsError
 from servodesk.logs.store import LogResult, LogStore
 from servodesk.od.parser import WORKER_NICENESS, shut_down_aside
 
@@ -29,10 +30,16 @@ class LogReadError(Exception):
     """The reader's complaint about the file, as words (any exception type pickles as this)."""
 
 
+class LogRefusedError(LogReadError):
+    """The file was refused unread: it declares or expands to sizes no real log has."""
+
+
 def _decode(data_dir: Path, path: Path, dcf: Path | None) -> LogResult:
     _let_mf4_back()
     try:
         return LogStore(data_dir).decode_file(path, dcf=dcf)
+    except LogBoundsError as error:
+        raise LogRefusedError(str(error)) from None
     except Exception as error:  # any reader's complaint about a user's file
         raise LogReadError(str(error) or type(error).__name__) from None
 

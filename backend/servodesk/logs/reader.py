@@ -8,14 +8,17 @@ it can never be mistaken for an 11-bit CANopen id; error frames are skipped and 
 
 from __future__ import annotations
 
+import gzip
 import math
 import os
 import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO, cast
 
 import can
+
+from servodesk.logs.blf import BoundedBlfReader, LogBoundsError
 
 EXTENDED = 0x20000000  # added to a 29-bit id (the COB-ID "frame" bit, CiA 301)
 _CAN_ERR_FLAG = 0x20000000  # Linux can.h: the id of an error frame has this bit
@@ -44,7 +47,9 @@ def read_frames(
         yield from _candump(path, progress, skipped)
         return
     try:
-        reader: Any = can.LogReader(path)
+        reader: Any = _open_reader(path, suffix.lower())
+    except LogBoundsError:
+        raise  # its own words: which size, and that nothing was decoded
     except ImportError as error:  # MF4 without asammdf (a dependency: a broken install)
         raise LogFormatError(f"{path.name}: {error}") from error
     except Exception as error:  # the reader's complaint: BLFParseError, struct.error, ...
@@ -68,6 +73,15 @@ def read_frames(
         progress(os.path.getsize(path))
 
 
+def _open_reader(path: Path, suffix: str) -> Any:
+    """python-can's reader for the suffix; for BLF its subclass that bounds every size."""
+    if suffix == ".blf":
+        return BoundedBlfReader(path)
+    if suffix == ".blf.gz":
+        return BoundedBlfReader(cast(BinaryIO, gzip.open(path, "rb")))
+    return can.LogReader(path)
+
+
 def _checked(reader: Any, suffix: str) -> Iterator[Any]:
     """The reader's messages; its complaint about a damaged file (zlib.error, struct.error,
     BLFParseError...) as a ValueError naming the frame it stopped after, like its own
@@ -79,6 +93,8 @@ def _checked(reader: Any, suffix: str) -> Iterator[Any]:
             msg = next(iterator)
         except StopIteration:
             return
+        except LogBoundsError:
+            raise
         except Exception as error:
             raise ValueError(f"not a readable {suffix} log after frame {count}: {error}") from error
         count += 1

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import ParamSpec, TypeVar
 
 from servodesk.errors import InvalidValueError, NotFoundError
-from servodesk.logs.decode_worker import DecodePool, LogReadError
+from servodesk.logs.decode_worker import DecodePool, LogReadError, LogRefusedError
 from servodesk.logs.events import Event
 from servodesk.logs.export import ExportFormat, ParquetWriter, text_writer
 from servodesk.logs.reader import SUFFIXES
@@ -66,6 +66,9 @@ class LogService:
             tmp, path, dcf_path = await asyncio.to_thread(self._spool_files, name, data, dcf)
             try:
                 return await self._workers.decode(self._data_dir, path, dcf_path)
+            except LogRefusedError as error:
+                log.warning("refused %s: %s", name, error)
+                raise InvalidValueError(f"{name}: {error}") from None
             except LogReadError as error:
                 log.info("decoding %s failed: %s", name, error)
                 raise InvalidValueError(
