@@ -83,6 +83,7 @@ bench: install
 	$(BIN)/python bench/sim_under_load.py
 	$(BIN)/python bench/soak.py
 	$(BIN)/python bench/realtime_under_load.py
+	$(BIN)/python bench/hostile_inputs.py
 
 clean:
 	rm -rf $(VENV) node_modules backend/servodesk/static .mypy_cache .pytest_cache .ruff_cache

@@ -39,6 +39,7 @@ from servodesk.api import (
 )
 from servodesk.api import events as events_api
 from servodesk.api.audited import outcome_of
+from servodesk.api.body_limits import SaysLimit, route_body_limit
 from servodesk.api.errors import install_error_handlers
 from servodesk.api.schema import install_schema
 from servodesk.api.security import FramingGuard, HostGuard, SameOriginGuard, ServedHosts
@@ -67,13 +68,14 @@ def api_routers() -> list[APIRouter]:
     return routers
 
 
-def add_api_routes(app: FastAPI, prefix: str = "/api") -> None:
+def add_api_routes(app: FastAPI, settings: Settings, prefix: str = "/api") -> None:
     """Every API route on the app's own router, under `prefix`.
 
     Copied, not included: FastAPI keeps an included router as one route that matches its
     routes again on each request, level by level, and /api → resource is two levels: 0.1–0.2
     ms of every request went to finding its route. Flat, a request is matched once; the
-    routes and the schema are the same (frontend/openapi.json)."""
+    routes and the schema are the same (frontend/openapi.json). Each route takes a body up to
+    its limit (api/body_limits.py), refused with 413 before it is parsed."""
     for router in api_routers():
         for route in router.routes:
             if isinstance(route, APIWebSocketRoute):
@@ -83,6 +85,7 @@ def add_api_routes(app: FastAPI, prefix: str = "/api") -> None:
                 continue
             if not isinstance(route, APIRoute):
                 raise TypeError(f"{route!r}: an API router holds API routes only")
+            limit = route_body_limit(route, settings)
             app.router.add_api_route(
                 prefix + route.path,
                 route.endpoint,
@@ -110,7 +113,11 @@ def add_api_routes(app: FastAPI, prefix: str = "/api") -> None:
                 callbacks=route.callbacks,
                 openapi_extra=route.openapi_extra,
                 generate_unique_id_function=route.generate_unique_id_function,
+                max_body_size=limit.size,
             )
+            added = app.router.routes[-1]
+            if isinstance(added, APIRoute):  # it is: the 413 in the API's own words
+                added.app = SaysLimit(added.app, limit)
 
 
 def create_app(
@@ -173,7 +180,7 @@ def create_app(
     install_error_handlers(app)
     install_schema(app)
     ws.install_live_schema(app)
-    add_api_routes(app)
+    add_api_routes(app, settings)
     # the rerun viewer (/rerun/) and its gRPC-web at the root, before the frontend's catch-all
     app.include_router(rerun_proxy.root_router)
     if static_dir is not None:
