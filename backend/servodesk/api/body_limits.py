@@ -60,7 +60,9 @@ def route_body_limit(route: APIRoute, settings: Settings) -> BodyLimit:
 
 
 def size_text(size: int) -> str:
-    return f"{size / MIB:g} MiB" if size >= MIB else f"{size // 1024} kB"
+    if size < MIB:
+        return f"{size // 1024} kB"
+    return f"{size / MIB:.1f}".removesuffix(".0") + " MiB"  # 1 MiB, 8.1 MiB, 264.1 MiB
 
 
 def too_large_message(limit: BodyLimit) -> str:
