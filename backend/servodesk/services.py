@@ -72,6 +72,7 @@ class Services:
         self.events.attach_loop()
         await self.storage.start()
         await self.scope.open()
+        await self.logs.open()
 
     def start(self) -> None:
         self.loop_watch.start()
@@ -174,7 +175,11 @@ def build_services(
         events=events,
         storage=storage,
         faults=faults,
-        logs=LogService(settings.data_dir, max_concurrent=settings.log_decodes_max),
+        logs=LogService(
+            settings.data_dir,
+            max_concurrent=settings.log_decodes_max,
+            keep_bytes=usage.logs_keep,
+        ),
         # a recording holds the whole bus: the frames the tool sends as well as those it hears
         recorder=Recorder(partial(bus.add_frame_listener, sent=True), settings.data_dir),
         viewer=viewer,

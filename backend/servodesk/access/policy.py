@@ -40,7 +40,7 @@ _OPERATOR = [
     ),
     ("PUT", rf"{_N}/drive/limits"),
     ("POST|DELETE", rf"{_N}/drive/controller"),
-    ("DELETE", r"/api/scope/captures/[^/]+|/api/recording"),
+    ("DELETE", r"/api/scope/captures/[^/]+|/api/recording|/api/logs/[^/]+"),
 ]
 
 

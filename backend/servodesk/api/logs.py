@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 from pathlib import Path
 from typing import Annotated, Any
 
 from fastapi import APIRouter, File, Query, UploadFile
-from fastapi.responses import FileResponse
+from fastapi.responses import FileResponse, Response
 from pydantic import BaseModel, Field
 from starlette.background import BackgroundTask
 
@@ -73,6 +74,7 @@ async def decode_log(
         dcf_name = upload_name(dcf, "upload.dcf")
         dcf_part = (dcf_name, await read_limited(dcf, MAX_DCF, dcf_name))
     result = await services.logs.decode(name, data, dcf_part)
+    services.usage.forget()  # a new file under logs/
     first = _page(await services.logs.events(result.id, 0, FIRST_PAGE), FIRST_PAGE)
     return DecodedLog(
         id=result.id,
@@ -82,6 +84,50 @@ async def decode_log(
         events=first.events,
         next=first.next,
     )
+
+
+class KeptLogInfo(BaseModel):
+    """A decoded log kept on the server (the oldest go beyond SERVODESK_LOGS_KEEP_MB)."""
+
+    id: str
+    name: str
+    size_bytes: int
+    created: float = Field(description="when its decode finished (epoch s)")
+
+
+@router.get("")
+async def list_logs(services: ServicesDep) -> list[KeptLogInfo]:
+    """The decoded logs kept, newest first."""
+    return [KeptLogInfo(**dataclasses.asdict(k)) for k in await services.logs.kept()]
+
+
+@router.get("/{log_id}", responses=NOT_FOUND)
+async def get_log(log_id: str, services: ServicesDep) -> DecodedLog:
+    """A decoded log again: its summary, totals and first page of events."""
+    result = await services.logs.result(log_id)
+    first = _page(await services.logs.events(log_id, 0, FIRST_PAGE), FIRST_PAGE)
+    return DecodedLog(
+        id=result.id,
+        name=result.name,
+        summary=result.summary,
+        stats=result.stats,
+        events=first.events,
+        next=first.next,
+    )
+
+
+@router.delete(
+    "/{log_id}",
+    status_code=204,
+    response_class=Response,
+    responses={**NOT_FOUND, 204: {"description": "the decoded log is deleted"}},
+)
+async def delete_log(log_id: str, services: ServicesDep) -> Response:
+    """Delete a decoded log (its events and exports with it); the uploaded file was never
+    kept."""
+    await services.logs.delete(log_id)
+    services.usage.forget()
+    return Response(status_code=204)
 
 
 @router.get("/{log_id}/events", responses=NOT_FOUND)

@@ -4,12 +4,13 @@ time, decode_worker.py), paged, exported; the stored results are LogStore's (sto
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import json
 import logging
 import os
 import re
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from pathlib import Path
 from typing import ParamSpec, TypeVar
 
@@ -18,7 +19,8 @@ from servodesk.logs.decode_worker import DecodePool, LogReadError, LogRefusedErr
 from servodesk.logs.events import Event
 from servodesk.logs.export import ExportFormat, ParquetWriter, text_writer
 from servodesk.logs.reader import SUFFIXES
-from servodesk.logs.store import MAX_PAGE, LogNotFoundError, LogResult, LogStore
+from servodesk.logs.store import MAX_PAGE, KeptLog, LogNotFoundError, LogResult, LogStore
+from servodesk.storage.quota import Kept, describe_bytes, over_quota
 
 log = logging.getLogger(__name__)
 P = ParamSpec("P")
@@ -39,8 +41,11 @@ def _safe_name(name: str, fallback: str) -> str:
 
 
 class LogService:
-    def __init__(self, data_dir: Path, *, max_concurrent: int) -> None:
+    def __init__(
+        self, data_dir: Path, *, max_concurrent: int, keep_bytes: int | None = None
+    ) -> None:
         self.store = LogStore(data_dir)
+        self.keep_bytes = keep_bytes  # decoded logs beyond this go, oldest first (None: all kept)
         self._data_dir = data_dir
         self._spool = data_dir / "uploads"
         self._max = max_concurrent
@@ -65,7 +70,7 @@ class LogService:
         async with self._slots:
             tmp, path, dcf_path = await asyncio.to_thread(self._spool_files, name, data, dcf)
             try:
-                return await self._workers.decode(self._data_dir, path, dcf_path)
+                result = await self._workers.decode(self._data_dir, path, dcf_path)
             except LogRefusedError as error:
                 log.warning("refused %s: %s", name, error)
                 raise InvalidValueError(f"{name}: {error}") from None
@@ -76,6 +81,42 @@ class LogService:
                 ) from None
             finally:
                 await asyncio.to_thread(tmp.cleanup)
+        removed = await self.prune(protect={result.id})
+        if removed:  # said with the result, so the user learns why an older one is gone
+            note = pruned_note(removed, self.keep_bytes or 0)
+            result = dataclasses.replace(result, summary=[*result.summary, note])
+        return result
+
+    async def open(self) -> None:
+        """Start-up: decoded logs beyond the quota go (it may have been lowered)."""
+        await self.prune()
+
+    async def kept(self) -> list[KeptLog]:
+        return await asyncio.to_thread(self.store.kept)
+
+    async def delete(self, log_id: str) -> None:
+        await asyncio.to_thread(self._guard, self.store.delete, log_id)
+
+    async def prune(self, protect: Collection[str] = ()) -> list[Kept]:
+        """Delete the oldest decoded logs until the rest fit the quota (`protect`: stays)."""
+        keep = self.keep_bytes
+        if keep is None:
+            return []
+        return await asyncio.to_thread(self._prune, keep, protect)
+
+    def _prune(self, keep: int, protect: Collection[str]) -> list[Kept]:
+        kept = {i: Kept(i, size, made) for i, size, made in self.store.sizes()}
+        removed: list[Kept] = []
+        for log_id in over_quota(list(kept.values()), keep, protect):
+            item = kept[log_id]
+            try:
+                self.store.delete(item.id)
+            except (OSError, LogNotFoundError):
+                continue  # gone already, or cannot go: the next prune tries again
+            removed.append(item)
+        if removed:
+            log.info("logs: %s", pruned_note(removed, keep))
+        return removed
 
     def _spool_files(
         self, name: str, data: bytes, dcf: tuple[str, bytes] | None
@@ -138,6 +179,13 @@ class LogService:
             return fn(*args, **kwargs)
         except LogNotFoundError:
             raise NotFoundError("log_not_found", "no decoded log with this id") from None
+
+
+def pruned_note(removed: list[Kept], keep_bytes: int) -> str:
+    """'removed 2 older decoded logs (150.0 MB) to keep decoded logs within 2.0 GB'."""
+    size = describe_bytes(sum(k.size for k in removed))
+    what = "an older decoded log" if len(removed) == 1 else f"{len(removed)} older decoded logs"
+    return f"removed {what} ({size}) to keep decoded logs within {describe_bytes(keep_bytes)}"
 
 
 def event_data(item: Event) -> object:

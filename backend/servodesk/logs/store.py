@@ -45,6 +45,16 @@ class LogResult:
     stats: dict[str, Any]
 
 
+@dataclass(frozen=True)
+class KeptLog:
+    """A decoded log on disk: what the Logs page lists (and the quota counts)."""
+
+    id: str
+    name: str  # the uploaded file's name
+    size_bytes: int
+    created: float  # when its decode finished (epoch s)
+
+
 class LogStore:
     def __init__(self, data_dir: Path) -> None:
         self.root = data_dir / "logs"
@@ -104,6 +114,29 @@ class LogStore:
         if self.root.is_dir():
             for path in sorted(self.root.glob("*.sqlite")):
                 yield path.stem
+
+    def kept(self) -> list[KeptLog]:
+        """Every decoded log, newest first; one that vanishes meanwhile is left out."""
+        found: list[KeptLog] = []
+        for log_id in self.ids():
+            try:
+                stat = self._path(log_id).stat()
+                name = self.result(log_id).name
+            except (OSError, LogNotFoundError, sqlite3.Error, KeyError, ValueError):
+                continue  # deleted meanwhile, or not a readable result: the quota still sees it
+            found.append(KeptLog(log_id, name, stat.st_size, stat.st_mtime))
+        return sorted(found, key=lambda k: (k.created, k.id), reverse=True)
+
+    def sizes(self) -> list[tuple[str, int, float]]:
+        """(id, bytes, mtime) of every result file, readable or not (what the quota counts)."""
+        found: list[tuple[str, int, float]] = []
+        for log_id in self.ids():
+            try:
+                stat = self._path(log_id).stat()
+            except OSError:
+                continue
+            found.append((log_id, stat.st_size, stat.st_mtime))
+        return found
 
     def delete(self, log_id: str) -> None:
         path = self._path(log_id)

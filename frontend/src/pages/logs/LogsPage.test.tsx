@@ -166,4 +166,51 @@ describe("LogsPage", () => {
     expect(saved).toEqual(["rec.asc"]);
     expect(await screen.findByText("Not recording")).toBeTruthy();
   });
+
+  it("lists the decoded logs kept, opens one again and deletes one", async () => {
+    let kept = [
+      { id: "abc123", name: "bus.log", size_bytes: 3 * 1024 * 1024, created: 1795757000 },
+      { id: "def456", name: "old.blf", size_bytes: 2048, created: 1795750000 },
+    ];
+    const stub = stubFetch({
+      "GET /api/recording": {
+        active: false,
+        format: null,
+        file: null,
+        since: null,
+        frames: 0,
+        dropped: 0,
+      },
+      "GET /api/logs": () => kept,
+      "GET /api/logs/abc123": decoded,
+      "GET /api/logs/abc123/events": { events: [], next: null },
+      "DELETE /api/logs/def456": () => {
+        kept = kept.slice(0, 1);
+        return new Response(null, { status: 204 });
+      },
+    });
+    renderPage(<LogsPage />, "/logs");
+    const table = await screen.findByRole("table", { name: "Decoded logs" });
+    expect(
+      within(table)
+        .getAllByRole("row")
+        .map((r) => r.textContent),
+    ).toEqual([
+      "LogDecodedSizeOpen · delete",
+      expect.stringContaining("bus.log") as string,
+      expect.stringContaining("old.blf") as string,
+    ]);
+    expect(table.textContent).toContain("3.0 MiB");
+    const [, newest, oldest] = within(table).getAllByRole("row");
+    if (!newest || !oldest) throw new Error("two logs listed");
+    await userEvent.click(within(newest).getByRole("button", { name: "Open" }));
+    expect(await screen.findByRole("list", { name: "Summary" })).toBeTruthy();
+    await userEvent.click(within(oldest).getByRole("button", { name: "Delete" }));
+    await userEvent.click(screen.getByRole("button", { name: "Delete old.blf" }));
+    await screen.findByText("1 kept");
+    expect(stub.calls.some((c) => c.method === "DELETE" && c.path === "/api/logs/def456")).toBe(
+      true,
+    );
+    expect(screen.queryByText("old.blf")).toBeNull();
+  });
 });

@@ -3,7 +3,8 @@ import { useMemo, useState, type ReactNode } from "react";
 import { useAction } from "../../lib/useApi";
 import { LogEventsCard } from "./LogEventsCard";
 import { LogResultView } from "./LogResultView";
-import { decodeLog } from "./logsApi";
+import { KeptLogsCard } from "./KeptLogsCard";
+import { decodeLog, openLog } from "./logsApi";
 import { LogUploadCard } from "./LogUploadCard";
 import { RecordingCard } from "./RecordingCard";
 import { parseStats } from "./logText";
@@ -14,9 +15,15 @@ export function LogsPage(): ReactNode {
   const [log, setLog] = useState<File | null>(null);
   const [result, setResult] = useState<DecodedLog | null>(null);
   const stats = useMemo(() => (result ? parseStats(result.stats) : null), [result]);
+  const [decoded, setDecoded] = useState(0); // decodes finished: the kept list reads again
   const decode = useAction(async (file: File, dcf: File | null) => {
     setLog(file);
     setResult(await decodeLog(file, dcf));
+    setDecoded((n) => n + 1);
+  });
+  const reopen = useAction(async (id: string) => {
+    setLog(null);
+    setResult(await openLog(id));
   });
   const run = (file: File, dcf: File | null = null): void => void decode.run(file, dcf);
   return (
@@ -24,9 +31,22 @@ export function LogsPage(): ReactNode {
       <header className="page-header">
         <h1>Logs</h1>
       </header>
-      <LogUploadCard log={log} busy={decode.busy} error={decode.error} onDecode={run} />
+      <LogUploadCard
+        log={log}
+        busy={decode.busy || reopen.busy}
+        error={decode.error ?? reopen.error}
+        onDecode={run}
+      />
       {result && stats && <LogResultView result={result} stats={stats} />}
       {result && stats && <LogEventsCard key={result.id} result={result} total={stats.events} />}
+      <KeptLogsCard
+        current={result?.id ?? null}
+        version={decoded}
+        onOpen={(id) => void reopen.run(id)}
+        onDeleted={(id) => {
+          if (result?.id === id) setResult(null);
+        }}
+      />
       <RecordingCard onDecode={run} />
     </section>
   );

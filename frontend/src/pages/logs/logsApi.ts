@@ -4,6 +4,7 @@ import { asApiError, toApiError } from "../../api/errors";
 import type {
   DecodedLog,
   ExportFormat,
+  KeptLog,
   LogEventPage,
   RecordingFormat,
   RecordingInfo,
@@ -23,6 +24,28 @@ export function decodeLog(file: File, dcf: File | null): Promise<DecodedLog> {
       bodySerializer: () => form,
     }),
   );
+}
+
+/** The decoded logs the server keeps, newest first. */
+export function keptLogs(signal?: AbortSignal): Promise<KeptLog[]> {
+  return call(api.GET("/api/logs", { signal }));
+}
+
+/** A kept log again: summary, totals and the first page of events. */
+export function openLog(id: string): Promise<DecodedLog> {
+  return call(api.GET("/api/logs/{log_id}", { params: { path: { log_id: id } } }));
+}
+
+/** 204 on success: no body, so not through `call` (which wants one). */
+export async function deleteLog(id: string): Promise<void> {
+  let answer;
+  try {
+    answer = await api.DELETE("/api/logs/{log_id}", { params: { path: { log_id: id } } });
+  } catch (error) {
+    throw asApiError(error);
+  }
+  const { error, response } = answer;
+  if (!response.ok) throw toApiError(response.status, error, response.statusText);
 }
 
 export function logEvents(

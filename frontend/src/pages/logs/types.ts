@@ -9,6 +9,8 @@ export type LogEvent = Schemas["LogEvent"];
 export type LogEventPage = Schemas["LogEventPage"];
 /** POST /api/logs/decode: summary, stats and the first page of events. */
 export type DecodedLog = Schemas["DecodedLog"];
+/** A decoded log kept on the server (GET /api/logs). */
+export type KeptLog = Schemas["KeptLogInfo"];
 /** One event of the live bus's timeline. */
 export type TimelineEvent = Schemas["TimelineEvent"];
 export type TimelinePage = Schemas["EventPage"];
