@@ -17,7 +17,7 @@ from fastapi.routing import APIRoute
 from starlette.exceptions import HTTPException
 
 from servodesk.api.errors import HTTP_ERRORS, describe, validation_message
-from servodesk.api.no_body import refuse_body
+from servodesk.api.no_body import problems, refuse_body
 from servodesk.audit import AuditLog, Outcome
 from servodesk.audit.entry import enter, leave
 from servodesk.audit.log import URGENT_WAIT_S
@@ -52,6 +52,8 @@ NOT_AUDITED = frozenset(
 # Stops and disables: their entry is queued, never waited for; they go out whatever the log's
 # state, and an entry that cannot be written is reported beside the answer (AUDIT_HEADER).
 URGENT = frozenset({"quick_stop", "quick_stop_all", "stop_jog", "disable"})
+# On a stop sent with a body it does not take: the body was ignored, the stop went out.
+BODY_IGNORED_HEADER = "X-Body-Ignored"
 # POST …/drive/command: the controlword commands that take power from the motor are urgent too.
 URGENT_COMMANDS = frozenset({"shutdown", "disable_operation", "disable_voltage", "quick_stop"})
 # On an answer whose write went out but whose audit entry could not be written:
@@ -185,6 +187,23 @@ def _without_body(
     return strict
 
 
+def _body_ignored(
+    handler: Callable[[Request], Coroutine[Any, Any, Response]],
+) -> Callable[[Request], Coroutine[Any, Any, Response]]:
+    """A stop never waits on its body: one with fields it does not know still stops (nothing
+    of the body is kept: `_summary` is not asked), and the answer says the body was ignored."""
+
+    async def stopping(request: Request) -> Response:
+        found = problems(await request.body())
+        response = await handler(request)
+        if found:
+            fields = ", ".join(str(p["loc"][-1]) for p in found)[:200]
+            response.headers[BODY_IGNORED_HEADER] = f"this request takes no body: {fields}"
+        return response
+
+    return stopping
+
+
 class AuditedRoute(APIRoute):
     def __init__(self, path: str, endpoint: Callable[..., Any], **kwargs: Any) -> None:
         methods = {m.upper() for m in kwargs.get("methods") or ()}
@@ -197,16 +216,18 @@ class AuditedRoute(APIRoute):
 
     def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
         handler = super().get_route_handler()
-        if self.body_field is None and set(self.methods or ()) & CHANGES_STATE:
-            handler = _without_body(handler)
         name = self.endpoint.__name__
+        bodiless = self.body_field is None and bool(set(self.methods or ()) & CHANGES_STATE)
+        if bodiless:
+            handler = _body_ignored(handler) if name in URGENT else _without_body(handler)
         if not self.audited:
             return handler
         action = action_of(name)
 
         async def audited(request: Request) -> Response:
             audit: AuditLog = request.app.state.services.audit
-            parsed = await _body(request)
+            # a stop's stray body is not the user's words about it: none of it is kept
+            parsed = None if bodiless and name in URGENT else await _body(request)
             summary, value = _summary(parsed)
             urgent = _urgent(name, parsed)
             what = f"{request.method} {request.url.path}" + (f" {summary}" if summary else "")
