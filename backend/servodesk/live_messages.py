@@ -147,18 +147,25 @@ class JogKeepaliveMessage(RequestBody):
     jog_id: str
 
 
-class JogStopMessage(RequestBody):
+class _Stop(RequestBody):
+    """A stop is never refused for a field it does not know: the field is ignored (REST stops
+    do the same, api/audited.py)."""
+
+    model_config = ConfigDict(extra="ignore")
+
+
+class JogStopMessage(_Stop):
     type: Literal["jog_stop"]
     jog_id: str
 
 
-class PageHiddenMessage(RequestBody):
+class PageHiddenMessage(_Stop):
     """The page went to the background: every jog of this client stops."""
 
     type: Literal["page_hidden"]
 
 
-class QuickStopMessage(RequestBody):
+class QuickStopMessage(_Stop):
     """Quick stop one node, or every node when `node` is null; open to every client."""
 
     type: Literal["quick_stop"]

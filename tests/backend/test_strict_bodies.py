@@ -4,6 +4,7 @@ time below 10 ms through a raw SDO write needs confirm, as on the heartbeat rout
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterator
 from typing import Any, get_args
 
@@ -141,3 +142,20 @@ def test_a_fast_heartbeat_by_raw_sdo_write_needs_confirm(client: TestClient) -> 
     assert confirmed.json()["value"] == 1
     assert client.put(heartbeat, json={"value": 100}).status_code == 200
     assert client.put(heartbeat, json={"value": 0}).status_code == 200  # off is not fast
+
+
+def test_a_live_channel_stop_with_a_stray_field_still_stops(client: TestClient) -> None:
+    enabled = client.post("/api/nodes/3/drive/enable", headers={"X-Client-Id": "t"})
+    assert enabled.json()["state"] == "operation_enabled"
+    with client.websocket_connect("/api/ws") as ws:
+        ws.send_json({"type": "quick_stop", "node": 3, "value": LINK})
+        ws.send_json({"type": "ping"})
+        while (message := ws.receive_json())["type"] not in ("pong", "error"):
+            pass
+        assert message["type"] == "pong"
+    for _ in range(100):  # the stop runs on a task of its own
+        state = client.get("/api/nodes/3/drive").json()["state"]
+        if state != "operation_enabled":
+            break
+        time.sleep(0.02)
+    assert state in {"quick_stop_active", "switch_on_disabled"}
