@@ -67,12 +67,15 @@ class LogAnalysis:
         if not s["frames"]:
             return [f"{self.path.name}: no CAN frames"]
         nodes = ", ".join(d.who(n) for n in s["nodes"]) or "no CANopen nodes"
+        fd = s["counts"].get("fd", 0)
         header = [
             f"{s['frames']:,} frames over {s['duration_s']:.3f} s"
             f" ({clock(s['start'])} – {clock(s['end'])}) from {nodes}.",
             f"Bus load at {d.bitrate // 1000} kbit/s: peak {s['bus_load_peak_percent']:.1f} %"
             f" in the second from {clock(s['bus_load_peak_time'])},"
-            f" mean {s['bus_load_mean_percent']:.1f} %.",
+            f" mean {s['bus_load_mean_percent']:.1f} %."
+            if fd < s["frames"]
+            else "Bus load: no classic CAN frames to count.",
         ]
         faults = d.summary.count("emcy")
         aborts = d.summary.count("sdo-abort")
@@ -82,6 +85,11 @@ class LogAnalysis:
             if faults or aborts or losses
             else "No EMCY, no SDO abort, no heartbeat loss."
         )
+        if fd:
+            header.append(
+                f"{fd:,} CAN FD frame(s) (more than 8 data bytes) counted, not decoded as"
+                " CANopen and not in the bus load."
+            )
         if s["error_frames"]:
             header.append(f"{s['error_frames']} CAN error frame(s) in the log.")
         return d.summary.render(header)

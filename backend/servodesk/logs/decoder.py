@@ -25,7 +25,8 @@ from servodesk_protocol.cia402 import STATUSWORD
 
 DEFAULT_BITRATE = 500_000
 HEARTBEAT_LOSS_PERIODS = 3.0  # silence of this many periods is a lost heartbeat
-_FRAME_BITS = tuple(frame_bits(n) for n in range(9))
+CLASSIC_MAX = 8  # data bytes of a classic CAN frame; more is CAN FD
+_FRAME_BITS = tuple(frame_bits(n) for n in range(CLASSIC_MAX + 1))
 _STATE_WORDS = {
     nmt.NmtState.INITIALISING: "Initialising",
     nmt.NmtState.STOPPED: "Stopped",
@@ -108,6 +109,11 @@ class LogDecoder:
         elif time >= self._second + 1.0:
             self._close_seconds(time)
         self.last_time = time
+        if len(data) > CLASSIC_MAX:
+            # CAN FD: no CANopen service of CiA 301 fits, and its data-phase bitrate is not in
+            # the log, so it is neither decoded nor in the bus load; the summary counts it
+            self._count("fd")
+            return
         self._bits += _FRAME_BITS[len(data)]
         self._second_frames += 1
         if time > self._hb_deadline:
