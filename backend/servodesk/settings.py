@@ -66,6 +66,10 @@ class Settings(BaseSettings):
     # within this + one heartbeat period + the consumer time (docs/architecture.md)
     tool_heartbeat_liveness_ms: int = Field(default=500, ge=50, le=5000)
     jog_keepalive_max_ms: int = 500  # hold-to-run: the longest keep-alive interval a jog may ask
+    # A live WebSocket that sends nothing for this long is closed as gone (pages ping every
+    # 10 s): a page killed without a close frame releases its drives within this, not after
+    # TCP gives up
+    live_silence_s: float = Field(default=25.0, gt=0)
     # A jog's stop decelerates at least this hard (rpm/s), whatever ramp the client asked for,
     # and at the drive's quick stop deceleration 6085h where that is steeper: a stop on lost
     # control must not take minutes because a client chose a slow ramp.

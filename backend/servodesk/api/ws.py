@@ -61,9 +61,17 @@ async def live(websocket: WebSocket) -> None:
     client = services.live.connect()
     sender = asyncio.create_task(_send(websocket, client))
     closer = asyncio.create_task(_close_at(websocket, ends))
+    silence = services.settings.live_silence_s
     try:
         while True:
-            raw = await websocket.receive_json()
+            try:
+                raw = await asyncio.wait_for(websocket.receive_json(), silence)
+            except TimeoutError:
+                # gone without a close frame (a killed tab, a sleeping laptop): its drives are
+                # released and its jogs stop in `finally`, as on any close
+                with contextlib.suppress(RuntimeError, WebSocketDisconnect):
+                    await websocket.close(code=GOING_AWAY, reason=SILENT.format(silence))
+                break
             reply = await _handle(services, client, raw)
             if reply is not None:
                 await websocket.send_json(reply)
@@ -83,6 +91,8 @@ async def live(websocket: WebSocket) -> None:
 
 
 LOGIN_ENDED = "the login ended: log in again"
+GOING_AWAY = 1001  # RFC 6455 §7.4.1
+SILENT = "nothing received for {:g} s: send a ping at least every 10 s"
 
 
 @dataclass

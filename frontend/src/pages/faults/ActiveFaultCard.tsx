@@ -1,9 +1,13 @@
 import { useState, type ReactNode } from "react";
 
+import { Link } from "react-router";
+
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
+import { nodeUrl } from "../../nav/routes";
 import { useMay } from "../../session/context";
+import { HeldByOtherError } from "../drive/driveApi";
 import { errorCode, resetFault } from "./faultsApi";
 import { FaultDetails } from "./FaultDetails";
 import { errorCodeParts, faultCode, faultName } from "./faultText";
@@ -90,7 +94,15 @@ export function ActiveFaultCard({
           {result}
         </p>
       )}
-      <ErrorText error={reset.error} />
+      {reset.error instanceof HeldByOtherError ? (
+        <p className="error" role="alert">
+          Not reset: node {node} is controlled by{" "}
+          {reset.error.holder?.name ?? reset.error.holder?.client_id ?? "another client"}. Take over
+          control on <Link to={nodeUrl(node, "drive")}>its Drive page</Link>, then reset here.
+        </p>
+      ) : (
+        <ErrorText error={reset.error} />
+      )}
       {active ? (
         <FaultDetails fault={active} />
       ) : (

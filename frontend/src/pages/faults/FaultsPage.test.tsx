@@ -94,6 +94,54 @@ describe("FaultsPage", () => {
     expect(stub.calls.filter((c) => c.method === "POST")).toHaveLength(1);
   });
 
+  it("resets as this tab, and names the holder when another client controls the drive", async () => {
+    const sent: (string | null)[] = [];
+    let held = false;
+    stubFetch({
+      "GET /api/nodes/1/faults": () => ({ active: mdiAlarm4(), history: [], total: 0 }),
+      "GET /api/nodes/1/sdo/603F/00": () => sdo603f(4),
+      "GET /api/nodes/1/faults/device-history": json({ count: 0, entries: [] }),
+      "POST /api/nodes/1/faults/reset": (request: Request) => {
+        sent.push(request.headers.get("X-Client-Id"));
+        if (!held) {
+          return {
+            node: 1,
+            ok: true,
+            message: "fault reset: node 1 went from Fault to Switch on disabled",
+            state_before: "Fault",
+            state_after: "Switch on disabled",
+            statusword_hex: "0x0250",
+            active: null,
+          };
+        }
+        return json(
+          {
+            error: "held_by_other",
+            message: "node 1 is controlled by Chrome tab 8933: take over control first",
+            node: 1,
+            holder: { client_id: "other", name: "Chrome tab 8933", since: 1 },
+          },
+          409,
+        );
+      },
+    });
+    renderPage(<FaultsPage node={1} />, "/nodes/1/faults");
+    const reset = await screen.findByRole("button", { name: "Fault reset" });
+    await userEvent.click(reset);
+    await screen.findByText("fault reset: node 1 went from Fault to Switch on disabled");
+    held = true;
+    await userEvent.click(reset);
+    const refusal = await screen.findByRole("alert");
+    expect(refusal.textContent).toBe(
+      "Not reset: node 1 is controlled by Chrome tab 8933. Take over control on its Drive page, then reset here.",
+    );
+    expect(within(refusal).getByRole("link", { name: "its Drive page" }).getAttribute("href")).toBe(
+      "/nodes/1/drive",
+    );
+    expect(sent).toHaveLength(2);
+    expect(sent.every((id) => id !== null && id.length > 0)).toBe(true); // this tab's id
+  });
+
   it("reads the drive's 1003h and clears it only after confirming", async () => {
     let entries = [
       { number: 1, value_hex: "0x00008611", fault: cia402Fault({ error_register: null }) },

@@ -1,5 +1,8 @@
 // The fault routes, one function each. Errors come back as ApiError (ErrorText shows them).
 import { api, call, odPath } from "../../api/client";
+import { asApiError } from "../../api/errors";
+import { clientHeaders } from "../../live/clientId";
+import { motionError } from "../drive/driveApi";
 import type { SdoValue } from "../../api/types";
 import type {
   ActiveFaults,
@@ -19,8 +22,23 @@ export function activeFaults(signal?: AbortSignal): Promise<ActiveFaults> {
   return call(api.GET("/api/faults/active", { signal }));
 }
 
-export function resetFault(node: number): Promise<FaultResetResult> {
-  return call(api.POST("/api/nodes/{node}/faults/reset", { params: path(node) }));
+/** As this tab (X-Client-Id): a drive this tab controls is reset; one another tab or client
+ * controls is refused as HeldByOtherError, which names the holder. */
+export async function resetFault(node: number): Promise<FaultResetResult> {
+  let result;
+  try {
+    result = await api.POST("/api/nodes/{node}/faults/reset", {
+      params: path(node),
+      headers: clientHeaders(),
+    });
+  } catch (error) {
+    throw asApiError(error);
+  }
+  const { data, error, response } = result;
+  if (!response.ok || data === undefined) {
+    throw motionError(response.status, error, response.statusText);
+  }
+  return data;
 }
 
 export function deviceHistory(node: number, signal?: AbortSignal): Promise<DeviceHistory> {
