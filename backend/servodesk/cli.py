@@ -8,7 +8,8 @@
     servodesk write NODE INDEX SUB VALUE [--size 1|2|4] [--sim] [bus flags]
     servodesk dump NODE [--sim] [bus flags] > node.dcf
     servodesk eds-check FILE
-    servodesk decode-log FILE [--dcf FILE] [--format text|csv|json|parquet] [-o OUT]
+    servodesk decode-log FILE [--dcf FILE] [--profile N=NAME] [--format text|csv|json|parquet]
+                         [-o OUT]
 
 Bus flags are python-can's own (`--interface/--channel/--bitrate/--bus-kwargs`); without them
 python-can's config file and environment apply. Every error is one line on stderr and a
@@ -147,6 +148,10 @@ def build_parser() -> argparse.ArgumentParser:
     decode.add_argument(
         "--bitrate", type=int, help="bit/s for the bus load (default: DCF or 500000)"
     )
+    decode.add_argument(
+        "--profile", action="append", metavar="NODE=PROFILE",
+        help="which drive a node is, e.g. 1=mdi-s1c (its alarms and objects); repeatable",
+    )  # fmt: skip
     return parser
 
 

@@ -7,7 +7,7 @@ import dataclasses
 from pathlib import Path
 from typing import Annotated, Any
 
-from fastapi import APIRouter, File, Query, UploadFile
+from fastapi import APIRouter, File, Form, Query, UploadFile
 from fastapi.responses import FileResponse, Response
 from pydantic import BaseModel, Field
 from starlette.background import BackgroundTask
@@ -65,6 +65,13 @@ async def decode_log(
     dcf: Annotated[
         UploadFile | str | None, File(description="optional DCF: PDO mappings, identity")
     ] = None,
+    profiles: Annotated[
+        str | None,
+        Form(
+            description="which drive a node is, for nodes whose identity the log does not"
+            ' show: "1=mdi-s1c, 2=kinco" (profiles mdi-s1c, kinco, cia402)'
+        ),
+    ] = None,
 ) -> DecodedLog:
     limit = services.settings.log_upload_max_mb * 1024 * 1024
     name = upload_name(file, "upload.log")
@@ -73,7 +80,7 @@ async def decode_log(
     if dcf is not None:
         dcf_name = upload_name(dcf, "upload.dcf")
         dcf_part = (dcf_name, await read_limited(dcf, MAX_DCF, dcf_name))
-    result = await services.logs.decode(name, data, dcf_part)
+    result = await services.logs.decode(name, data, dcf_part, profiles)
     services.usage.forget()  # a new file under logs/
     first = _page(await services.logs.events(result.id, 0, FIRST_PAGE), FIRST_PAGE)
     return DecodedLog(

@@ -6,7 +6,7 @@ The CLI and the service both use this: `events()` streams (flat memory), `summar
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -26,10 +26,11 @@ class LogAnalysis:
         bitrate: int | None = None,
         known: Sequence[DriveData] | None = None,
         frames: bool = False,
+        profiles: Mapping[int, str] | None = None,
     ) -> None:
         self.path = path
-        self.decoder = LogDecoder(DecodeContext(dcf=dcf, known=known), bitrate=bitrate,
-                                  frames=frames)  # fmt: skip
+        context = DecodeContext(dcf=dcf, known=known, profiles=profiles)
+        self.decoder = LogDecoder(context, bitrate=bitrate, frames=frames)
         self._skipped = [0]
         self._done = False
 
@@ -90,6 +91,26 @@ class LogAnalysis:
                 f"{fd:,} CAN FD frame(s) (more than 8 data bytes) counted, not decoded as"
                 " CANopen and not in the bus load."
             )
+        header += self._emcy_notes()
         if s["error_frames"]:
             header.append(f"{s['error_frames']} CAN error frame(s) in the log.")
         return d.summary.render(header)
+
+    def _emcy_notes(self) -> list[str]:
+        """How EMCYs of nodes of unknown drive were read, and how to say which drive it is."""
+        d = self.decoder
+        notes = [
+            f"node {n}: no identity in the log, EMCYs read as CiA 301; name its drive to decode"
+            f" vendor alarms (profiles {n}=<profile>, one of {d.context.profile_names()};"
+            " or its DCF)."
+            for n in sorted(d.read_as_cia301)
+            if d.context.node(n).data is None
+        ]
+        for n in sorted(d.shape_guessed):
+            guess = d.context.alarm_profile()
+            label = guess.label if guess is not None else "alarm-number drive"
+            notes.append(
+                f"node {n}: no identity in the log; its 2-byte EMCYs (CiA 301's have 8 bytes)"
+                f" are read as {label} alarm numbers."
+            )
+        return notes

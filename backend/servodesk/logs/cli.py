@@ -1,4 +1,4 @@
-"""`servodesk decode-log FILE [--dcf FILE] [--format text|csv|json|parquet] [-o OUT]`.
+"""`servodesk decode-log FILE [--dcf FILE] [--profile N=NAME] [--format FMT] [-o OUT]`.
 
 The summary comes first, yet the events stream: they are written to a temporary file while
 the log is decoded (flat memory), then copied out after the summary. Where the summary goes:
@@ -20,6 +20,7 @@ from typing import Any, TextIO
 from tqdm import tqdm
 
 from servodesk.logs.analysis import LogAnalysis
+from servodesk.logs.context import parse_profiles
 from servodesk.logs.export import ExportFormat, ParquetWriter, text_writer, write_all
 from servodesk.logs.reader import LogFormatError
 from servodesk.od import OdImportError
@@ -40,7 +41,11 @@ def decode_log(args: argparse.Namespace) -> int:
         return _fail(f"{path}: no such file")
     dcf = Path(args.dcf) if args.dcf else None
     try:
-        analysis = LogAnalysis(path, dcf=dcf, bitrate=args.bitrate)
+        profiles = parse_profiles(getattr(args, "profile", None))
+    except ValueError as error:
+        return _fail(f"--profile {error}")
+    try:
+        analysis = LogAnalysis(path, dcf=dcf, bitrate=args.bitrate, profiles=profiles)
     except (OdImportError, OSError) as error:
         return _fail(f"{dcf}: {error}")
     bar: Any = tqdm(

@@ -3,7 +3,7 @@ DCF), the dictionary that names its objects, and the PDO mappings of a DCF."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -12,7 +12,7 @@ from servodesk.pdo.decode import PdoDecoder
 from servodesk.pdo.read import KINDS, PDO_SPAN, RawPdo, Slot, to_config
 from servodesk.profiles import ProfileDictionaries, ProfileMatch, load_known, match
 from servodesk.sdo import codec
-from servodesk_data import DriveData
+from servodesk_data import PROFILE_NAMES, DriveData, EmcyFormat
 
 DEVICE_TYPE = (0x1000, 0)  # Device type
 VENDOR_ID = (0x1018, 1)  # Identity object: Vendor-ID
@@ -37,6 +37,7 @@ class NodeProfile:
     device_type: int | None = None
     vendor_id: int | None = None
     product_code: int | None = None
+    named: bool = False  # the user named its drive for this decode
 
     @property
     def data(self) -> DriveData | None:
@@ -51,7 +52,13 @@ class NodeProfile:
 class DecodeContext:
     """Profiles of the nodes seen so far; a node's profile changes when its identity appears."""
 
-    def __init__(self, *, dcf: Path | None = None, known: Sequence[DriveData] | None = None):
+    def __init__(
+        self,
+        *,
+        dcf: Path | None = None,
+        known: Sequence[DriveData] | None = None,
+        profiles: Mapping[int, str] | None = None,
+    ):
         self._known = tuple(known) if known is not None else load_known()
         self._dictionaries = ProfileDictionaries()
         self._generic = match(_CIA402_DEVICE_TYPE, None, None, known=self._known)
@@ -59,8 +66,41 @@ class DecodeContext:
         self.nodes: dict[int, NodeProfile] = {}
         self.pdos: dict[int, PdoChannel] = {}  # COB-ID -> mapping
         self.bitrate: int | None = None
+        self._alarm: tuple[ProfileMatch | None] | None = None  # alarm_profile(), once
         if dcf is not None:
             self._load_dcf(dcf)
+        for node, name in sorted((profiles or {}).items()):
+            self._name_profile(node, name)
+
+    def alarm_profile(self) -> ProfileMatch | None:
+        """The one known drive whose EMCY is a 2-byte alarm number (the MDi-S1-C); None when
+        none or several are (a 2-byte EMCY then names no drive)."""
+        if self._alarm is None:
+            found = [d for d in self._known if d.quirks.emcy_format is EmcyFormat.ALARM_NUMBER]
+            self._alarm = (self._match(found[0]) if len(found) == 1 else None,)
+        return self._alarm[0]
+
+    def _match(self, data: DriveData) -> ProfileMatch:
+        identity = data.identity
+        return match(identity.device_type, identity.vendor_id, identity.product_code,
+                     known=self._known)  # fmt: skip
+
+    def _name_profile(self, node: int, name: str) -> None:
+        """The user's word for a node's drive: its fault table and quirks from the start (a
+        DCF of the node keeps naming its objects)."""
+        data = next((d for d in self._known if d.profile == name), None)
+        if data is None:
+            raise ValueError(f"unknown drive profile {name!r}; known: {self.profile_names()}")
+        found = self._match(data)
+        info = self.node(node)
+        if info.profile.name != found.name:
+            info.profile = found
+            if info.model is self._generic_model:
+                info.model = self._dictionaries.model(found, node)
+        info.named = True
+
+    def profile_names(self) -> str:
+        return ", ".join(d.profile for d in self._known)
 
     def node(self, node: int) -> NodeProfile:
         found = self.nodes.get(node)
@@ -132,6 +172,29 @@ class DecodeContext:
                 if config.valid and config.mapping:
                     decoder = PdoDecoder(config.mapping, model)
                     self.pdos[config.cob_id] = PdoChannel(node, slot.label, decoder)
+
+
+def parse_profiles(
+    text: str | Sequence[str] | None, names: Sequence[str] = PROFILE_NAMES
+) -> dict[int, str]:
+    """ "1=mdi-s1c, 2=kinco" (or one item per string) -> {1: "mdi-s1c", 2: "kinco"}; a
+    ValueError in words for anything else, or for a profile not in `names`."""
+    items = [text] if isinstance(text, str) else list(text or ())
+    found: dict[int, str] = {}
+    for part in (p.strip() for item in items for p in item.split(",")):
+        if not part:
+            continue
+        node, sep, name = part.partition("=")
+        try:
+            number = int(node.strip(), 0)
+        except ValueError:
+            number = 0
+        if not sep or not 1 <= number <= 127 or not name.strip():
+            raise ValueError(f"{part!r}: name a drive as NODE=PROFILE, e.g. 1=mdi-s1c")
+        if name.strip() not in names:
+            raise ValueError(f"{name.strip()!r}: no such drive profile; known: {', '.join(names)}")
+        found[number] = name.strip()
+    return found
 
 
 def _value(sub: OdSub | None) -> int | None:

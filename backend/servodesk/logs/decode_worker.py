@@ -34,10 +34,12 @@ class LogRefusedError(LogReadError):
     """The file was refused unread: it declares or expands to sizes no real log has."""
 
 
-def _decode(data_dir: Path, path: Path, dcf: Path | None) -> LogResult:
+def _decode(
+    data_dir: Path, path: Path, dcf: Path | None, profiles: dict[int, str] | None = None
+) -> LogResult:
     _let_mf4_back()
     try:
-        return LogStore(data_dir).decode_file(path, dcf=dcf)
+        return LogStore(data_dir).decode_file(path, dcf=dcf, profiles=profiles)
     except LogBoundsError as error:
         raise LogRefusedError(str(error)) from None
     except Exception as error:  # any reader's complaint about a user's file
@@ -61,12 +63,18 @@ class DecodePool:
         self._pool: ProcessPoolExecutor | None = None
         self._running = 0
 
-    async def decode(self, data_dir: Path, path: Path, dcf: Path | None) -> LogResult:
+    async def decode(
+        self,
+        data_dir: Path,
+        path: Path,
+        dcf: Path | None,
+        profiles: dict[int, str] | None = None,
+    ) -> LogResult:
         self._running += 1
         try:
             # submitted from a thread: submit() starts the worker process (od/parser.py)
             pool = self._executor()
-            future = await asyncio.to_thread(pool.submit, _decode, data_dir, path, dcf)
+            future = await asyncio.to_thread(pool.submit, _decode, data_dir, path, dcf, profiles)
             return await asyncio.wrap_future(future)
         finally:
             self._running -= 1

@@ -40,6 +40,7 @@ _COMMAND_WORDS = {
     nmt.NmtCommand.RESET_NODE: "Reset node",
     nmt.NmtCommand.RESET_COMMUNICATION: "Reset communication",
 }
+ALARM_EMCY_LENGTH = 2  # the MDi-S1-C's EMCY: its alarm number only (manual §2.7)
 Handler = Callable[[float, int, bytes], None]
 
 
@@ -83,6 +84,8 @@ class LogDecoder:
         self._load_sum = 0.0
         self._load_seconds = 0
         self._hb_deadline = float("inf")  # earliest moment some heartbeat is overdue
+        self.read_as_cia301: set[int] = set()  # nodes of unknown drive whose EMCYs said a fault
+        self.shape_guessed: set[int] = set()  # nodes whose 2-byte EMCYs named their drive
         self._table: list[Handler] = [self._other] * 0x800
         self._build_table()
 
@@ -275,19 +278,28 @@ class LogDecoder:
         self._count("emcy")
         node = can_id - cob_id.EMCY
         profile = self.context.node(node).data
+        shape = ""
+        guess = self.context.alarm_profile() if profile is None else None
+        if guess is not None and len(data) == ALARM_EMCY_LENGTH:
+            # CiA 301's EMCY has 8 bytes: 2 can only be an alarm-number drive (MDi-S1-C)
+            profile = guess.data
+            self.shape_guessed.add(node)
+            shape = f" (2-byte EMCY: {guess.label} alarm number)"
+        elif profile is None and len(data) >= 2 and int.from_bytes(data[:2], "little"):
+            self.read_as_cia301.add(node)
         record = decode_emcy(profile, node, bytes(data), time=time)
         if self.frames_mode:
             register = json.dumps({"error_register": record.error_register})
             self.emit(time, EventKind.FRAME, node, "EMCY", code=record.code, data=register)
         words = fault_words(record, profile)
         detail = json.dumps(record.as_dict(), ensure_ascii=False)
-        self.emit(time, EventKind.EMCY, node, f"{self.who(node)} EMCY: {words}",
+        self.emit(time, EventKind.EMCY, node, f"{self.who(node)} EMCY: {words}{shape}",
                   code=record.code, data=detail)  # fmt: skip
         info = self._node(node)
         if record.code == 0:
             line = f"{clock(time)} {self.who(node)} cleared its faults (error reset EMCY)"
         else:
-            line = f"{clock(time)} {self.who(node)} reported a fault: {words}"
+            line = f"{clock(time)} {self.who(node)} reported a fault: {words}{shape}"
             last = info.last_heartbeat
             if info.period and last is not None and time - last > 1.5 * info.period:
                 line += f", {1e3 * (time - last):.0f} ms after its last heartbeat"

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import ParamSpec, TypeVar
 
 from servodesk.errors import InvalidValueError, NotFoundError
+from servodesk.logs.context import parse_profiles
 from servodesk.logs.decode_worker import DecodePool, LogReadError, LogRefusedError
 from servodesk.logs.events import Event
 from servodesk.logs.export import ExportFormat, ParquetWriter, text_writer
@@ -56,10 +57,19 @@ class LogService:
         self._workers.close()
 
     async def decode(
-        self, name: str, data: bytes, dcf: tuple[str, bytes] | None = None
+        self,
+        name: str,
+        data: bytes,
+        dcf: tuple[str, bytes] | None = None,
+        profiles: str | None = None,
     ) -> LogResult:
         """Decode an uploaded log (its suffix names the format) off the event loop; at most
-        `max_concurrent` decodes run at once, the others wait their turn."""
+        `max_concurrent` decodes run at once, the others wait their turn. `profiles` names
+        nodes' drives: "1=mdi-s1c, 2=kinco"."""
+        try:
+            named = parse_profiles(profiles)
+        except ValueError as error:
+            raise InvalidValueError(f"profiles: {error}") from None
         name = _safe_name(name, "upload.log")
         if not name.lower().endswith(SUFFIXES):
             raise InvalidValueError(
@@ -70,7 +80,7 @@ class LogService:
         async with self._slots:
             tmp, path, dcf_path = await asyncio.to_thread(self._spool_files, name, data, dcf)
             try:
-                result = await self._workers.decode(self._data_dir, path, dcf_path)
+                result = await self._workers.decode(self._data_dir, path, dcf_path, named)
             except LogRefusedError as error:
                 log.warning("refused %s: %s", name, error)
                 raise InvalidValueError(f"{name}: {error}") from None

@@ -11,7 +11,7 @@ import json
 import re
 import sqlite3
 import uuid
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from contextlib import closing
 from dataclasses import dataclass
 from pathlib import Path
@@ -66,6 +66,7 @@ class LogStore:
         dcf: Path | None = None,
         bitrate: int | None = None,
         progress: Callable[[int], None] | None = None,
+        profiles: Mapping[int, str] | None = None,
     ) -> LogResult:
         """Decode `path` (any python-can log format) and store its events; blocking, run it
         off the event loop."""
@@ -73,7 +74,7 @@ class LogStore:
         log_id = uuid.uuid4().hex
         target = self._path(log_id)
         partial = target.with_suffix(".partial")
-        analysis = LogAnalysis(path, dcf=dcf, bitrate=bitrate)
+        analysis = LogAnalysis(path, dcf=dcf, bitrate=bitrate, profiles=profiles)
         try:
             with closing(sqlite3.connect(partial)) as db:
                 db.executescript("PRAGMA journal_mode = OFF; PRAGMA synchronous = OFF;" + _SCHEMA)
