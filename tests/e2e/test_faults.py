@@ -128,3 +128,21 @@ def test_a_cia301_emcy_and_the_drives_own_history(page: Page, server: str) -> No
     active.get_by_role("button", name="Fault reset").click()
     expect(page.get_by_role("heading", name="No active fault")).to_be_visible()
     expect(page.get_by_role("alert", name="Nodes in fault")).to_have_count(0)
+
+
+def test_the_tab_that_controls_the_drive_resets_its_fault(page: Page, server: str) -> None:
+    """Control taken on the Drive page (enable) is this tab's on the Faults tab too: its reset
+    goes through, where it was refused as another client's."""
+    page.goto(f"{server}/nodes/1/drive")
+    page.get_by_role("button", name="Enable", exact=True).click()
+    expect(page.get_by_text("You control this drive")).to_be_visible()
+    injected = page.request.put(f"{server}/api/nodes/1/sdo/5FF0/0", data={"value": 4})
+    assert injected.ok, injected.text()
+    page.get_by_role("link", name="Faults").first.click()  # the same page load: the same tab
+    active = page.locator(".fault-active")
+    expect(active.get_by_role("heading")).to_contain_text("In fault: alarm 4")
+    active.get_by_role("button", name="Fault reset").click()
+    expect(page.get_by_role("status").filter(has_text="fault reset: node 1")).to_contain_text(
+        "went from Fault to"
+    )
+    expect(page.get_by_role("heading", name="No active fault")).to_be_visible()
