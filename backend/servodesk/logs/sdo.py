@@ -15,6 +15,15 @@ KEEP_BYTES = 64  # enough for identity objects, names and PDO parameters
 ABORT = 4  # ccs = scs = 4: abort transfer
 _SEQ_MASK = 0x7F  # block segments: bit 7 = last segment, bits 0–6 = sequence number
 _LAST = 0x80
+# abort codes that only one direction can meet (CiA 301 §7.2.4.3.17): True = upload (read)
+ABORT_DIRECTION = {
+    0x06010001: True,  # Attempt to read a write-only object
+    0x06010002: False,  # Attempt to write a read-only object
+    0x06090030: False,  # Invalid value for parameter (download only)
+    0x06090031: False,  # Value of parameter written too high (download only)
+    0x06090032: False,  # Value of parameter written too low (download only)
+    0x06090036: False,  # Maximum value is less than minimum value
+}
 
 
 class SdoMode(StrEnum):
@@ -50,6 +59,10 @@ class SdoTransfer:
     start: float = 0.0  # time of the initiate frame
     first_frame: int = 0  # frame number of the initiate (the caller's numbering)
     error: str | None = None  # the frames did not follow the protocol (in words)
+    # an abort whose initiate is not in the log: `upload` is a guess from the abort code,
+    # and only when `direction_known`
+    began_before_log: bool = False
+    direction_known: bool = True
 
 
 class SdoChannel:
@@ -255,11 +268,16 @@ class SdoChannel:
         return self._transfer(mode)
 
     def _abort(self, data: bytes, *, by_client: bool, time: float, frame: int) -> SdoTransfer:
-        if self._state is _State.IDLE:  # the transfer began before the log: the abort names it
-            self._begin(data, time, frame, upload=False)
-        elif len(data) >= 4:
-            self.index, self.subindex = data[1] | data[2] << 8, data[3]
         code = int.from_bytes(data[4:8], "little") if len(data) >= 8 else 0
+        if self._state is _State.IDLE:  # the transfer began before the log: the abort names it
+            upload = ABORT_DIRECTION.get(code)
+            self._begin(data, time, frame, upload=bool(upload))
+            return self._transfer(
+                self._mode(), abort=code, aborted_by_client=by_client,
+                began_before_log=True, direction_known=upload is not None,
+            )  # fmt: skip
+        if len(data) >= 4:
+            self.index, self.subindex = data[1] | data[2] << 8, data[3]
         return self._transfer(self._mode(), abort=code, aborted_by_client=by_client)
 
     def _interrupted(self, why: str = "a new transfer started first") -> SdoTransfer | None:

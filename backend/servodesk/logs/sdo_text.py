@@ -18,6 +18,8 @@ def transfer_text(
     name = ctx.name(node, done.index, done.subindex)
     obj = f"{where} {name}" if name else where
     verb = "read" if done.upload else "write"
+    if done.began_before_log:  # the log holds only the abort
+        verb = f"{verb if done.direction_known else 'transfer'} (began before the log)"
     if done.abort is not None:
         side = "the master" if done.aborted_by_client else "the drive"
         meaning = sdo_abort.describe(done.abort)
