@@ -12,10 +12,11 @@ import re
 from dataclasses import asdict, dataclass
 from typing import Any
 
+from servodesk.faults.cia301 import cia_text
 from servodesk_data import DriveData, EmcyFormat, FaultEntry
 from servodesk_protocol import emcy_codes
 from servodesk_protocol.emcy import FRAME_LENGTH
-from servodesk_protocol.emcy_codes import CodeSource, describe, is_reset
+from servodesk_protocol.emcy_codes import CodeSource, is_reset
 
 _CJK = re.compile(r"[\u3400-\u9fff]")
 # where each shipped profile's fault table comes from, by profile name
@@ -95,7 +96,7 @@ def decode_emcy(
         if entries:
             return _vendor(time, node, code, entries, profile, raw)
     # every shipped profile is a drive, and an unknown node of a servo tool most likely one
-    cia = describe(code, cia402=True)
+    cia = cia_text(code, cia402=True)
     parts = [] if cia.source is CodeSource.UNKNOWN else [f"CiA class: {cia.code_class}."]
     if register:
         words = ", ".join(emcy_codes.error_register_words(register))
@@ -141,7 +142,7 @@ def _vendor(
         if entry.kinco_bit:
             check += f" (2600h:02 bit {entry.kinco_bit:#x} {entry.name})"
         parts.append(f"Check: {check}.")
-    cia = describe(first.emcy_code)
+    cia = cia_text(first.emcy_code)
     # the CiA meaning adds something unless the vendor code is that CiA code itself
     if cia.source is not CodeSource.UNKNOWN and (first.emcy_code != code or fmt is _ALARM):
         parts.append(f"CiA code {first.emcy_code:04X}h: {cia.text}.")
