@@ -305,6 +305,7 @@ class DcfLoadResult(BaseModel):
     skipped: int
     failed: list[DcfFailure]
     differences: list[DcfDifference]
+    warnings: list[str] = []  # written, but worth knowing (a synchronous PDO without SYNC)
 
 
 class CompareRow(BaseModel):

@@ -58,6 +58,9 @@ class PdoIn(RequestBody):
 
 class PdoWriteRequest(RequestBody):
     pdos: list[PdoIn] = Field(max_length=1024)
+    # where SYNC comes from while ServoDesk produces none and none is heard on the bus:
+    # "external" = the machine's controller (PLC); it acknowledges the SYNC warnings
+    sync_source: Literal["external"] | None = None
 
 
 class PdoList(BaseModel):
@@ -118,10 +121,26 @@ class BusLoadResult(BaseModel):
     notes: list[str]  # one line per assumption, naming the PDOs it concerns
 
 
+class PdoSync(BaseModel):
+    """Where SYNC comes from when a mapping is checked."""
+
+    producing: bool  # ServoDesk's own SYNC producer runs
+    period_us: int | None = None  # its period
+    heard: bool  # another producer's SYNC (080h) was heard on the bus in the last 2 s
+    heard_frames: int = 0  # SYNC frames from other producers since ServoDesk started
+    heard_period_us: int | None = None  # between the last two heard, while heard
+    source: Literal["external"] | None = None  # what the request said
+
+
 class PdoValidation(BaseModel):
+    # an apply of the same body would be accepted: no problems, and the warnings acknowledged
     ok: bool
-    problems: list[PdoProblem]
+    problems: list[PdoProblem]  # the mapping is wrong for this node: an apply refuses it
     bus_load: BusLoadResult  # the bus with this node's PDOs replaced by the given ones
+    # synchronous PDOs while no SYNC is produced or heard; written once the request says
+    # sync_source "external" (or SYNC runs)
+    warnings: list[PdoProblem] = Field(default_factory=list)
+    sync: PdoSync | None = None
 
 
 class LiveValue(BaseModel):

@@ -129,6 +129,7 @@ def build_services(
     registry.add_od_listener(pdos.forget)
     registry.add_event_listener(pdos.on_event)
     bus.add_listener(pdos.on_bus)
+    bus.add_frame_listener(pdos.sync_heard)  # SYNC from another producer counts as SYNC
     motion = MotionService(
         registry, settings, pdos, sync=sync, on_statusword=faults.observe_statusword
     )

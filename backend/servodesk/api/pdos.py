@@ -76,7 +76,8 @@ async def read_pdos(node: NodeId, services: ServicesDep) -> list[Pdo]:
 @router.put("", responses=PDO_APPLY_ERRORS)
 async def apply_pdos(node: NodeId, body: PdoWriteRequest, services: ServicesDep) -> list[Pdo]:
     pdos = [from_api(pdo) for pdo in body.pdos]
-    return [to_api(pdo) for pdo in await services.pdos.apply(node, pdos)]
+    applied = await services.pdos.apply(node, pdos, sync_source=body.sync_source)
+    return [to_api(pdo) for pdo in applied]
 
 
 @router.get("/rules")
@@ -94,7 +95,11 @@ async def validate_pdos(
 ) -> PdoValidation:
     pdos = [from_api(pdo) for pdo in body.pdos]
     return await services.pdos.validate(
-        node, pdos, threshold=threshold, master_period_ms=master_period_ms
+        node,
+        pdos,
+        threshold=threshold,
+        master_period_ms=master_period_ms,
+        sync_source=body.sync_source,
     )
 
 

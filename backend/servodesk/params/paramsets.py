@@ -192,6 +192,7 @@ class ParamSetService:
                 continue
             values[key] = value
         failed: dict[Key, DcfFailure] = {}
+        warnings: list[str] = []
         # the whole set is one transaction on the node: nothing else slips in between
         async with session.exclusive():
             pdo_values: dict[Key, Value] = {}
@@ -202,6 +203,7 @@ class ParamSetService:
             if pdo_values and self._pdos is not None and not stalled:
                 self._pdos.forget(node)  # whatever happens next, the cached PDOs may be stale
                 outcome = await apply_file_values(self._pdos, node, pdo_values)
+                warnings += outcome.warnings
                 written |= outcome.written
                 skipped += len(outcome.skipped)
                 for key, (code, message) in outcome.failed.items():
@@ -221,6 +223,7 @@ class ParamSetService:
             skipped=skipped,
             failed=sorted(failed.values(), key=lambda f: (f.index, f.subindex)),
             differences=differences,
+            warnings=warnings,
         )
 
     async def compare(self, node: int, data: bytes | None, filename: str) -> CompareResult:

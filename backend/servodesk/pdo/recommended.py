@@ -9,7 +9,7 @@ it into as few PDOs as fit, so that applying the result leaves every PDO of the 
 from __future__ import annotations
 
 import tomllib
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -85,10 +85,13 @@ def recommended(
     rpdo_count: int,
     tpdo_count: int,
     optional: bool = True,
+    current: Sequence[PdoConfig] = (),
 ) -> list[PdoConfig]:
     """Every RPDO and TPDO of the device: the recommendation for `modes` packed into the first
-    ones, the rest invalid with an empty mapping. `optional=False` leaves out the manual's
-    optional objects. ValueError for an unknown profile or mode, or when the objects do not fit.
+    ones, the rest invalid with an empty mapping and, where `current` (the device's PDOs now)
+    has them, their communication parameters as they are. `optional=False` leaves out the
+    manual's optional objects. ValueError for an unknown profile or mode, or when the objects
+    do not fit.
     """
     unknown = [m for m in modes if m not in MODES]
     if unknown:
@@ -100,6 +103,7 @@ def recommended(
     timing = data.synchronous if "ip" in chosen else data.event
     out: list[PdoConfig] = []
     counts: dict[PdoKind, int] = {"rpdo": rpdo_count, "tpdo": tpdo_count}
+    now = {(pdo.kind, pdo.number): pdo for pdo in current}
     for kind, count in counts.items():
         required = _objects(data, chosen, kind, od, byte_granular, required=True)
         extra = _objects(data, chosen, kind, od, byte_granular, required=False) if optional else []
@@ -120,7 +124,7 @@ def recommended(
                 f" {kind.upper()}s ({bits} bits) but this drive has {usable} usable"
             )
         _add_optional(frames, extra, usable)
-        out += _configs(kind, count, ids, frames, timing, od)
+        out += _configs(kind, count, ids, frames, timing, od, now)
     return out
 
 
@@ -287,14 +291,14 @@ def _configs(
     frames: Sequence[Sequence[MappedObject]],
     timing: Transmission,
     od: ObjectDictionaryModel,
+    current: Mapping[tuple[PdoKind, int], PdoConfig],
 ) -> list[PdoConfig]:
     """The PDOs; a TPDO gets the event timer only where the drive has its sub 5."""
     out: list[PdoConfig] = []
     for number in range(1, count + 1):
         can_id = ids[number - 1] if number <= len(ids) else 0
         if number > len(frames):
-            # unused: invalid and empty, so the applied state does not depend on what was there
-            out.append(PdoConfig(kind, number, can_id, False, timing.of(kind)))
+            out.append(_unused(kind, number, can_id, timing, current.get((kind, number))))
             continue
         tpdo = kind == "tpdo"
         timer = od.get(comm_index(DIRECTION[kind], number), SUB_EVENT_TIMER) is not None
@@ -311,3 +315,23 @@ def _configs(
             )
         )
     return out
+
+
+def _unused(
+    kind: PdoKind, number: int, can_id: int, timing: Transmission, now: PdoConfig | None
+) -> PdoConfig:
+    """A PDO the recommendation does not use: invalid and empty, so the applied mapping does
+    not depend on what was there; its communication parameters stay as the device has them
+    (nothing to change in what is not used), else the recommendation's."""
+    if now is None:
+        return PdoConfig(kind, number, can_id, False, timing.of(kind))
+    return PdoConfig(
+        kind,
+        number,
+        now.cob_id,
+        False,
+        now.transmission_type,
+        now.inhibit_time_100us,
+        now.event_timer_ms,
+        now.sync_start,
+    )

@@ -28,8 +28,17 @@ from servodesk.pdo.model import PdoConfig, Problem
 from servodesk.pdo.procedure import Procedure
 from servodesk.pdo.read import Runner, read_raw, to_config, with_names
 from servodesk.pdo.recommended import recommended
+from servodesk.pdo.sync_heard import SyncHeard
+from servodesk.pdo.sync_rule import SyncCheck, SyncPresence, SyncSource, sync_warnings
 from servodesk.pdo.validate import used_ids, validate
-from servodesk.pdo_models import BusLoadResult, LiveCheck, PdoProblem, PdoRules, PdoValidation
+from servodesk.pdo_models import (
+    BusLoadResult,
+    LiveCheck,
+    PdoProblem,
+    PdoRules,
+    PdoSync,
+    PdoValidation,
+)
 from servodesk_protocol.pdo import MAP_OFFSET, RPDO_COMM, TPDO_MAP
 
 PDO_AREA = range(RPDO_COMM, TPDO_MAP + MAP_OFFSET)  # 1400h–1BFFh: communication and mapping
@@ -59,6 +68,8 @@ class PdoService:
         self._sync = sync
         self._cache: dict[int, list[PdoConfig]] = {}
         self._live = LiveChecks()
+        # SYNC from another producer (the machine's controller): the app feeds it every frame
+        self.sync_heard = SyncHeard()
 
     # ------------------------------------------------------------------ reading
 
@@ -100,15 +111,22 @@ class PdoService:
         *,
         threshold: float = DEFAULT_THRESHOLD,
         master_period_ms: int = DEFAULT_MASTER_PERIOD_MS,
+        sync_source: SyncSource | None = None,
     ) -> PdoValidation:
+        """`ok`: an apply of the same PDOs and `sync_source` would be accepted."""
         facts = self.facts(node)
-        problems = await self.problems(facts, pdos)
+        check = await self.check(facts, pdos, sync_source=sync_source)
         current = await self.cached(node)
         load = await self.bus_load(
             threshold, master_period_ms=master_period_ms, replace={node: _merged(current, pdos)}
         )
-        rows = [PdoProblem.model_validate(p, from_attributes=True) for p in problems]
-        return PdoValidation(ok=not problems, problems=rows, bus_load=load)
+        return PdoValidation(
+            ok=not check.blocking,
+            problems=_rows(check.problems),
+            warnings=_rows(check.warnings),
+            sync=self.sync_state(sync_source),
+            bus_load=load,
+        )
 
     async def apply(
         self,
@@ -116,16 +134,16 @@ class PdoService:
         pdos: Sequence[PdoConfig],
         *,
         actor: str | None = None,
-        assume_sync: bool = False,
+        sync_source: SyncSource | None = None,
     ) -> list[PdoConfig]:
         """Validate, then change the device's PDOs in its own procedure as one transaction;
         returns every PDO read back. PdoInvalidError (nothing written) or PdoApplyError
-        (the device left as it was). `assume_sync`: another master produces SYNC (a
-        parameter set from a working machine), so synchronous PDOs are no problem."""
+        (the device left as it was). A synchronous PDO while nothing produces SYNC is written
+        only when `sync_source` says where SYNC comes from (sync_rule.py)."""
         facts = self.facts(node)
-        problems = await self.problems(facts, pdos, assume_sync=assume_sync)
-        if problems:
-            raise PdoInvalidError(node, problems)
+        blocking = (await self.check(facts, pdos, sync_source=sync_source)).blocking
+        if blocking:
+            raise PdoInvalidError(node, blocking)
         access = self.access
         before = self._cache.get(node)
         async with access.session(node).exclusive(actor) as tx:
@@ -148,12 +166,32 @@ class PdoService:
             self._live.start(node, self._network(), result, facts.od)
         return result
 
-    async def problems(
-        self, facts: NodePdoFacts, pdos: Sequence[PdoConfig], *, assume_sync: bool = False
-    ) -> list[Problem]:
+    async def check(
+        self, facts: NodePdoFacts, pdos: Sequence[PdoConfig], *, sync_source: SyncSource | None
+    ) -> SyncCheck:
+        """The problems of `pdos` on this node, and the SYNC rule's warnings apart."""
         others = await self._other_ids(facts.node)
-        producing = assume_sync or self._sync().producing
-        return validate(pdos, facts.context(sync_producing=producing, other_ids=others))
+        sync = self.sync_presence(sync_source)
+        # SYNC known to be on the bus (or coming) takes 080h from the PDOs
+        on_bus = sync.present or sync.acknowledged
+        problems = validate(pdos, facts.context(sync_producing=on_bus, other_ids=others))
+        return SyncCheck(problems, sync_warnings(pdos, sync), sync)
+
+    def sync_presence(self, source: SyncSource | None = None) -> SyncPresence:
+        return SyncPresence(self._sync().producing, self.sync_heard.seen().recent, source)
+
+    def sync_state(self, source: SyncSource | None = None) -> PdoSync:
+        """Where SYNC comes from now, as the API shows it."""
+        heard = self.sync_heard.seen()
+        own = self._sync()
+        return PdoSync(
+            producing=own.producing,
+            period_us=own.period_us if own.producing else None,
+            heard=heard.recent,
+            heard_frames=heard.frames,
+            heard_period_us=heard.period_us if heard.recent else None,
+            source=source,
+        )
 
     async def taken_ids(self, node: int) -> dict[int, str]:
         """The CAN ids the other known nodes use (services and valid PDOs): what a new PDO of
@@ -177,6 +215,7 @@ class PdoService:
                 byte_granular=facts.byte_granular,
                 rpdo_count=facts.rpdo_count,
                 tpdo_count=facts.tpdo_count,
+                current=await self.cached(node),
             )
         except ValueError as error:
             raise InvalidValueError(str(error)) from error
@@ -306,6 +345,10 @@ def rules_of(facts: NodePdoFacts) -> PdoRules:
 
 async def _read_all(runner: Runner, facts: NodePdoFacts) -> list[PdoConfig]:
     return [to_config(await read_raw(runner, facts.od, slot), facts.od) for slot in facts.slots]
+
+
+def _rows(problems: Sequence[Problem]) -> list[PdoProblem]:
+    return [PdoProblem.model_validate(p, from_attributes=True) for p in problems]
 
 
 def _merged(current: Sequence[PdoConfig], given: Sequence[PdoConfig]) -> list[PdoConfig]:

@@ -31,10 +31,8 @@ from servodesk_protocol.pdo import (
     SYNC_RTR,
     comm_index,
     default_can_id,
-    is_synchronous,
     map_index,
     restricted_can_id,
-    transmission_words,
 )
 
 WRITABLE = frozenset({"rw", "wo", "rww", "rwr"})  # an RPDO writes into the object
@@ -51,7 +49,7 @@ class PdoContext:
     byte_granular: bool  # MDi/Kinco: whole bytes only
     rpdo_count: int  # PDOs the device has
     tpdo_count: int
-    sync_producing: bool  # is a SYNC producer running on the bus
+    sync_producing: bool  # SYNC is on the bus (produced, heard or named): 080h is taken
     other_ids: Mapping[int, str]  # CAN id -> who uses it, for every other user of the bus
     # TPDO types 252/253 (Nanotec article; the MDi-S1-C manual §5.2 has no RTR-triggered PDOs)
     rtr_supported: bool = True
@@ -201,13 +199,7 @@ def _check_transmission(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
         if not ctx.rtr_supported:
             text = f"transmission type {t} (remote request): this drive has no RTR-triggered PDOs"
             return [_problem(pdo, text, *sub)]
-    if pdo.valid and is_synchronous(t) and not ctx.sync_producing:
-        words = transmission_words(t, pdo.direction)
-        text = (
-            f"is synchronous ({words}) but nothing produces SYNC: start the SYNC producer on the"
-            " Network page or use 254/255"
-        )
-        return [_problem(pdo, text, *sub)]
+    # a synchronous PDO without SYNC is a warning, not a problem of the mapping (sync_rule.py)
     return []
 
 

@@ -1492,6 +1492,11 @@ export interface components {
              * @description the file (a file part or a form field)
              */
             file?: string | null;
+            /**
+             * Profiles
+             * @description which drive a node is, for nodes whose identity the log does not show: "1=mdi-s1c, 2=kinco" (profiles mdi-s1c, kinco, cia402)
+             */
+            profiles?: string | null;
         };
         /** Body_load_dcf_api_nodes__node__dcf_post */
         Body_load_dcf_api_nodes__node__dcf_post: {
@@ -1880,6 +1885,11 @@ export interface components {
             identity?: components["schemas"]["IdentityCheck"] | null;
             /** Skipped */
             skipped: number;
+            /**
+             * Warnings
+             * @default []
+             */
+            warnings: string[];
             /** Written */
             written: number;
         };
@@ -3268,6 +3278,27 @@ export interface components {
             /** Tpdo Count */
             tpdo_count: number;
         };
+        /**
+         * PdoSync
+         * @description Where SYNC comes from when a mapping is checked.
+         */
+        PdoSync: {
+            /** Heard */
+            heard: boolean;
+            /**
+             * Heard Frames
+             * @default 0
+             */
+            heard_frames: number;
+            /** Heard Period Us */
+            heard_period_us?: number | null;
+            /** Period Us */
+            period_us?: number | null;
+            /** Producing */
+            producing: boolean;
+            /** Source */
+            source?: "external" | null;
+        };
         /** PdoValidation */
         PdoValidation: {
             bus_load: components["schemas"]["BusLoadResult"];
@@ -3275,11 +3306,16 @@ export interface components {
             ok: boolean;
             /** Problems */
             problems: components["schemas"]["PdoProblem"][];
+            sync?: components["schemas"]["PdoSync"] | null;
+            /** Warnings */
+            warnings?: components["schemas"]["PdoProblem"][];
         };
         /** PdoWriteRequest */
         PdoWriteRequest: {
             /** Pdos */
             pdos: components["schemas"]["PdoIn"][];
+            /** Sync Source */
+            sync_source?: "external" | null;
         };
         /** Permissions */
         Permissions: {
