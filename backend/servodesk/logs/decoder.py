@@ -15,6 +15,7 @@ from typing import Any
 from servodesk.faults.decode import decode_emcy, fault_words
 from servodesk.logs.context import DecodeContext
 from servodesk.logs.events import Event, EventKind, clock
+from servodesk.logs.lss_time import lss_text, time_of_day
 from servodesk.logs.sdo import SdoChannel, SdoTransfer
 from servodesk.logs.sdo_text import cia402_state_of, transfer_text
 from servodesk.logs.summary import SummaryBuilder
@@ -40,6 +41,7 @@ _COMMAND_WORDS = {
     nmt.NmtCommand.RESET_NODE: "Reset node",
     nmt.NmtCommand.RESET_COMMUNICATION: "Reset communication",
 }
+_LSS_SAID = {0x04, 0x11, 0x13, 0x15, 0x17}  # LSS commands that change a node's set-up
 ALARM_EMCY_LENGTH = 2  # the MDi-S1-C's EMCY: its alarm number only (manual §2.7)
 Handler = Callable[[float, int, bytes], None]
 
@@ -149,7 +151,7 @@ class LogDecoder:
         table = self._table
         table[cob_id.NMT] = self._nmt
         table[cob_id.SYNC] = self._counter("sync")
-        table[cob_id.TIME] = self._counter("time")
+        table[cob_id.TIME] = self._time
         for node in range(1, 128):
             table[cob_id.EMCY + node] = self._emcy
             table[cob_id.SDO_TX + node] = self._sdo_response
@@ -157,6 +159,8 @@ class LogDecoder:
             table[cob_id.HEARTBEAT + node] = self._heartbeat
             for base in (*cob_id.TPDOS, *cob_id.RPDOS):
                 table[base + node] = self._counter("pdo")
+        # CiA 305 takes these two from the heartbeats of nodes 100 and 101
+        table[cob_id.LSS_MASTER] = table[cob_id.LSS_SLAVE] = self._lss
         for cob in self.context.pdos:
             table[cob] = self._pdo
 
@@ -271,6 +275,30 @@ class LogDecoder:
             else:
                 deadline = min(deadline, due)
         self._hb_deadline = deadline
+
+    # ------------------------------------------------------------------ LSS and TIME
+
+    def _lss(self, time: float, can_id: int, data: bytes) -> None:
+        self._count("lss")
+        cs, text = lss_text(can_id, bytes(data))
+        if self.frames_mode:
+            self.emit(time, EventKind.FRAME, None, "LSS", code=cs)
+        self.emit(time, EventKind.LSS, None, text, code=cs, data=data.hex(" ").upper() or None)
+        if cs is not None and cs in _LSS_SAID:  # what changes a node: said in the summary
+            self._say(EventKind.LSS, f"{clock(time)} {text}")
+
+    def _time(self, time: float, _id: int, data: bytes) -> None:
+        self._count("time")
+        stamp = time_of_day(bytes(data))
+        if stamp is None:
+            text = f"TIME frame of {len(data)} bytes (TIME_OF_DAY has 6)"
+            self.emit(time, EventKind.TIME, None, text, data=data.hex(" ").upper() or None)
+            return
+        if self.frames_mode:
+            detail = json.dumps({"days": stamp.days, "ms": stamp.ms})
+            self.emit(time, EventKind.FRAME, None, "TIME", data=detail)
+        self.emit(time, EventKind.TIME, None, stamp.text(), code=stamp.days,
+                  data=json.dumps({"days": stamp.days, "ms": stamp.ms}))  # fmt: skip
 
     # ------------------------------------------------------------------ EMCY
 

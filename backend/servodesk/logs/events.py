@@ -21,6 +21,8 @@ class EventKind(StrEnum):
     EMCY = "emcy"
     PDO = "pdo"  # a PDO decoded with its mapping
     CIA402_STATE = "cia402-state"  # the statusword shows another CiA 402 state
+    LSS = "lss"  # a layer setting services frame (CiA 305)
+    TIME = "time"  # a TIME stamp (TIME_OF_DAY)
     BUS_LOAD = "bus-load"  # one per second of log
     FRAME = "frame"  # per-frame detail (only when asked for)
 
@@ -38,7 +40,7 @@ class Event:
     text: str  # in words, for the timeline
     index: int | None = None  # object index (SDO, PDO object)
     subindex: int | None = None
-    code: int | None = None  # NMT command / NMT state / SDO abort / EMCY code / load in ‰
+    code: int | None = None  # NMT command or state / SDO abort / EMCY code / LSS cs / load ‰
     data: str | None = None  # JSON detail (fault record, PDO values) or hex data
 
     def as_dict(self) -> dict[str, Any]:

@@ -17,6 +17,7 @@ _PLURALS = {
     "emcy": "EMCYs",
     "cia402-state": "CiA 402 state changes",
     "identity": "identities",
+    "lss": "LSS commands",
 }
 
 
