@@ -74,6 +74,7 @@ test: lint typecheck api-check frontend-check pytest
 
 bench: install
 	$(BIN)/python bench/sim_realtime.py
+	$(BIN)/python bench/cli_startup.py
 	$(BIN)/python bench/sdo_overhead.py
 	$(BIN)/python bench/od_upload.py
 	$(BIN)/python bench/log_decode.py

@@ -19,7 +19,8 @@ import servodesk_data
 from servodesk.errors import NodeNotFoundError
 from servodesk.models import NmtCommandName, NmtStateName, NodeInfo
 from servodesk.nodes.session import NodeSession
-from servodesk.od import ObjectDictionaryModel, load_od, to_canopen
+from servodesk.od import ObjectDictionaryModel, load_od
+from servodesk.od.to_canopen import to_canopen
 from servodesk_data import DriveData
 from servodesk_sim.frames import Frame
 from servodesk_sim.runner import SimBus, run_drives

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 from pydantic import SecretStr
 
-from servodesk.cli import build_parser, main, serve_refusal
+from servodesk.cli import build_parser, main
+from servodesk.cli_serve import serve_refusal
 from servodesk.settings import Settings
 
 SHARED_EDS = Path(__file__).resolve().parents[2] / ".." / "shared" / "eds"
@@ -162,3 +165,37 @@ def test_serving_beyond_loopback_with_tokens_is_allowed() -> None:
     refused = serve_refusal(Settings(bind="10.1.2.3"))
     assert refused is not None
     assert "SERVODESK_TOKENS" in refused
+
+
+HEAVY = ("can", "canopen", "asammdf", "pandas", "uvicorn", "fastapi")
+PROBE = """
+import contextlib, io, sys
+from servodesk.cli import main
+with contextlib.suppress(SystemExit), contextlib.redirect_stdout(io.StringIO()):
+    main(sys.argv[1:])
+print(",".join(m for m in {heavy!r} if m in sys.modules))
+"""
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [["--help"], ["eds-check", str(SHARED_EDS / "Sevcon_sevcon_gen4_simstub.eds")]],
+)
+def test_a_command_imports_what_it_uses(argv: list[str]) -> None:
+    """`--help` and `eds-check` never load python-can (with asammdf and pandas: a second) or
+    the web server: bench/cli_startup.py times them."""
+    probe = subprocess.run(
+        [sys.executable, "-c", PROBE.format(heavy=HEAVY), *argv],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert probe.stdout.strip() == ""
+
+
+def test_serve_help_still_lists_python_cans_bus_flags(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        main(["serve", "--help"])
+    out = capsys.readouterr().out
+    assert "--interface" in out
+    assert "--bus-kwargs" in out

@@ -13,7 +13,7 @@ import pytest
 from fastapi.testclient import TestClient
 
 from servodesk.app import create_app
-from servodesk.bus import default_bus_factory
+from servodesk.bus.connection import default_bus_factory
 from servodesk.models import BusConfig
 from servodesk.settings import Settings
 from servodesk_sim.runner import run_drives

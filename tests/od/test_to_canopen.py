@@ -10,7 +10,8 @@ import pytest
 from canopen.objectdictionary import ODArray, ODRecord, ODVariable
 
 from servodesk.od import datatypes as dt
-from servodesk.od import load_od, to_canopen
+from servodesk.od import load_od
+from servodesk.od.to_canopen import to_canopen
 from tests.od.corpus import corpus, corpus_files, profile_eds_files
 
 NODE = 3

@@ -1,19 +1,3 @@
-"""The CAN bus connection: python-can bus + canopen.Network lifecycle, reconnect, statistics."""
-
-from __future__ import annotations
-
-from servodesk.bus.connection import (
-    BusFactory,
-    BusManager,
-    config_from_settings,
-    default_bus_factory,
-)
-from servodesk.bus.interfaces import INTERFACES
-
-__all__ = [
-    "INTERFACES",
-    "BusFactory",
-    "BusManager",
-    "config_from_settings",
-    "default_bus_factory",
-]
+"""The CAN bus connection: python-can bus + canopen.Network lifecycle, reconnect, statistics
+(`servodesk.bus.connection`). Nothing is imported here: python-can brings asammdf and pandas (a
+second of start-up), which the command line's checks and help never need."""

@@ -16,7 +16,8 @@ from pathlib import Path
 
 from canopen.objectdictionary import ObjectDictionary
 
-from servodesk.od import DeviceInfo, ObjectDictionaryModel, to_canopen
+from servodesk.od import DeviceInfo, ObjectDictionaryModel
+from servodesk.od.to_canopen import to_canopen
 from servodesk.od.parser import OdParser
 from servodesk.od.relocate import for_node
 from servodesk.profiles import ProfileMatch

@@ -49,7 +49,8 @@ from servodesk.nodes.profile_models import ProfileModels
 from servodesk.nodes.rediscovery import Rediscovery
 from servodesk.nodes.session import NodeSession
 from servodesk.nodes.tracked import TrackedSession
-from servodesk.od import ObjectDictionaryModel, to_canopen
+from servodesk.od import ObjectDictionaryModel
+from servodesk.od.to_canopen import to_canopen
 from servodesk.od.parser import OdParser, release_memory
 from servodesk.od.to_canopen import dispose
 from servodesk.profiles import ProfileMatch, load_known, match

@@ -2,6 +2,9 @@
 
 Every file a vendor ships should load: problems become `LintWarning`s that name the file, line,
 section and key, instead of a refusal or a silently dropped value.
+
+`to_canopen` is imported from `servodesk.od.to_canopen`: it brings canopen and python-can (with
+asammdf and pandas, a second of start-up), which reading and checking a file never needs.
 """
 
 from __future__ import annotations
@@ -17,7 +20,6 @@ from servodesk.od.model import (
     OdObject,
     OdSub,
 )
-from servodesk.od.to_canopen import to_canopen
 from servodesk.od.values import format_value, parse_value
 
 __all__ = [
@@ -36,5 +38,4 @@ __all__ = [
     "load_od",
     "load_od_bytes",
     "parse_value",
-    "to_canopen",
 ]

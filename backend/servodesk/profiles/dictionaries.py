@@ -12,7 +12,8 @@ from pathlib import Path
 
 from canopen.objectdictionary import ObjectDictionary
 
-from servodesk.od import DeviceInfo, ObjectDictionaryModel, load_od, to_canopen
+from servodesk.od import DeviceInfo, ObjectDictionaryModel, load_od
+from servodesk.od.to_canopen import to_canopen
 from servodesk.profiles.match import ProfileMatch
 
 
