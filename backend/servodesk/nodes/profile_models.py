@@ -17,9 +17,9 @@ from pathlib import Path
 from canopen.objectdictionary import ObjectDictionary
 
 from servodesk.od import DeviceInfo, ObjectDictionaryModel
-from servodesk.od.to_canopen import to_canopen
 from servodesk.od.parser import OdParser
 from servodesk.od.relocate import for_node
+from servodesk.od.to_canopen import to_canopen
 from servodesk.profiles import ProfileMatch
 
 _Key = tuple[Path, tuple[int, int] | None]
