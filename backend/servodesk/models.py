@@ -89,6 +89,9 @@ class NodeInfo(BaseModel):
     od_source: Literal["profile", "upload"] = "profile"
     od_filename: str = ""
     od_warnings: int = 0
+    # offline here, while the same device (vendor, product, serial) answers at this id: its
+    # node id was changed; this entry can be forgotten
+    moved_to: int | None = None
 
 
 class ScanRequest(RequestBody):
@@ -266,6 +269,13 @@ class NodeIdChangeResult(BaseModel):
 class BitrateChange(RequestBody):
     bitrate: JsonInt
     confirm: StrictBool = False
+
+
+class NodeIdOptions(BaseModel):
+    """Whether a node's id can be changed over CANopen (its profile knows the object)."""
+
+    settable: bool  # false: the drive's id is set with switches or its own tool
+    note: str  # one sentence: the object that sets it and its range, or why it cannot
 
 
 class BitrateOptions(BaseModel):

@@ -52,10 +52,10 @@ class SimDrive:
         self.store = ObjectStore(od, node_id, length_check=self.config.length_check)
         self._commission_node_id(node_id)
         self._node_id = node_id
-        if self.store.has(0x1018, 4):  # Identity: serial number
-            # Each simulated drive gets its own serial number, so two drives of one profile
-            # are told apart by 1018h as real ones are.
-            self.store.set(0x1018, 4, 0x53440000 + node_id)
+        # Each simulated drive gets its own serial number, so two drives of one profile are told
+        # apart by 1018h as real ones are; it is the device's, kept through resets and new ids.
+        self._serial = 0x53440000 + node_id
+        self._keep_serial()
         # The bus runs at the bitrate the drive was commissioned for unless told otherwise.
         self.bus_bitrate = bus_bitrate if bus_bitrate is not None else self._configured_bitrate()
         if bus_bitrate is not None:
@@ -307,6 +307,7 @@ class SimDrive:
             self.motion = self._new_motion()
         new_id = self._configured_node_id()
         self.store.reset_communication(new_id)
+        self._keep_serial()  # read-only, so not stored: reloading would give the EDS default
         self._node_id = new_id
         self.sdo.reset()
         self.pdo.reset()
@@ -315,6 +316,10 @@ class SimDrive:
         self.nmt = NmtSlave()
         self._out.clear()
         return self.boot(now)
+
+    def _keep_serial(self) -> None:
+        if self.store.has(0x1018, 4):  # Identity: serial number
+            self.store.set(0x1018, 4, self._serial)
 
     def poll(self, now: float) -> list[Frame]:
         """Advance timers and the axis to `now`; returns the frames due."""

@@ -61,6 +61,7 @@ V, OP, E = Role.VIEWER, Role.OPERATOR, Role.ENGINEER
         ("POST", "/api/scope/captures", OP),
         ("DELETE", "/api/scope/captures/4", OP),
         ("DELETE", "/api/logs/0123456789abcdef0123456789abcdef", OP),
+        ("DELETE", "/api/nodes/1", E),
         ("POST", "/api/recording", OP),
         # configuration: the engineer's
         ("PUT", "/api/nodes/1/sdo/6081/0", E),

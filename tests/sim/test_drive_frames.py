@@ -137,6 +137,7 @@ def test_mdi_node_address_pa105_takes_effect_after_store_and_reset() -> None:
     assert rig.send(0x601, "40 00 10 00 00 00 00 00") == []
     assert rig.read(0x1014) == 0x89  # EMCY COB-ID follows the new node id
     assert rig.read(0x1800, 1) == 0x40000189
+    assert rig.read(0x1018, 4) == 0x53440001  # the serial number is the device's: it stays
 
 
 def test_kinco_node_offset_adds_to_the_dip_switch_address() -> None:

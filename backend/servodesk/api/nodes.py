@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from fastapi import APIRouter
+from fastapi import APIRouter, Response
 from pydantic import BaseModel
 
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
-from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
+from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS, _error
 from servodesk.models import (
     HeartbeatConfig,
     HeartbeatWrite,
@@ -33,6 +33,21 @@ async def list_nodes(services: ServicesDep) -> list[NodeInfo]:
 @router.get("/nodes/{node}")
 async def get_node(node: NodeId, services: ServicesDep) -> NodeInfo:
     return services.registry.info(node)
+
+
+@router.delete(
+    "/nodes/{node}",
+    status_code=204,
+    response_class=Response,
+    responses={
+        204: {"description": "the node is no longer listed (a scan or its boot-up adds it again)"},
+        409: _error("node_online: the node answers on the bus; only a gone node is forgotten"),
+    },
+)
+async def forget_node(node: NodeId, services: ServicesDep) -> Response:
+    """Forget a node that is gone: silent, or answering at another id now (`moved_to`)."""
+    await services.registry.forget(node)
+    return Response(status_code=204)
 
 
 @router.post("/scan")

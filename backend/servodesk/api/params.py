@@ -15,6 +15,7 @@ from servodesk.models import (
     MessageResult,
     NodeIdChange,
     NodeIdChangeResult,
+    NodeIdOptions,
     Param,
     ParamWriteRequest,
     ParamWriteResult,
@@ -57,6 +58,12 @@ async def change_node_id(
     node: NodeId, body: NodeIdChange, services: ServicesDep
 ) -> NodeIdChangeResult:
     return await services.node_ids.change_node_id(node, body.new_node, confirm=body.confirm)
+
+
+@router.get("/node-id-options")
+async def node_id_options(node: NodeId, services: ServicesDep) -> NodeIdOptions:
+    """Whether the node-id wizard can change this node's id, before its first step."""
+    return services.node_ids.node_id_options(node)
 
 
 @router.get("/bitrates")

@@ -46,6 +46,11 @@ class NodeAccess(Protocol):
         """
         ...
 
+    async def answers(self, node: int) -> bool:
+        """Whether a device answers at `node` on the bus now (asked on the bus: a node the
+        tool remembers may be gone, one it never listed may be there)."""
+        ...
+
     async def move(self, old: int, new: int) -> NodeInfo:
         """The node formerly at `old` now answers at `new`: re-key it (session, dictionary)."""
         ...

@@ -28,6 +28,8 @@ from servodesk.errors import (
     InvalidValueError,
     NodeNotFoundError,
     NodeStoppedError,
+    SdoAbortError,
+    StateConflictError,
 )
 from servodesk.heap import keep_long_lived
 from servodesk.models import (
@@ -45,14 +47,14 @@ from servodesk.nodes.entry import NodeEntry, OdSource, live_row
 from servodesk.nodes.heartbeat_floor import HEARTBEAT_FLOOR_MS as HEARTBEAT_FLOOR_MS
 from servodesk.nodes.heartbeat_floor import check_heartbeat_time
 from servodesk.nodes.identity import DEVICE_TYPE, PRODUCER_HEARTBEAT, Identity, read_identity
+from servodesk.nodes.moved import moved
 from servodesk.nodes.profile_models import ProfileModels
 from servodesk.nodes.rediscovery import Rediscovery
 from servodesk.nodes.session import NodeSession
 from servodesk.nodes.tracked import TrackedSession
 from servodesk.od import ObjectDictionaryModel
-from servodesk.od.to_canopen import to_canopen
 from servodesk.od.parser import OdParser, release_memory
-from servodesk.od.to_canopen import dispose
+from servodesk.od.to_canopen import dispose, to_canopen
 from servodesk.profiles import ProfileMatch, load_known, match
 from servodesk.settings import Settings
 from servodesk_data import DriveData
@@ -117,11 +119,48 @@ class NodeRegistry:
         return self._entry(node).profile.data
 
     def info(self, node: int) -> NodeInfo:
+        found = self._info(node)
+        if found.online or not found.serial:
+            return found
+        return next((n for n in self.all() if n.node == node), found)
+
+    def _info(self, node: int) -> NodeInfo:
         health = self._monitor.health(node)
         return self._entry(node).info(health, self._monitor.wall_time(health.last_seen))
 
     def all(self) -> list[NodeInfo]:
-        return [self.info(node) for node in sorted(self._nodes)]
+        nodes = [self._info(node) for node in sorted(self._nodes)]
+        to = moved(nodes)
+        return [n.model_copy(update={"moved_to": to[n.node]}) if n.node in to else n for n in nodes]
+
+    async def answers(self, node: int) -> bool:
+        # asked on the bus every time: the list's "online" may be the drive's last answer
+        # before it went to another id
+        try:
+            await self._identify(node)  # an SDO read of 1000h (a throw-away session if unknown)
+        except NodeStoppedError:
+            return True  # its heartbeat says Stopped: there, without SDO
+        except CommTimeoutError:
+            return False
+        except SdoAbortError:
+            return True  # an abort is an answer
+        return True
+
+    async def forget(self, node: int) -> None:
+        """Drop a node that is gone (silent, or answering at another id now): a scan or its
+        boot-up adds it again. One that answers is refused: it would be found at once."""
+        info = self.info(node)
+        if info.online:
+            raise StateConflictError(
+                "node_online",
+                f"node {node} answers on the bus: only a node that is gone can be forgotten "
+                "(disconnect it or change its id first)",
+            )
+        entry = self._nodes.pop(node)
+        entry.unbind()
+        self._monitor.untrack(node)
+        moved_note = f" (it answers as node {info.moved_to} now)" if info.moved_to else ""
+        self._event("node-lost", node, f"node {node} forgotten{moved_note}")
 
     def live(self) -> list[dict[str, Any]]:
         """Node states for the WebSocket's 5 Hz "nodes" message."""

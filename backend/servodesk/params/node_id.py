@@ -13,13 +13,13 @@ from servodesk.errors import (
     CommTimeoutError,
     ConfirmationRequiredError,
     InvalidValueError,
-    NodeNotFoundError,
 )
 from servodesk.models import (
     BitrateChangeResult,
     BitrateOptions,
     NmtCommandName,
     NodeIdChangeResult,
+    NodeIdOptions,
 )
 from servodesk.nodes.access import NodeAccess
 from servodesk.params.service import SAVE_ALL, SAVE_SIGNATURE, STORE_PARAMETERS
@@ -55,7 +55,7 @@ class NodeIdService:
         """Give the drive at `node` the id `new`: write, store, reset, wait for its boot-up at
         `new`, then move it there in the registry."""
         data, ref = self._node_id_object(node)
-        self._check_target(node, new)
+        await self._check_target(node, new)
         value, how = await self._node_id_value(node, new, data, ref)
         if not confirm:
             raise ConfirmationRequiredError(
@@ -165,18 +165,31 @@ class NodeIdService:
             )
         return data, ref
 
-    def _check_target(self, node: int, new: int) -> None:
+    async def _check_target(self, node: int, new: int) -> None:
         if not MIN_NODE_ID <= new <= MAX_NODE_ID:
             raise InvalidValueError(f"node id {new} is outside {MIN_NODE_ID}..{MAX_NODE_ID}")
         if new == node:
             raise InvalidValueError(f"the drive already is node {node}")
+        # the bus decides, not the list: a listed node may be gone (its id was changed), an
+        # unlisted one may be there
+        if await self._access.answers(new):
+            raise InvalidValueError(
+                f"node {new} is already in use on the bus: two nodes with one id break both"
+            )
+
+    def node_id_options(self, node: int) -> NodeIdOptions:
+        """Whether the wizard can change `node`'s id over CANopen, said before its first step."""
         try:
-            self._access.info(new)
-        except NodeNotFoundError:
-            return
-        raise InvalidValueError(
-            f"node {new} is already in use on the bus: two nodes with one id break both"
-        )
+            data, ref = self._node_id_object(node)
+        except InvalidValueError as refusal:
+            return NodeIdOptions(settable=False, note=f"{refusal}.")
+        label = object_label(data, ref)
+        if data.quirks.node_id_source is NodeIdSource.DIP_PLUS_OFFSET:
+            note = f"Set with {label}, added to the drive's DIP switch setting."
+        else:
+            low, high = self._limits(node, data, ref)
+            note = f"Set with {label}; node ids {low}..{high}."
+        return NodeIdOptions(settable=True, note=note)
 
     async def _node_id_value(
         self, node: int, new: int, data: DriveData, ref: ObjectRef

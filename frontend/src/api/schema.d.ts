@@ -459,7 +459,11 @@ export interface paths {
         get: operations["get_node_api_nodes__node__get"];
         put?: never;
         post?: never;
-        delete?: never;
+        /**
+         * Forget Node
+         * @description Forget a node that is gone: silent, or answering at another id now (`moved_to`).
+         */
+        delete: operations["forget_node_api_nodes__node__delete"];
         options?: never;
         head?: never;
         patch?: never;
@@ -920,6 +924,26 @@ export interface paths {
         put?: never;
         /** Nmt */
         post: operations["nmt_api_nodes__node__nmt_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/node-id-options": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Node Id Options
+         * @description Whether the node-id wizard can change this node's id, before its first step.
+         */
+        get: operations["node_id_options_api_nodes__node__node_id_options_get"];
+        put?: never;
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -2893,6 +2917,16 @@ export interface components {
             /** Steps */
             steps: string[];
         };
+        /**
+         * NodeIdOptions
+         * @description Whether a node's id can be changed over CANopen (its profile knows the object).
+         */
+        NodeIdOptions: {
+            /** Note */
+            note: string;
+            /** Settable */
+            settable: boolean;
+        };
         /** NodeInfo */
         NodeInfo: {
             /** Device Type */
@@ -2901,6 +2935,8 @@ export interface components {
             heartbeat_age_ms?: number | null;
             /** Last Seen */
             last_seen?: number | null;
+            /** Moved To */
+            moved_to?: number | null;
             /** Name */
             name?: string | null;
             /** @default unknown */
@@ -5383,6 +5419,108 @@ export interface operations {
             };
             /** @description Node did not answer */
             504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    forget_node_api_nodes__node__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the node is no longer listed (a scan or its boot-up adds it again) */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description node_online: the node answers on the bus; only a gone node is forgotten */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -8636,6 +8774,92 @@ export interface operations {
             };
             /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
             507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    node_id_options_api_nodes__node__node_id_options_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeIdOptions"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
                 headers: {
                     [name: string]: unknown;
                 };
