@@ -18,6 +18,7 @@ from typing import Any, BinaryIO, cast
 
 import can
 
+from servodesk.logs import csv_layouts
 from servodesk.logs.blf import BoundedBlfReader, LogBoundsError
 
 EXTENDED = 0x20000000  # added to a 29-bit id (the COB-ID "frame" bit, CiA 301)
@@ -26,6 +27,15 @@ PROGRESS_EVERY = 4096  # frames between progress reports
 SUFFIXES = (".log", ".asc", ".blf", ".trc", ".csv", ".mf4")
 Frame = tuple[float, int, bytes]
 _HEX_ID = re.compile(rb"[0-9A-Fa-f]{1,8}")
+CANDUMP_LAYOUT = "candump -l: '(1700000000.000000) can0 181#0102'"
+# the layout python-can's reader for a suffix expects, said when it cannot read a file
+EXPECTED = {
+    ".csv": csv_layouts.EXPECTED,
+    ".trc": "PEAK's TRC (PCAN-View, file versions 1.0 to 2.1)",
+    ".asc": "Vector's ASC",
+    ".blf": "Vector's BLF",
+    ".mf4": "ASAM MDF 4 with a CAN bus logging group",
+}
 
 
 class LogFormatError(ValueError):
@@ -46,6 +56,10 @@ def read_frames(
     if suffix.lower() == ".log":
         yield from _candump(path, progress, skipped)
         return
+    # csv_layouts.layout raises CsvLayoutError, a ValueError naming the layouts it reads
+    if suffix.lower().removesuffix(".gz") == ".csv" and csv_layouts.layout(path) == "savvycan":
+        yield from csv_layouts.read_savvycan(path, progress)
+        return
     try:
         reader: Any = _open_reader(path, suffix.lower())
     except LogBoundsError:
@@ -53,7 +67,9 @@ def read_frames(
     except ImportError as error:  # MF4 without asammdf (a dependency: a broken install)
         raise LogFormatError(f"{path.name}: {error}") from error
     except Exception as error:  # the reader's complaint: BLFParseError, struct.error, ...
-        raise ValueError(f"not a readable {suffix} log (its header): {error}") from error
+        raise ValueError(
+            f"not a readable {suffix} log (its header): {error}{_expected(suffix)}"
+        ) from error
     tell = _position_of(reader)
     count = 0
     try:
@@ -96,9 +112,16 @@ def _checked(reader: Any, suffix: str) -> Iterator[Any]:
         except LogBoundsError:
             raise
         except Exception as error:
-            raise ValueError(f"not a readable {suffix} log after frame {count}: {error}") from error
+            raise ValueError(
+                f"not a readable {suffix} log after frame {count}: {error}{_expected(suffix)}"
+            ) from error
         count += 1
         yield msg
+
+
+def _expected(suffix: str) -> str:
+    layout = EXPECTED.get(suffix.lower().removesuffix(".gz"))
+    return f" (expected {layout})" if layout else ""
 
 
 def _candump(
@@ -114,7 +137,10 @@ def _candump(
             parts = line[close + 1 :].split()
             if close < 0 or len(parts) < 2 or b"#" not in parts[1]:
                 if line.strip():
-                    raise ValueError(f"line {count} is not a candump frame: {line[:60]!r}")
+                    raise ValueError(
+                        f"line {count} is not a candump frame: {line[:60]!r}"
+                        f" (a .log is read as {CANDUMP_LAYOUT})"
+                    )
                 continue
             frame = parts[1]
             hash_at = frame.index(b"#")
@@ -130,7 +156,10 @@ def _candump(
             except ValueError:  # UnicodeDecodeError too
                 can_id, data, time = -1, b"", math.nan
             if can_id < 0 or len(data) > 64 or not math.isfinite(time):
-                raise ValueError(f"line {count} is not a candump frame: {line[:60]!r}")
+                raise ValueError(
+                    f"line {count} is not a candump frame: {line[:60]!r}"
+                    f" (a .log is read as {CANDUMP_LAYOUT})"
+                )
             if len(ident) > 3:  # 29-bit id, or an error frame
                 if can_id & _CAN_ERR_FLAG:
                     if skipped is not None:
