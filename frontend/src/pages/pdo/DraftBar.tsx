@@ -9,10 +9,18 @@ import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import { draftChanges, isSynchronous, pdoLabel } from "./model";
 import { applyPdos, type ApplyOutcome } from "./pdoApi";
-import { SyncControl } from "./SyncControl";
+import { SyncChoice } from "./SyncChoice";
 import type { Pdo, PdoRules, Validation } from "./types";
 
 const DEFAULT_PROCEDURE = "each changed PDO is made invalid, remapped and made valid again";
+
+/** The check's outcome in a few words: problems first, then a SYNC nobody provides. */
+function validationWords(validation: Validation): string {
+  const count = validation.problems.length;
+  if (count > 0) return `${count} problem${count === 1 ? "" : "s"}`;
+  if (!validation.ok) return "No SYNC on the bus";
+  return "Checked: no problems";
+}
 
 /** `text` ending in one full stop. */
 function sentence(text: string): string {
@@ -30,6 +38,9 @@ interface Props {
   validation: Validation | null;
   validating: boolean;
   validateError: ApiError | null;
+  /** SYNC comes from the machine's controller (sent as sync_source "external"). */
+  syncExternal: boolean;
+  onSyncExternal: (external: boolean) => void;
   onValidate: () => void;
   onOutcome: (outcome: ApplyOutcome) => void;
   onDiscard: () => void;
@@ -47,6 +58,8 @@ export function DraftBar({
   validation,
   validating,
   validateError,
+  syncExternal,
+  onSyncExternal,
   onValidate,
   onOutcome,
   onDiscard,
@@ -54,8 +67,9 @@ export function DraftBar({
   const configure = useMay("configure");
   const [confirming, setConfirming] = useState(false);
   const changes = draftChanges(device, draft);
+  const synchronous = draft.some((p) => p.valid && isSynchronous(p.transmission_type));
   const apply = useAction(async () => {
-    const outcome = await applyPdos(node, draft);
+    const outcome = await applyPdos(node, draft, syncExternal ? "external" : null);
     setConfirming(false);
     onOutcome(outcome);
   });
@@ -72,9 +86,7 @@ export function DraftBar({
         </span>
         {validation && (
           <span className={`badge ${validation.ok ? "pdo-valid" : "pdo-bad"}`} role="status">
-            {validation.ok
-              ? "Checked: no problems"
-              : `${validation.problems.length} problem${validation.problems.length === 1 ? "" : "s"}`}
+            {validationWords(validation)}
           </span>
         )}
         <span className="spacer" />
@@ -97,7 +109,12 @@ export function DraftBar({
         </button>
         {validating && <Spinner label="Validating" />}
       </header>
-      {draft.some((p) => p.valid && isSynchronous(p.transmission_type)) && <SyncControl />}
+      <SyncChoice
+        draft={draft}
+        validation={validation}
+        external={syncExternal}
+        onExternal={onSyncExternal}
+      />
       <ErrorText error={validateError} />
       {confirming && (
         <Dialog
@@ -139,12 +156,25 @@ export function DraftBar({
               sends nor takes PDOs until it is back.
             </p>
           )}
-          {validation && !validation.ok && (
+          {validation && validation.problems.length > 0 && (
             <p className="warning">
               The last check found {validation.problems.length} problem
               {validation.problems.length === 1 ? "" : "s"}; the drive will likely refuse it.
             </p>
           )}
+          {synchronous &&
+            (syncExternal ? (
+              <p className="small">SYNC comes from the machine&apos;s controller (PLC).</p>
+            ) : (
+              validation &&
+              !validation.ok &&
+              validation.problems.length === 0 && (
+                <p className="warning">
+                  No SYNC is produced or heard on the bus: start the SYNC producer, or say that SYNC
+                  comes from the machine&apos;s controller.
+                </p>
+              )
+            ))}
           {!validation && <p className="muted small">Not validated yet.</p>}
           <ErrorText error={apply.error} />
         </Dialog>

@@ -13,7 +13,14 @@ import { ExportButtons } from "./ExportButtons";
 import { LiveCheck } from "./LiveCheck";
 import { fitRules, mergePdos, pdoKey, sortPdos, typeBits, type ObjectInfo } from "./model";
 import { ModeWizard } from "./ModeWizard";
-import { busLoad, listPdos, pdoRules, validatePdos, type ApplyOutcome } from "./pdoApi";
+import {
+  busLoad,
+  listPdos,
+  pdoRules,
+  validatePdos,
+  type ApplyOutcome,
+  type SyncSource,
+} from "./pdoApi";
 import { PdoList } from "./PdoList";
 import type { LoadSettings, Pdo, Problem, Validation } from "./types";
 
@@ -58,12 +65,16 @@ export function PdoPage({ node }: { node: number }): ReactNode {
   const [validation, setValidation] = useState<Validation | null>(null);
   const [problems, setProblems] = useState<Problem[]>([]);
   const [outcome, setOutcome] = useState<ApplyOutcome | null>(null);
+  // the user says SYNC comes from the machine's controller: synchronous PDOs can be written
+  // while ServoDesk produces none and none is heard
+  const [syncExternal, setSyncExternal] = useState(false);
+  const syncSource = syncExternal ? "external" : null;
 
   // The last validation request wins (settings typed fast re-validate in quick succession).
   const validationSeq = useRef(0);
-  const validate = useAction(async (pdos: Pdo[], with_: LoadSettings) => {
+  const validate = useAction(async (pdos: Pdo[], with_: LoadSettings, source: SyncSource) => {
     const seq = ++validationSeq.current;
-    const result = await validatePdos(node, pdos, with_);
+    const result = await validatePdos(node, pdos, with_, source);
     if (seq !== validationSeq.current) return;
     setValidation(result);
     setProblems(result.problems);
@@ -77,7 +88,14 @@ export function PdoPage({ node }: { node: number }): ReactNode {
     setSettings(next);
     current.reload();
     // a checked draft is checked again: the server compares against the settings
-    if (draft && (validation || validate.busy)) void validate.run(draft.pdos, next);
+    if (draft && (validation || validate.busy)) void validate.run(draft.pdos, next, syncSource);
+  };
+  const changeSyncExternal = (external: boolean): void => {
+    setSyncExternal(external);
+    // a checked draft is checked again: the answer depends on where SYNC comes from
+    if (draft && (validation || validate.busy)) {
+      void validate.run(draft.pdos, settings, external ? "external" : null);
+    }
   };
 
   const infos = useMemo(() => objectInfos(od.data?.objects ?? []), [od.data]);
@@ -170,7 +188,9 @@ export function PdoPage({ node }: { node: number }): ReactNode {
           validation={validation}
           validating={validate.busy}
           validateError={validate.error}
-          onValidate={() => void validate.run(draft.pdos, settings)}
+          syncExternal={syncExternal}
+          onSyncExternal={changeSyncExternal}
+          onValidate={() => void validate.run(draft.pdos, settings, syncSource)}
           onOutcome={onOutcome}
           onDiscard={() => {
             setDraft(null);

@@ -25,16 +25,21 @@ export function listPdos(node: number, signal?: AbortSignal): Promise<Pdo[]> {
   return call(api.GET("/api/nodes/{node}/pdos", { params: path(node), signal }));
 }
 
+/** Where SYNC comes from when neither ServoDesk produces it nor another producer is heard:
+ * "external" is the machine's controller (it acknowledges the SYNC warnings). */
+export type SyncSource = "external" | null;
+
 export function validatePdos(
   node: number,
   pdos: Pdo[],
   settings: LoadSettings,
+  syncSource: SyncSource = null,
   signal?: AbortSignal,
 ): Promise<Validation> {
   return call(
     api.POST("/api/nodes/{node}/pdos/validate", {
       params: { ...path(node), query: loadQuery(settings) },
-      body: { pdos },
+      body: { pdos, sync_source: syncSource },
       signal,
     }),
   );
@@ -62,10 +67,17 @@ export type ApplyOutcome =
   | { result: "failed"; failure: ApplyFailure }
   | { result: "rejected"; message: string; problems: Problem[] };
 
-export async function applyPdos(node: number, pdos: Pdo[]): Promise<ApplyOutcome> {
+export async function applyPdos(
+  node: number,
+  pdos: Pdo[],
+  syncSource: SyncSource = null,
+): Promise<ApplyOutcome> {
   let answer;
   try {
-    answer = await api.PUT("/api/nodes/{node}/pdos", { params: path(node), body: { pdos } });
+    answer = await api.PUT("/api/nodes/{node}/pdos", {
+      params: path(node),
+      body: { pdos, sync_source: syncSource },
+    });
   } catch (error) {
     throw asApiError(error);
   }
