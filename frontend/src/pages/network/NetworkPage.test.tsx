@@ -68,6 +68,34 @@ describe("NetworkPage", () => {
     expect(first.getByText("12 ms")).toBeTruthy();
   });
 
+  it("says where a gone node's drive answers now and forgets it", async () => {
+    const ghost = { ...node(1, "DVS_CANOPEN", "MDi-S1-C"), online: false, moved_to: 5 };
+    let nodes = [ghost, node(5, "DVS_CANOPEN", "MDi-S1-C")];
+    const fetch = stubFetch({
+      "GET /api/bus/interfaces": [],
+      "GET /api/events": { events: [], next: null },
+      "POST /api/scan": () => ({ nodes, duration_ms: 40 }),
+      "GET /api/nodes": () => nodes,
+      "GET /api/nodes/1/heartbeat": { producer_ms: 0 },
+      "GET /api/nodes/5/heartbeat": { producer_ms: 0 },
+      "DELETE /api/nodes/1": () => {
+        nodes = nodes.slice(1);
+        return new Response(null, { status: 204 });
+      },
+    });
+    renderPage(<NetworkPage />);
+    await userEvent.click(screen.getByRole("button", { name: "Scan" }));
+    const gone = await screen.findByText(/Gone: the drive answers as/);
+    expect(gone.textContent).toBe("Gone: the drive answers as node 5 now. Forget");
+    expect(within(gone).getByRole("link", { name: "node 5" }).getAttribute("href")).toBe(
+      "/nodes/5/parameters",
+    );
+    await userEvent.click(screen.getByRole("button", { name: "Forget node 1" }));
+    await vi.waitFor(() => expect(screen.getAllByRole("row").slice(1)).toHaveLength(1));
+    expect(fetch.calls.some((c) => c.method === "DELETE" && c.path === "/api/nodes/1")).toBe(true);
+    expect(screen.queryByText(/Gone:/)).toBeNull();
+  });
+
   it("shows the bus state and counters from the live store", async () => {
     stubFetch({ "GET /api/bus/interfaces": [], "GET /api/events": { events: [], next: null } });
     const { store } = renderPage(<NetworkPage />);

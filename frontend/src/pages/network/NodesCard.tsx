@@ -2,7 +2,7 @@ import { memo, type MouseEvent, type ReactNode } from "react";
 import { Link, useNavigate } from "react-router";
 
 import { api, call } from "../../api/client";
-import type { ApiError } from "../../api/errors";
+import { toApiError, type ApiError } from "../../api/errors";
 import type { NmtCommandName, NodeInfo, ScanResult } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { NmtBadge, NmtDot } from "../../components/NmtDot";
@@ -10,6 +10,7 @@ import { Spinner } from "../../components/Spinner";
 import { formatAge, hex } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
+import { refreshNodes } from "../../live/nodes";
 import { nodeUrl } from "../../nav/routes";
 import { useMay } from "../../session/context";
 import { QuickStopAllButton, QuickStopButton } from "../drive/QuickStopButton";
@@ -32,6 +33,43 @@ function LiveDot({ info }: { info: NodeInfo }): ReactNode {
 function LiveAge({ info }: { info: NodeInfo }): ReactNode {
   const age = useLive((s) => s.nodes[info.node]?.heartbeat_age_ms);
   return <>{formatAge(age === undefined ? info.heartbeat_age_ms : age)}</>;
+}
+
+/** A node that does not answer: where its drive answers now, if known, and Forget. */
+function GoneNote({ info }: { info: NodeInfo }): ReactNode {
+  const online = useLive((s) => s.nodes[info.node]?.online ?? info.online);
+  const store = useLiveStore();
+  const configure = useMay("configure");
+  const forget = useAction(async () => {
+    const answer = await api.DELETE("/api/nodes/{node}", { params: { path: { node: info.node } } });
+    if (!answer.response.ok) {
+      throw toApiError(answer.response.status, answer.error, answer.response.statusText);
+    }
+    await refreshNodes(store);
+  });
+  if (online) return null;
+  return (
+    <span className="block small gone-note">
+      {info.moved_to ? (
+        <>
+          Gone: the drive answers as <Link to={nodeUrl(info.moved_to)}>node {info.moved_to}</Link>{" "}
+          now.{" "}
+        </>
+      ) : (
+        "Gone: it does not answer. "
+      )}
+      <button
+        type="button"
+        className="small"
+        {...configure.gate("forget a node", { disabled: forget.busy })}
+        aria-label={`Forget node ${info.node}`}
+        onClick={() => void forget.run()}
+      >
+        Forget
+      </button>
+      {forget.error && <ErrorText error={forget.error} />}
+    </span>
+  );
 }
 
 const INTERACTIVE = "a, button, input, select, textarea, summary, details, label, form";
@@ -75,6 +113,7 @@ const NodeRow = memo(function NodeRow({ info }: { info: NodeInfo }): ReactNode {
       </td>
       <td>
         <LiveState info={info} />
+        <GoneNote info={info} />
       </td>
       <td className="num">
         <LiveAge info={info} />
@@ -159,7 +198,7 @@ export function NodesCard({ scan, lastScan }: ScanProps): ReactNode {
       ) : (
         // No scroll container here: it would clip the NMT menus; the table fits a laptop screen.
         <div>
-          <table className="data-table nodes-table">
+          <table className="data-table nodes-table" aria-label="Nodes">
             <thead>
               <tr>
                 <th scope="col">Node</th>

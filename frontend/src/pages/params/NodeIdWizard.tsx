@@ -2,6 +2,7 @@ import { useId, useState, type SubmitEvent, type ReactNode } from "react";
 import { useNavigate } from "react-router";
 
 import { api, call } from "../../api/client";
+import type { components } from "../../api/schema";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
@@ -10,6 +11,8 @@ import { useLiveStore } from "../../live/context";
 import { refreshNodes } from "../../live/nodes";
 import { nodeUrl } from "../../nav/routes";
 import { useMay } from "../../session/context";
+
+type NodeIdOptions = components["schemas"]["NodeIdOptions"];
 
 export interface StepsNotice {
   title: string;
@@ -24,6 +27,13 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
   const [open, setOpen] = useState(false);
   const [text, setText] = useState("");
   const [inputError, setInputError] = useState<string | null>(null);
+  // whether the drive's id can be set over CANopen at all: asked when the dialog opens
+  const [options, setOptions] = useState<NodeIdOptions | null>(null);
+  const fetchOptions = useAction(async () => {
+    setOptions(
+      await call(api.GET("/api/nodes/{node}/node-id-options", { params: { path: { node } } })),
+    );
+  });
   const change = useAction(async (newNode: number) => {
     let result;
     try {
@@ -68,10 +78,45 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
 
   return (
     <>
-      <button type="button" onClick={() => setOpen(true)} {...configure.gate("change the node ID")}>
+      <button
+        type="button"
+        onClick={() => {
+          setOpen(true);
+          void fetchOptions.run();
+        }}
+        {...configure.gate("change the node ID")}
+      >
         Change node ID…
       </button>
-      {open && (
+      {open && !options && (
+        <Dialog
+          title={`Change the node ID of node ${node}`}
+          onClose={() => setOpen(false)}
+          actions={
+            <button type="button" onClick={() => setOpen(false)}>
+              Cancel
+            </button>
+          }
+        >
+          {fetchOptions.busy && <Spinner label="Asking how the node's id is set" />}
+          <ErrorText error={fetchOptions.error} onRetry={() => void fetchOptions.run()} />
+        </Dialog>
+      )}
+      {open && options && !options.settable && (
+        <Dialog
+          title={`Change the node ID of node ${node}`}
+          onClose={() => setOpen(false)}
+          actions={
+            <button type="button" onClick={() => setOpen(false)}>
+              Close
+            </button>
+          }
+        >
+          <p role="status">{options.note}</p>
+          <p>After changing it there, scan the bus on the Network page.</p>
+        </Dialog>
+      )}
+      {open && options?.settable && (
         <Dialog
           title={`Change the node ID of node ${node}`}
           onClose={() => setOpen(false)}
@@ -103,6 +148,7 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
               onChange={(e) => setText(e.target.value)}
             />
           </form>
+          <p className="muted small">{options.note}</p>
           <p>The server will:</p>
           <ol className="steps">
             <li>write the new id to the drive's node-id parameter,</li>
