@@ -152,6 +152,9 @@ class LiveValue(BaseModel):
     unit: str = ""
     # the value in words: 6041h the CiA 402 state and notable bits, 6060h/6061h the mode
     text: str | None = None
+    # the value as read, with its unit: bit fields in hex ("0x0250"), a unit with a factor
+    # converted ("0.1 %" -> "12.5 %")
+    display: str = ""
 
 
 class LivePdo(BaseModel):
@@ -170,3 +173,5 @@ class LiveCheck(BaseModel):
     active: bool
     since: float | None = None  # UNIX time the capture started
     pdos: list[LivePdo]
+    # what the Drive page does with the node's RPDOs (commands by RPDO or by SDO), in words
+    drive_page: str | None = None

@@ -164,6 +164,7 @@ def test_live_check(client: TestClient) -> None:
         "active": False,
         "since": None,
         "pdos": [],
+        "drive_page": None,
     }
 
 

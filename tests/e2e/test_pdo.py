@@ -70,12 +70,14 @@ def test_pp_mapping_is_applied_and_seen_live(page: Page, server: str) -> None:
     expect(row).to_contain_text("Position actual value")
     expect(row.get_by_test_id("rate-385")).to_have_text(POSITIVE_RATE, timeout=10_000)
     expect(row.get_by_role("cell").nth(2)).to_have_text(re.compile(r"^(?:[3-9]|\d{2,})$"))
-    # the Statusword's state in words, its bytes in the tooltip
+    # the Statusword in hex with its state in words, its bytes and number in the tooltip
     status = row.locator("dt", has_text="Statusword").locator("+ dd")
-    expect(status).to_have_text(re.compile(r"^\d+ · \S"))
+    expect(status).to_have_text(re.compile(r"^0x[0-9A-F]{4} · \S"))
     expect(status).to_have_attribute(
-        "title", re.compile(r"^6041h:00 bytes: [0-9A-F]{2} [0-9A-F]{2}$")
+        "title", re.compile(r"^6041h:00 bytes: [0-9A-F]{2} [0-9A-F]{2} = \d+$")
     )
+    # what the Drive page does with the RPDOs just mapped (event-driven: commands by RPDO)
+    expect(page.get_by_test_id("pdo-drive-page")).to_contain_text("sends its commands by RPDO")
     # the master's RPDOs: a group of their own, nothing sent by a master in this test
     expect(table.get_by_role("rowgroup", name="Sent by the master")).to_contain_text(
         "None seen from the master: RPDO1 (0x201)"

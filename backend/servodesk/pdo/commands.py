@@ -14,14 +14,17 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import canopen
 
 from servodesk.errors import ServodeskError
 from servodesk.pdo.model import PdoConfig
-from servodesk.pdo.service import PdoService
 from servodesk_protocol.cia402 import CONTROLWORD
 from servodesk_protocol.pdo import DUMMY_BITS
+
+if TYPE_CHECKING:  # the service's live check reads the routes: no import cycle
+    from servodesk.pdo.service import PdoService
 
 TARGET_TORQUE, TARGET_POSITION, TARGET_VELOCITY = 0x6071, 0x607A, 0x60FF
 COMMAND_OBJECTS = frozenset({CONTROLWORD, TARGET_VELOCITY, TARGET_TORQUE, TARGET_POSITION})

@@ -12,6 +12,8 @@ import canopen
 from servodesk.model_base import Value
 from servodesk.od import ObjectDictionaryModel
 from servodesk.pdo.decode import Decoded, PdoDecoder, value_text
+from servodesk.pdo.display import display_text
+from servodesk.pdo.drive_use import drive_page_use
 from servodesk.pdo.live import PdoCapture
 from servodesk.pdo.model import PdoConfig
 from servodesk.pdo_models import LiveCheck, LivePdo, LiveValue
@@ -21,6 +23,7 @@ from servodesk.pdo_models import LiveCheck, LivePdo, LiveValue
 class _Check:
     capture: PdoCapture
     pdos: dict[int, tuple[PdoConfig, PdoDecoder]]  # COB-ID -> the PDO and its decoder
+    drive_page: str | None  # what the Drive page does with the node's RPDOs
 
 
 class LiveChecks:
@@ -43,7 +46,7 @@ class LiveChecks:
                 chosen[pdo.cob_id] = (pdo, PdoDecoder(pdo.mapping, od))
         capture = PdoCapture(network, chosen)
         capture.start()
-        self._checks[node] = _Check(capture, chosen)
+        self._checks[node] = _Check(capture, chosen, drive_page_use(pdos))
         return self.status(node)
 
     def stop(self, node: int) -> LiveCheck:
@@ -81,7 +84,13 @@ class LiveChecks:
                     values=[] if data is None else [_value(d) for d in decoder.decode(data)],
                 )
             )
-        return LiveCheck(node=node, active=True, since=check.capture.started_wall, pdos=rows)
+        return LiveCheck(
+            node=node,
+            active=True,
+            since=check.capture.started_wall,
+            pdos=rows,
+            drive_page=check.drive_page,
+        )
 
 
 def _value(decoded: Decoded) -> LiveValue:
@@ -93,6 +102,14 @@ def _value(decoded: Decoded) -> LiveValue:
         raw=decoded.raw_bytes.hex(" ").upper(),
         unit=decoded.unit or "",
         text=value_text(decoded.index, decoded.subindex, decoded.value),
+        display=display_text(
+            decoded.index,
+            decoded.subindex,
+            decoded.name,
+            decoded.value,
+            decoded.bits,
+            decoded.unit or "",
+        ),
     )
 
 

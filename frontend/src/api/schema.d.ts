@@ -2626,6 +2626,8 @@ export interface components {
         LiveCheck: {
             /** Active */
             active: boolean;
+            /** Drive Page */
+            drive_page?: string | null;
             /** Node */
             node: number;
             /** Pdos */
@@ -2683,6 +2685,11 @@ export interface components {
         };
         /** LiveValue */
         LiveValue: {
+            /**
+             * Display
+             * @default
+             */
+            display: string;
             /** Index */
             index: number;
             /** Name */

@@ -11,17 +11,21 @@ import { SyncControl } from "./SyncControl";
 import type { LivePdo, LiveValue, Pdo } from "./types";
 import { useLiveCapture } from "./useLiveCapture";
 
-/** One decoded value: the number with its unit, its meaning in words when it has one
- * ("592 · Switch on disabled"), the frame's bytes in the tooltip. */
+/** One decoded value as the server shows it (bit fields in hex, scaled units converted), its
+ * meaning in words when it has one ("0x0250 · Switch on disabled"), the frame's bytes and the
+ * raw number in the tooltip. */
 function Value({ value: v }: { value: LiveValue }): ReactNode {
   const address = odAddress(v.index, v.subindex);
-  const shown = v.value == null ? v.raw || "—" : String(v.value);
+  const raw = v.value == null ? "" : ` = ${String(v.value)}${v.unit ? ` (${v.unit})` : ""}`;
+  let shown: string;
+  if (v.display) shown = v.display;
+  else if (v.value == null) shown = v.raw || "—";
+  else shown = `${String(v.value)}${v.unit ? ` ${v.unit}` : ""}`;
   return (
     <div>
       <dt title={address}>{v.name ?? address}</dt>
-      <dd className="num" title={v.raw ? `${address} bytes: ${v.raw}` : undefined}>
+      <dd className="num" title={v.raw ? `${address} bytes: ${v.raw}${raw}` : undefined}>
         {shown}
-        {v.unit && ` ${v.unit}`}
         {v.text && <span className="pdo-value-text"> · {v.text}</span>}
       </dd>
     </div>
@@ -153,6 +157,11 @@ export function LiveCheck({ node, device }: { node: number; device: readonly Pdo
             </tbody>
           )}
         </table>
+      )}
+      {live.capture?.drive_page && (
+        <p className="muted small" data-testid="pdo-drive-page">
+          {live.capture.drive_page}
+        </p>
       )}
     </section>
   );

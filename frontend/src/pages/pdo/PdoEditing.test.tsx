@@ -35,6 +35,17 @@ const LIVE = {
           raw: "50 02",
           unit: "",
           text: "Switch on disabled",
+          display: "0x0250",
+        },
+        {
+          index: 0x6077,
+          subindex: 0,
+          name: "Torque actual value",
+          value: 0,
+          raw: "00 00",
+          unit: "0.1 %",
+          text: null,
+          display: "0.0 %",
         },
         {
           index: 0x6064,
@@ -69,6 +80,7 @@ const LIVE = {
     { cob_id: 0x201, kind: "rpdo", number: 1, frames: 0, rate_hz: null, age_ms: null, values: [] },
     { cob_id: 0x301, kind: "rpdo", number: 2, frames: 0, rate_hz: null, age_ms: null, values: [] },
   ],
+  drive_page: "The Drive page does not send its commands in these RPDOs: it uses SDO.",
 };
 
 function render(rules: PdoRules = RULES): FetchStub & { unmount: () => void } {
@@ -212,8 +224,14 @@ describe("PDO live check and export", () => {
     expect(within(table).getByText("1234 inc")).toBeTruthy();
     // a value in words next to the number, the frame's bytes in the tooltip
     const status = within(table).getByText("Statusword").nextElementSibling;
-    expect(status?.textContent).toBe("592 · Switch on disabled");
-    expect(status?.getAttribute("title")).toBe("6041h:00 bytes: 50 02");
+    // a bit field in hex, as engineers read it; the number and bytes in the tooltip
+    expect(status?.textContent).toBe("0x0250 · Switch on disabled");
+    expect(status?.getAttribute("title")).toBe("6041h:00 bytes: 50 02 = 592");
+    // a unit with a factor converted: 0.1 % steps read as %
+    const torque = within(table).getByText("Torque actual value").nextElementSibling;
+    expect(torque?.textContent).toBe("0.0 %");
+    expect(torque?.getAttribute("title")).toBe("6077h:00 bytes: 00 00 = 0 (0.1 %)");
+    expect(screen.getByTestId("pdo-drive-page").textContent).toMatch(/uses SDO/);
     // one frame: no rate yet
     expect(within(table).getByTestId("rate-641").textContent).toBe("—");
     expect(within(table).getByText("6061h:00").nextElementSibling?.textContent).toBe(
