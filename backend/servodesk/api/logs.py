@@ -39,6 +39,11 @@ class LogEvent(BaseModel):
     subindex: int | None
     code: int | None
     data: Any = Field(description="detail: a Fault for emcy, values by IIII:SS for pdo, …")
+    polling: bool = Field(
+        default=False,
+        description="an SDO read repeated at a steady period (a poll loop such as ServoDesk's"
+        " own Drive page); hidden by `hide_polling`",
+    )
 
 
 class LogEventPage(BaseModel):
@@ -143,8 +148,17 @@ async def log_events(
     services: ServicesDep,
     since: Annotated[int, Query(ge=0, description="first event seq")] = 0,
     limit: Annotated[int, Query(ge=1, le=10_000)] = FIRST_PAGE,
+    hide_polling: Annotated[
+        bool,
+        Query(
+            description="leave out SDO reads repeated at a steady period (the tool's own"
+            " polling and any other poll loop): the same object of a node read a third time"
+            " and on, each interval within half a period of the one before, period ≤ 2 s"
+        ),
+    ] = False,
 ) -> LogEventPage:
-    return _page(await services.logs.events(log_id, since, limit), limit)
+    events = await services.logs.events(log_id, since, limit, hide_polling=hide_polling)
+    return _page(events, limit)
 
 
 @router.get(

@@ -59,6 +59,7 @@ class LogAnalysis:
             "bus_load_peak_time": d.load_peak[1],
             "bus_load_mean_percent": round(d.load_mean, 2),
             "events": d.events_emitted,
+            "polling_events": d.polling_events,
         }
 
     def summary(self) -> list[str]:
@@ -90,6 +91,12 @@ class LogAnalysis:
             header.append(
                 f"{fd:,} CAN FD frame(s) (more than 8 data bytes) counted, not decoded as"
                 " CANopen and not in the bus load."
+            )
+        if s["polling_events"]:
+            header.append(
+                f"{s['polling_events']:,} of {s['events']:,} events are SDO polling reads (one"
+                " object read again at a steady period, such as ServoDesk's own Drive page);"
+                " hide them on the Logs page or with hide_polling=true."
             )
         header += self._emcy_notes()
         if s["error_frames"]:

@@ -16,6 +16,7 @@ from servodesk.faults.decode import decode_emcy, fault_words
 from servodesk.logs.context import DecodeContext
 from servodesk.logs.events import Event, EventKind, clock
 from servodesk.logs.lss_time import lss_text, time_of_day
+from servodesk.logs.polling import PollingDetector
 from servodesk.logs.sdo import SdoChannel, SdoTransfer
 from servodesk.logs.sdo_text import cia402_state_of, transfer_text
 from servodesk.logs.summary import SummaryBuilder
@@ -88,6 +89,8 @@ class LogDecoder:
         self._hb_deadline = float("inf")  # earliest moment some heartbeat is overdue
         self.read_as_cia301: set[int] = set()  # nodes of unknown drive whose EMCYs said a fault
         self.shape_guessed: set[int] = set()  # nodes whose 2-byte EMCYs named their drive
+        self._polling = PollingDetector()
+        self.polling_events = 0
         self._table: list[Handler] = [self._other] * 0x800
         self._build_table()
 
@@ -359,8 +362,15 @@ class LogDecoder:
         ctx = self.context
         kind, text, value = transfer_text(ctx, node, done)
         text = f"{self.who(node)} {text}"
+        polling = (
+            kind is EventKind.SDO
+            and done.upload
+            and self._polling.read(time, node, done.index, done.subindex)
+        )
+        self.polling_events += polling
         self.emit(time, kind, node, text, index=done.index, subindex=done.subindex,
-                  code=done.abort, data=done.data.hex(" ").upper() or None)  # fmt: skip
+                  code=done.abort, data=done.data.hex(" ").upper() or None,
+                  polling=polling)  # fmt: skip
         if kind is not EventKind.SDO:
             self._say(kind, f"{clock(time)} {text}")
             return

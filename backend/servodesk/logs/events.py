@@ -27,7 +27,9 @@ class EventKind(StrEnum):
     FRAME = "frame"  # per-frame detail (only when asked for)
 
 
-COLUMNS = ("seq", "time", "frame", "kind", "node", "text", "index", "subindex", "code", "data")
+COLUMNS = (
+    "seq", "time", "frame", "kind", "node", "text", "index", "subindex", "code", "data", "polling",
+)  # fmt: skip
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,6 +44,7 @@ class Event:
     subindex: int | None = None
     code: int | None = None  # NMT command or state / SDO abort / EMCY code / LSS cs / load ‰
     data: str | None = None  # JSON detail (fault record, PDO values) or hex data
+    polling: bool = False  # an SDO read repeated at a steady period (logs/polling.py)
 
     def as_dict(self) -> dict[str, Any]:
         return asdict(self)

@@ -82,6 +82,7 @@ class ParquetWriter:
                 ("subindex", pa.int16()),
                 ("code", pa.int64()),
                 ("data", pa.string()),
+                ("polling", pa.bool_()),
             ]
         )
         self._writer = pq.ParquetWriter(str(path), self.schema)

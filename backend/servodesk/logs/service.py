@@ -145,8 +145,12 @@ class LogService:
     async def result(self, log_id: str) -> LogResult:
         return await asyncio.to_thread(self._guard, self.store.result, log_id)
 
-    async def events(self, log_id: str, since: int, limit: int) -> list[Event]:
-        return await asyncio.to_thread(self._guard, self.store.events, log_id, since, limit)
+    async def events(
+        self, log_id: str, since: int, limit: int, *, hide_polling: bool = False
+    ) -> list[Event]:
+        return await asyncio.to_thread(
+            self._guard, self.store.events, log_id, since, limit, hide_polling=hide_polling
+        )
 
     async def export(self, log_id: str, fmt: ExportFormat) -> Path:
         """Every event of the log in a temporary file (the caller deletes it)."""

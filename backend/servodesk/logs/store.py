@@ -27,7 +27,8 @@ _SCHEMA = """
 CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE events (
     seq INTEGER PRIMARY KEY, time REAL NOT NULL, frame INTEGER NOT NULL, kind TEXT NOT NULL,
-    node INTEGER, text TEXT NOT NULL, "index" INTEGER, subindex INTEGER, code INTEGER, data TEXT
+    node INTEGER, text TEXT NOT NULL, "index" INTEGER, subindex INTEGER, code INTEGER, data TEXT,
+    polling INTEGER NOT NULL DEFAULT 0
 );
 """
 _INSERT = f"INSERT INTO events VALUES ({', '.join('?' * len(COLUMNS))})"
@@ -102,14 +103,20 @@ class LogStore:
             meta = {k: json.loads(v) for k, v in db.execute("SELECT key, value FROM meta")}
         return LogResult(log_id, meta["name"], meta["summary"], meta["stats"])
 
-    def events(self, log_id: str, since: int = 0, limit: int = 500) -> list[Event]:
-        """Events with seq >= `since`, at most `limit` (≤ MAX_PAGE) of them, in order."""
+    def events(
+        self, log_id: str, since: int = 0, limit: int = 500, *, hide_polling: bool = False
+    ) -> list[Event]:
+        """Events with seq >= `since`, at most `limit` (≤ MAX_PAGE) of them, in order;
+        without the SDO polling reads when `hide_polling`."""
         limit = max(0, min(limit, MAX_PAGE))
         with closing(self._open(log_id)) as db:
+            # a log decoded before the polling column has no polling events
+            known = "polling" in {row[1] for row in db.execute("PRAGMA table_info(events)")}
+            where = "seq >= ? AND polling = 0" if hide_polling and known else "seq >= ?"
             rows = db.execute(
-                "SELECT * FROM events WHERE seq >= ? ORDER BY seq LIMIT ?", (since, limit)
+                f"SELECT * FROM events WHERE {where} ORDER BY seq LIMIT ?", (since, limit)
             ).fetchall()
-        return [Event(*row) for row in rows]
+        return [_event(row) for row in rows]
 
     def ids(self) -> Iterator[str]:
         if self.root.is_dir():
@@ -155,3 +162,10 @@ class LogStore:
         if not path.is_file():
             raise LogNotFoundError(log_id)
         return sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+
+
+def _event(row: tuple[Any, ...]) -> Event:
+    """An event from its row (SQLite stores the polling flag as 0/1)."""
+    values = dict(zip(COLUMNS, row, strict=False))
+    values["polling"] = bool(values.get("polling", 0))
+    return Event(**values)

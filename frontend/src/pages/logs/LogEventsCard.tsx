@@ -20,13 +20,15 @@ export function LogEventsCard({
   total: number | null;
 }): ReactNode {
   const [pager, setPager] = useState(FIRST_PAGE);
+  // SDO reads repeated at a steady period: mostly ServoDesk's own Drive page polling
+  const [hidePolling, setHidePolling] = useState(false);
   const start = currentStart(pager);
   const page = useApi(
     (signal) =>
-      start === 0
+      start === 0 && !hidePolling
         ? Promise.resolve<LogEventPage>({ events: result.events, next: result.next })
-        : logEvents(result.id, start, LOG_PAGE_SIZE, signal),
-    `log-events-${result.id}-${start}`,
+        : logEvents(result.id, start, LOG_PAGE_SIZE, signal, hidePolling),
+    `log-events-${result.id}-${start}-${hidePolling ? "hide" : "all"}`,
   );
   const events = page.data?.events ?? [];
   const next = page.data?.next ?? null;
@@ -36,6 +38,17 @@ export function LogEventsCard({
         <h2 id="log-events-heading">Decoded events</h2>
         <span className="muted small">{pageLabel(events, total)}</span>
         <span className="spacer" />
+        <label className="inline small">
+          <input
+            type="checkbox"
+            checked={hidePolling}
+            onChange={(e) => {
+              setHidePolling(e.target.checked);
+              setPager(FIRST_PAGE); // the pages differ: start over
+            }}
+          />
+          Hide ServoDesk&apos;s own polling
+        </label>
         <button
           type="button"
           disabled={pager.starts.length < 2 || page.loading}

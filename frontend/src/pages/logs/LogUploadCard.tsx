@@ -11,12 +11,14 @@ interface Props {
   log: File | null;
   busy: boolean;
   error: ApiError | null;
-  onDecode: (log: File, dcf: File | null) => void;
+  onDecode: (log: File, dcf: File | null, profiles: string) => void;
 }
 
 /** Pick a CAN log (and optionally the DCF that names its PDOs); it is decoded at once. */
 export function LogUploadCard({ log, busy, error, onDecode }: Props): ReactNode {
   const [dcf, setDcf] = useState<File | null>(null);
+  // which drive a node is, when the log holds no identity reads: "1=mdi-s1c, 2=kinco"
+  const [profiles, setProfiles] = useState("");
   return (
     <section className="card" aria-labelledby="log-upload-heading">
       <header className="card-header">
@@ -32,7 +34,7 @@ export function LogUploadCard({ log, busy, error, onDecode }: Props): ReactNode 
           label="Choose CAN log…"
           accept={LOG_FILE_TYPES}
           disabled={busy}
-          onFile={(file) => onDecode(file, dcf)}
+          onFile={(file) => onDecode(file, dcf, profiles)}
         />
         <FilePicker
           label="Choose DCF (optional)…"
@@ -40,6 +42,18 @@ export function LogUploadCard({ log, busy, error, onDecode }: Props): ReactNode 
           disabled={busy}
           onFile={setDcf}
         />
+        <label className="inline small">
+          Drives (optional)
+          <input
+            type="text"
+            className="mono"
+            placeholder="1=mdi-s1c, 2=kinco"
+            title="Which drive a node is, for logs without identity reads: its alarms in words (mdi-s1c, kinco, cia402)"
+            value={profiles}
+            disabled={busy}
+            onChange={(e) => setProfiles(e.target.value)}
+          />
+        </label>
         {dcf && (
           <span className="inline small">
             DCF: <span className="mono">{dcf.name}</span>
@@ -49,7 +63,7 @@ export function LogUploadCard({ log, busy, error, onDecode }: Props): ReactNode 
           </span>
         )}
         {log && !busy && (
-          <button type="button" onClick={() => onDecode(log, dcf)}>
+          <button type="button" onClick={() => onDecode(log, dcf, profiles)}>
             Decode {log.name} again{dcf ? " with the DCF" : ""}
           </button>
         )}

@@ -22,6 +22,7 @@ const event = (seq: number, kind = "sdo", text = `event ${seq}`): LogEvent => ({
   subindex: null,
   code: null,
   data: null,
+  polling: false,
 });
 
 const decoded = {

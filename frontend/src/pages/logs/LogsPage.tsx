@@ -16,16 +16,17 @@ export function LogsPage(): ReactNode {
   const [result, setResult] = useState<DecodedLog | null>(null);
   const stats = useMemo(() => (result ? parseStats(result.stats) : null), [result]);
   const [decoded, setDecoded] = useState(0); // decodes finished: the kept list reads again
-  const decode = useAction(async (file: File, dcf: File | null) => {
+  const decode = useAction(async (file: File, dcf: File | null, profiles: string) => {
     setLog(file);
-    setResult(await decodeLog(file, dcf));
+    setResult(await decodeLog(file, dcf, profiles));
     setDecoded((n) => n + 1);
   });
   const reopen = useAction(async (id: string) => {
     setLog(null);
     setResult(await openLog(id));
   });
-  const run = (file: File, dcf: File | null = null): void => void decode.run(file, dcf);
+  const run = (file: File, dcf: File | null = null, profiles = ""): void =>
+    void decode.run(file, dcf, profiles);
   return (
     <section className="page logs-page">
       <header className="page-header">

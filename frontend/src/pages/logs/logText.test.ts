@@ -26,6 +26,7 @@ const event = (seq: number): LogEvent => ({
   subindex: null,
   code: null,
   data: null,
+  polling: false,
 });
 
 describe("log text", () => {

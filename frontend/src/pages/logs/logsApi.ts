@@ -13,14 +13,16 @@ import type {
 export const LOG_FILE_TYPES = ".log,.asc,.blf,.trc,.mf4,.csv,.txt";
 export const DCF_FILE_TYPES = ".dcf,.eds";
 
-export function decodeLog(file: File, dcf: File | null): Promise<DecodedLog> {
+/** `profiles` names nodes' drives for logs without identity reads: "1=mdi-s1c, 2=kinco". */
+export function decodeLog(file: File, dcf: File | null, profiles = ""): Promise<DecodedLog> {
   const form = new FormData();
   form.append("file", file, file.name);
   if (dcf) form.append("dcf", dcf, dcf.name);
+  if (profiles.trim()) form.append("profiles", profiles.trim());
   // the generated body type names the files as strings; the form carries the Files themselves
   return call(
     api.POST("/api/logs/decode", {
-      body: { file: file.name, dcf: dcf?.name ?? null },
+      body: { file: file.name, dcf: dcf?.name ?? null, profiles: profiles.trim() || null },
       bodySerializer: () => form,
     }),
   );
@@ -48,15 +50,20 @@ export async function deleteLog(id: string): Promise<void> {
   if (!response.ok) throw toApiError(response.status, error, response.statusText);
 }
 
+/** A page of a log's events; `hidePolling` leaves out SDO reads repeated at a steady period. */
 export function logEvents(
   id: string,
   since: number,
   limit: number,
   signal?: AbortSignal,
+  hidePolling = false,
 ): Promise<LogEventPage> {
   return call(
     api.GET("/api/logs/{log_id}/events", {
-      params: { path: { log_id: id }, query: { since, limit } },
+      params: {
+        path: { log_id: id },
+        query: { since, limit, ...(hidePolling ? { hide_polling: true } : {}) },
+      },
       signal,
     }),
   );
