@@ -26,6 +26,12 @@ _MANUALS = {
     "cia402": "Nanotec CANopen article",
 }
 _ALARM = EmcyFormat.ALARM_NUMBER
+# entries a shipped table holds for the simulated drive although the manual has no such code:
+# (profile, code) -> what the manual says instead
+_NOT_IN_MANUAL = {
+    ("kinco", 0x8400): "the Kinco servo CANopen manual §8 marks 2600h:02 bit 4000h"
+    " (FAULT_OVERSPEEDERROR_BIT) not used, 603Fh code 0: a real drive does not send it",
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -143,10 +149,20 @@ def _vendor(
             check += f" (2600h:02 bit {entry.kinco_bit:#x} {entry.name})"
         parts.append(f"Check: {check}.")
     cia = cia_text(first.emcy_code)
-    # the CiA meaning adds something unless the vendor code is that CiA code itself
-    if cia.source is not CodeSource.UNKNOWN and (first.emcy_code != code or fmt is _ALARM):
+    if cia.source is CodeSource.UNKNOWN:
+        pass
+    elif fmt is _ALARM:  # the drive sends no CiA code: the table's class is ServoDesk's own
+        parts.append(
+            f"CiA class: ServoDesk maps it to {first.emcy_code:04X}h {cia.text} (the drive's"
+            " EMCY carries only the alarm number)."
+        )
+    elif first.emcy_code != code:  # unless the vendor code is that CiA code itself
         parts.append(f"CiA code {first.emcy_code:04X}h: {cia.text}.")
-    parts.append(f"Source: {_MANUALS.get(profile.profile, 'the drive profile')}.")
+    unlisted = _NOT_IN_MANUAL.get((profile.profile, first.code))
+    if unlisted is not None:
+        parts.append(f"Source: ServoDesk's simulated drive; {unlisted}.")
+    else:
+        parts.append(f"Source: {_MANUALS.get(profile.profile, 'the drive profile')}.")
     name_zh = first.name if _CJK.search(first.name) else None
     return _record(
         time, node, code, CodeSource.VENDOR, names, raw, name_zh=name_zh, check=" ".join(parts)

@@ -1,0 +1,49 @@
+"""Fault texts say what the drive sent and what is ServoDesk's own: the MDi-S1-C's EMCY holds
+only its alarm number (the CiA class is ServoDesk's mapping, not a code the drive sends), and
+the Kinco overspeed entry is the simulated drive's (the manual marks bit 4000h not used)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import servodesk_data
+from servodesk.faults.decode import decode_emcy
+from servodesk.logs import EventKind, LogAnalysis
+
+MDI = servodesk_data.load("mdi-s1c")
+KINCO = servodesk_data.load("kinco")
+MAPPED = "CiA class: ServoDesk maps it to 8612h Reference limit (the drive's EMCY carries only"
+
+
+def test_mdi_alarm_names_the_mapping_as_servodesks() -> None:
+    record = decode_emcy(MDI, 1, bytes([7, 0]))  # alarm 7 驱动禁止异常
+    assert record.check is not None
+    assert MAPPED in record.check
+    assert "CiA code 8612h" not in record.check
+
+
+def test_mdi_alarm_in_a_log_names_the_mapping_too(tmp_path: Path) -> None:
+    log = tmp_path / "mdi.log"
+    log.write_text("(1700000000.000000) can0 081#0700\n")
+    (emcy,) = [e for e in LogAnalysis(log, profiles={1: "mdi-s1c"}).events()
+               if e.kind == EventKind.EMCY]  # fmt: skip
+    check = json.loads(emcy.data or "{}")["check"]
+    assert MAPPED in check
+    assert "CiA code" not in check
+
+
+def test_kinco_overspeed_is_the_simulated_drives() -> None:
+    record = decode_emcy(KINCO, 2, bytes.fromhex("0084000000000000"))
+    assert record.check is not None
+    assert "Source: ServoDesk's simulated drive; the Kinco servo CANopen manual §8 marks" in (
+        record.check
+    )
+    assert "Source: Kinco servo CANopen manual §8." not in record.check
+
+
+def test_kinco_manual_codes_keep_their_source() -> None:
+    record = decode_emcy(KINCO, 2, bytes.fromhex("1186000000000000"))  # following error
+    assert record.check is not None
+    assert record.check.endswith("Source: Kinco servo CANopen manual §8.")
+    assert "CiA code" not in record.check  # 8611h is the code it sent
