@@ -17,7 +17,7 @@ def candump(tmp_path: Path) -> bytes:
     path = tmp_path / "session.log"
     frames = [
         (0x701, b"\x00"),  # node 1 boot-up
-        (0x081, b"\x04\x00"),  # MDi alarm 4 (no identity read: CiA 301 format assumed)
+        (0x081, b"\x04\x00"),  # MDi alarm 4 (no identity read: known by its 2-byte shape)
         (0x703, b"\x00"),
         (0x083, bytes([0x11, 0x86, 0x21, 0, 0, 0, 0, 0])),  # following error
     ] * 5
@@ -47,6 +47,8 @@ def test_upload_page_and_export(client: TestClient, tmp_path: Path) -> None:
     assert body["next"] is None
     emcy = next(e for e in body["events"] if e["kind"] == "emcy" and e["node"] == 3)
     assert emcy["data"]["name_en"] == "Following error"
+    alarm = next(e for e in body["events"] if e["kind"] == "emcy" and e["node"] == 1)
+    assert alarm["data"]["name_en"] == "Position deviation too large"
     log_id = body["id"]
     first = client.get(f"/api/logs/{log_id}/events?limit=3").json()
     assert [e["seq"] for e in first["events"]] == [0, 1, 2]
