@@ -79,6 +79,8 @@ class NodeInfo(BaseModel):
     product_code: int | None = None
     revision: int | None = None
     serial: int | None = None
+    hardware_version: str | None = None  # 1009h, as the device names it
+    software_version: str | None = None  # 100Ah: the firmware
     device_type: int | None = None
     profile: str
     profile_label: str

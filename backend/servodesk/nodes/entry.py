@@ -60,6 +60,8 @@ class NodeEntry:
             product_code=identity.product_code,
             revision=identity.revision,
             serial=identity.serial,
+            hardware_version=identity.hardware,
+            software_version=identity.software,
             device_type=identity.device_type,
             profile=self.profile.name,
             profile_label=self.profile.label,

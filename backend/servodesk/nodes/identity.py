@@ -1,4 +1,5 @@
-"""Who a node is: 1000h Device type, 1018h Identity object, 1008h Device name, 1017h heartbeat.
+"""Who a node is: 1000h Device type, 1018h Identity object, 1008h Device name, 1009h/100Ah hardware
+and software (firmware) versions, 1017h heartbeat.
 
 `read_identity` blocks (SDO): run it on the node's session thread. 1000h is mandatory in every
 CANopen device, so a timeout on it means nobody is there and propagates; an abort on it still
@@ -15,6 +16,8 @@ from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
 
 DEVICE_TYPE = 0x1000  # Device type
 DEVICE_NAME = 0x1008  # Manufacturer device name
+HARDWARE_VERSION = 0x1009  # Manufacturer hardware version
+SOFTWARE_VERSION = 0x100A  # Manufacturer software version
 PRODUCER_HEARTBEAT = 0x1017  # Producer heartbeat time (ms)
 IDENTITY = 0x1018  # Identity object: 1 vendor-ID, 2 product code, 3 revision, 4 serial number
 
@@ -28,6 +31,8 @@ class Identity:
     serial: int | None = None
     name: str | None = None
     heartbeat_ms: int | None = None
+    hardware: str | None = None  # 1009h manufacturer hardware version
+    software: str | None = None  # 100Ah manufacturer software (firmware) version
 
     def same_device(self, other: Identity) -> bool:
         """The same kind of device (vendor and product), e.g. after a reboot."""
@@ -78,4 +83,6 @@ def read_identity(remote: canopen.RemoteNode) -> Identity:
         serial=read.uint(IDENTITY, 4),
         name=read.text(DEVICE_NAME, 0),
         heartbeat_ms=read.uint(PRODUCER_HEARTBEAT, 0),
+        hardware=read.text(HARDWARE_VERSION, 0),
+        software=read.text(SOFTWARE_VERSION, 0),
     )

@@ -2728,6 +2728,12 @@ export interface components {
             kind: string;
             /** Node */
             node: number | null;
+            /**
+             * Polling
+             * @description an SDO read repeated at a steady period (a poll loop such as ServoDesk's own Drive page); hidden by `hide_polling`
+             * @default false
+             */
+            polling: boolean;
             /** Seq */
             seq: number;
             /** Subindex */
@@ -2938,6 +2944,8 @@ export interface components {
         NodeInfo: {
             /** Device Type */
             device_type?: number | null;
+            /** Hardware Version */
+            hardware_version?: string | null;
             /** Heartbeat Age Ms */
             heartbeat_age_ms?: number | null;
             /** Last Seen */
@@ -2981,6 +2989,8 @@ export interface components {
             revision?: number | null;
             /** Serial */
             serial?: number | null;
+            /** Software Version */
+            software_version?: string | null;
             /** Vendor Id */
             vendor_id?: number | null;
         };
@@ -5061,6 +5071,8 @@ export interface operations {
                 /** @description first event seq */
                 since?: number;
                 limit?: number;
+                /** @description leave out SDO reads repeated at a steady period (the tool's own polling and any other poll loop): the same object of a node read a third time and on, each interval within half a period of the one before, period ≤ 2 s */
+                hide_polling?: boolean;
             };
             header?: never;
             path: {

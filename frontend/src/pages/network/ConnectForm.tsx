@@ -103,28 +103,36 @@ export function ConnectForm({
         />
         Simulated drives
       </label>
+      {simulated && (
+        <p className="muted small">
+          The built-in drives (node 1 MDi-S1-C, node 2 Kinco, node 3 CiA 402) on a virtual bus
+          inside ServoDesk: no adapter, interface or channel.
+        </p>
+      )}
       <div className="form-grid">
-        <label htmlFor={ids.iface}>Interface</label>
-        <select
-          id={ids.iface}
-          value={chosen?.name ?? ""}
-          disabled={simulated}
-          onChange={(e) => setIface(e.target.value)}
-        >
-          {list.map((i) => (
-            <option key={i.name} value={i.name}>
-              {i.label}
-            </option>
-          ))}
-        </select>
-        <label htmlFor={ids.channel}>Channel</label>
-        <input
-          id={ids.channel}
-          value={channel}
-          disabled={simulated}
-          placeholder={chosen?.example_channel ?? ""}
-          onChange={(e) => setChannel(e.target.value)}
-        />
+        {!simulated && (
+          <>
+            <label htmlFor={ids.iface}>Interface</label>
+            <select
+              id={ids.iface}
+              value={chosen?.name ?? ""}
+              onChange={(e) => setIface(e.target.value)}
+            >
+              {list.map((i) => (
+                <option key={i.name} value={i.name}>
+                  {i.label}
+                </option>
+              ))}
+            </select>
+            <label htmlFor={ids.channel}>Channel</label>
+            <input
+              id={ids.channel}
+              value={channel}
+              placeholder={chosen?.example_channel ?? ""}
+              onChange={(e) => setChannel(e.target.value)}
+            />
+          </>
+        )}
         <label htmlFor={ids.bitrate}>Bitrate</label>
         <span className="inline">
           <select
@@ -151,15 +159,18 @@ export function ConnectForm({
             />
           )}
         </span>
-        <label htmlFor={ids.options}>Options</label>
-        <textarea
-          id={ids.options}
-          rows={2}
-          value={optionsText}
-          disabled={simulated}
-          placeholder={"key=value per line\nhost=127.0.0.1"}
-          onChange={(e) => setOptionsText(e.target.value)}
-        />
+        {!simulated && (
+          <>
+            <label htmlFor={ids.options}>Options</label>
+            <textarea
+              id={ids.options}
+              rows={2}
+              value={optionsText}
+              placeholder={"key=value per line\nhost=127.0.0.1"}
+              onChange={(e) => setOptionsText(e.target.value)}
+            />
+          </>
+        )}
       </div>
       <div className="button-row">
         <button

@@ -5,6 +5,7 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 import type { NodeInfo } from "../../api/types";
 import { stubFetch } from "../../test/fetchStub";
 import { renderPage } from "../../test/render";
+import { mdiAlarm4 } from "../faults/fixtures";
 import { NetworkPage } from "./NetworkPage";
 
 afterEach(() => {
@@ -94,6 +95,34 @@ describe("NetworkPage", () => {
     await vi.waitFor(() => expect(screen.getAllByRole("row").slice(1)).toHaveLength(1));
     expect(fetch.calls.some((c) => c.method === "DELETE" && c.path === "/api/nodes/1")).toBe(true);
     expect(screen.queryByText(/Gone:/)).toBeNull();
+  });
+
+  it("lists revision, serial and firmware, lights a node in fault, and asks for heartbeats", async () => {
+    const mdi: NodeInfo = {
+      ...node(1, "DVS_CANOPEN", "MDi-S1-C"),
+      revision: 1,
+      serial: 0x53440001,
+      software_version: "V1.01",
+      hardware_version: "V1.0",
+      heartbeat_age_ms: null,
+    };
+    stubFetch({
+      "GET /api/bus/interfaces": [],
+      "GET /api/events": { events: [], next: null },
+      "POST /api/scan": { nodes: [mdi], duration_ms: 40 },
+      "GET /api/nodes/1/heartbeat": { producer_ms: 0 },
+    });
+    const { store } = renderPage(<NetworkPage />);
+    await userEvent.click(screen.getByRole("button", { name: "Scan" }));
+    expect(await screen.findByText("rev 0x00000001 · SN 0x53440001")).toBeTruthy();
+    expect(screen.getByText("FW V1.01 · HW V1.0")).toBeTruthy();
+    expect(screen.getByRole("note").textContent).toContain("No node sends a heartbeat");
+    expect(screen.queryByRole("link", { name: /in fault/ })).toBeNull();
+    store.setActiveFaults([mdiAlarm4({ error_register: 0x81 })], store.faultVersion());
+    const lamp = await screen.findByRole("link", {
+      name: "Node 1 in fault (1001h = 0x81): open its faults",
+    });
+    expect(lamp.getAttribute("href")).toBe("/nodes/1/faults");
   });
 
   it("shows the bus state and counters from the live store", async () => {

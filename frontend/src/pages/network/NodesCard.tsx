@@ -30,6 +30,24 @@ function LiveDot({ info }: { info: NodeInfo }): ReactNode {
   return <NmtDot state={live?.nmt_state ?? info.nmt_state} online={live?.online ?? info.online} />;
 }
 
+/** The error register (1001h) of the node's active EMCY: lit while it is in fault. */
+function ErrorLamp({ info }: { info: NodeInfo }): ReactNode {
+  const fault = useLive((s) => s.faults[info.node]);
+  if (!fault) return null;
+  const register = fault.error_register;
+  const bits = register === null || register === undefined ? "" : ` (1001h = ${hex(register, 2)})`;
+  return (
+    <Link
+      to={nodeUrl(info.node, "faults")}
+      className="error-lamp"
+      aria-label={`Node ${info.node} in fault${bits}: open its faults`}
+      title={`In fault${bits}`}
+    >
+      ⚠
+    </Link>
+  );
+}
+
 function LiveAge({ info }: { info: NodeInfo }): ReactNode {
   const age = useLive((s) => s.nodes[info.node]?.heartbeat_age_ms);
   return <>{formatAge(age === undefined ? info.heartbeat_age_ms : age)}</>;
@@ -72,6 +90,22 @@ function GoneNote({ info }: { info: NodeInfo }): ReactNode {
   );
 }
 
+/** When no listed node sends a heartbeat, a lost node shows only when it is next asked. */
+function NoHeartbeatHint({ infos }: { infos: readonly NodeInfo[] }): ReactNode {
+  const live = useLive((s) => s.nodes);
+  const online = infos.filter((i) => live[i.node]?.online ?? i.online);
+  const beating = online.some(
+    (i) => (live[i.node]?.heartbeat_age_ms ?? i.heartbeat_age_ms) != null,
+  );
+  if (online.length === 0 || beating) return null;
+  return (
+    <p className="muted small" role="note">
+      No node sends a heartbeat (producer time 0), so ServoDesk notices a lost node only when it
+      next asks it something. Set a heartbeat producer time (100 ms is usual) in the column above.
+    </p>
+  );
+}
+
 const INTERACTIVE = "a, button, input, select, textarea, summary, details, label, form";
 
 const NodeRow = memo(function NodeRow({ info }: { info: NodeInfo }): ReactNode {
@@ -99,7 +133,8 @@ const NodeRow = memo(function NodeRow({ info }: { info: NodeInfo }): ReactNode {
         <LiveDot info={info} />{" "}
         <Link to={nodeUrl(info.node)} aria-label={`Open node ${info.node}`}>
           {info.node}
-        </Link>
+        </Link>{" "}
+        <ErrorLamp info={info} />
       </td>
       <td>{info.name ?? "—"}</td>
       <td>{info.profile_label}</td>
@@ -110,6 +145,18 @@ const NodeRow = memo(function NodeRow({ info }: { info: NodeInfo }): ReactNode {
         <span className="block" title="Product code (1018h:02)">
           {hex(info.product_code)}
         </span>
+        <span className="block muted" title="Revision (1018h:03) and serial number (1018h:04)">
+          rev {hex(info.revision)} · SN {hex(info.serial)}
+        </span>
+        {(info.software_version ?? info.hardware_version) && (
+          <span
+            className="block muted"
+            title="Firmware (100Ah manufacturer software version) and hardware (1009h)"
+          >
+            FW {info.software_version ?? "—"}
+            {info.hardware_version ? ` · HW ${info.hardware_version}` : ""}
+          </span>
+        )}
       </td>
       <td>
         <LiveState info={info} />
@@ -204,7 +251,7 @@ export function NodesCard({ scan, lastScan }: ScanProps): ReactNode {
                 <th scope="col">Node</th>
                 <th scope="col">Name</th>
                 <th scope="col">Profile</th>
-                <th scope="col">Vendor / product</th>
+                <th scope="col">Identity</th>
                 <th scope="col">NMT state</th>
                 <th scope="col">Heartbeat age</th>
                 <th scope="col">Heartbeat producer</th>
@@ -218,6 +265,7 @@ export function NodesCard({ scan, lastScan }: ScanProps): ReactNode {
               ))}
             </tbody>
           </table>
+          <NoHeartbeatHint infos={infos} />
         </div>
       )}
     </section>
