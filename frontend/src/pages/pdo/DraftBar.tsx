@@ -114,6 +114,9 @@ export function DraftBar({
         validation={validation}
         external={syncExternal}
         onExternal={onSyncExternal}
+        onSyncStarted={() => {
+          if (validation) onValidate();
+        }}
       />
       <ErrorText error={validateError} />
       {confirming && (

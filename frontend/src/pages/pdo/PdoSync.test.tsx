@@ -92,6 +92,31 @@ describe("PdoPage SYNC", () => {
     expect(JSON.parse(put?.body ?? "{}")).toHaveProperty("sync_source", "external");
   });
 
+  it("checks the draft again once SYNC is started from the warning", async () => {
+    let producing = false;
+    const fetch = render({
+      "PUT /api/sync": () => {
+        producing = true;
+        return { producing: true, period_us: 10_000 };
+      },
+      "POST /api/nodes/1/pdos/validate": (request: Request) => ({
+        ok: producing,
+        problems: [],
+        warnings: producing ? [] : WARNINGS,
+        sync: { ...QUIET, producing, period_us: producing ? 10_000 : null, source: null },
+        bus_load: loadFor(request),
+      }),
+    });
+    await draftAndValidate();
+    expect(await screen.findByText("No SYNC on the bus")).toBeTruthy();
+    await userEvent.click(screen.getByRole("button", { name: "Produce SYNC" }));
+    expect(await screen.findByText("Checked: no problems")).toBeTruthy();
+    expect(fetch.calls.filter((c) => c.path.endsWith("/validate"))).toHaveLength(2);
+    expect(screen.getByText("SYNC produced every 10 ms")).toBeTruthy();
+    const choice = within(screen.getByRole("group", { name: "SYNC for the synchronous PDOs" }));
+    expect(choice.queryByRole("alert")).toBeNull();
+  });
+
   it("says so when SYNC from another producer is heard on the bus", async () => {
     render({
       "POST /api/nodes/1/pdos/validate": (request: Request) => ({

@@ -10,12 +10,20 @@ interface Props {
   /** The user says SYNC comes from the machine's controller (sync_source "external"). */
   external: boolean;
   onExternal: (external: boolean) => void;
+  /** SYNC was started here: a checked draft is checked again. */
+  onSyncStarted?: () => void;
 }
 
 /** Where a synchronous draft gets its SYNC: ServoDesk's producer, another producer heard on
  * the bus, or the machine's controller (a PLC not connected on the bench). Without any of
  * them the server warns; the user acknowledges it here or starts SYNC. */
-export function SyncChoice({ draft, validation, external, onExternal }: Props): ReactNode {
+export function SyncChoice({
+  draft,
+  validation,
+  external,
+  onExternal,
+  onSyncStarted,
+}: Props): ReactNode {
   const synchronous = draft.filter((p) => p.valid && isSynchronous(p.transmission_type));
   if (synchronous.length === 0) return null;
   const labels = synchronous.map(pdoLabel).join(", ");
@@ -50,7 +58,7 @@ export function SyncChoice({ draft, validation, external, onExternal }: Props): 
           />{" "}
           SYNC comes from the machine&apos;s controller (PLC)
         </label>
-        <SyncControl />
+        <SyncControl onStarted={onSyncStarted} />
       </span>
     </div>
   );

@@ -6,8 +6,9 @@ import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 
-/** For a synchronous mapping: whether SYNC is produced, and a way to start it. */
-export function SyncControl(): ReactNode {
+/** For a synchronous mapping: whether SYNC is produced, and a way to start it (`onStarted`
+ * then, e.g. to check a draft again). */
+export function SyncControl({ onStarted }: { onStarted?: () => void } = {}): ReactNode {
   const sync = useApi((signal) => call(api.GET("/api/sync", { signal })), "sync");
   const [periodMs, setPeriodMs] = useState("10");
   const configure = useMay("configure");
@@ -18,6 +19,7 @@ export function SyncControl(): ReactNode {
       }),
     );
     sync.setData(() => answer);
+    onStarted?.();
   });
   const period = Number(periodMs);
   const periodOk = periodMs.trim() !== "" && period > 0 && period <= 60_000;
