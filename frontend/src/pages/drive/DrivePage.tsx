@@ -2,6 +2,7 @@ import { useState, type ReactNode } from "react";
 
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useLive } from "../../live/context";
 import { ControllerBar } from "./ControllerBar";
 import { DriveControls } from "./DriveControls";
 import { DriveValues } from "./DriveValues";
@@ -9,6 +10,7 @@ import type { HeldByOtherError } from "./driveApi";
 import { HomingWizard } from "./HomingWizard";
 import { JogPanel } from "./JogPanel";
 import { LimitsCard } from "./LimitsCard";
+import { manualFor } from "./manuals";
 import { QuickStopButton } from "./QuickStopButton";
 import { StateDiagram } from "./StateDiagram";
 import { STATE_LABELS } from "./stateMachine";
@@ -22,6 +24,7 @@ export function DrivePage({ node }: { node: number }): ReactNode {
   const controller = useController(node);
   const [heldBy, setHeldBy] = useState<HeldByOtherError | null>(null);
   const mayCommand = !(controller.controller?.holder && !controller.controller.you);
+  const profile = useLive((s) => s.infos.find((i) => i.node === node)?.profile);
 
   return (
     <div className="drive-page">
@@ -55,7 +58,7 @@ export function DrivePage({ node }: { node: number }): ReactNode {
             <section className="card drive-machine" aria-labelledby="drive-machine-heading">
               <header className="card-header">
                 <h2 id="drive-machine-heading">State machine</h2>
-                <span className="muted small">CiA 402 · MDi-S1-C CANopen manual §3.2.1</span>
+                <span className="muted small">{manualFor(profile, "state_machine")}</span>
               </header>
               <StateDiagram state={drive.state} lastTransition={drive.last_transition} />
               {drive.last_transition && (

@@ -3,10 +3,12 @@ import { useEffect, useRef, useState, type ReactNode } from "react";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
+import { useLive } from "../../live/context";
 import { useMay } from "../../session/context";
 import { home, homingMethods } from "./driveApi";
 import { HomingDiagram } from "./HomingDiagram";
 import { HomingTimeline } from "./HomingTimeline";
+import { manualFor } from "./manuals";
 import { NumberField } from "./NumberField";
 import { homingStatus } from "./statusBits";
 import { addSample, type Sample } from "./timeline";
@@ -47,6 +49,7 @@ export function HomingWizard({
   mayCommand: boolean;
 }): ReactNode {
   const methods = useApi((signal) => homingMethods(node, signal), `homing:${node}`);
+  const profile = useLive((s) => s.infos.find((i) => i.node === node)?.profile);
   const [picked, setPicked] = useState<number | null>(null);
   const operate = useMay("operate");
   const [fast, setFast] = useState("100");
@@ -76,9 +79,7 @@ export function HomingWizard({
     <section className="card drive-homing" aria-labelledby="drive-homing-heading">
       <header className="card-header">
         <h2 id="drive-homing-heading">Homing</h2>
-        <span className="muted small">
-          MDi-S1-C CANopen manual §3.7 · Kinco servo CANopen manual §5.4.6
-        </span>
+        <span className="muted small">{manualFor(profile, "homing")}</span>
       </header>
       <ErrorText error={methods.error} onRetry={methods.reload} />
       {methods.loading && !methods.data && <Spinner label="Loading homing methods" />}
