@@ -14,9 +14,10 @@ from types import TracebackType
 
 import can
 import canopen
+from canopen.objectdictionary import ObjectDictionary
 
 import servodesk_data
-from servodesk.errors import NodeNotFoundError
+from servodesk.errors import CommTimeoutError, NodeNotFoundError, SdoAbortError
 from servodesk.models import NmtCommandName, NmtStateName, NodeInfo
 from servodesk.nodes.session import NodeSession
 from servodesk.od import ObjectDictionaryModel, load_od
@@ -151,6 +152,30 @@ class SimNodes:
             return False
         finally:
             self.network.unsubscribe(BOOT_UP + node, on_frame)
+        return True
+
+    async def answers(self, node: int) -> bool:
+        """A 1000h read at `node` on the bus: its session's if listed, else a throw-away one."""
+        if node in self._sessions:
+            try:
+                await self._sessions[node].upload(0x1000, 0)
+            except CommTimeoutError:
+                return False
+            except SdoAbortError:
+                return True
+            return True
+        remote = canopen.RemoteNode(node, ObjectDictionary())  # type: ignore[no-untyped-call]
+        self.network.add_node(remote)
+        probe = NodeSession(remote, sdo_timeout=self.sdo_timeout)
+        try:
+            await probe.upload(0x1000, 0)
+        except CommTimeoutError:
+            return False
+        except SdoAbortError:
+            return True
+        finally:
+            probe.close()
+            del self.network[node]
         return True
 
     async def move(self, old: int, new: int) -> NodeInfo:
