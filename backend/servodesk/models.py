@@ -235,6 +235,9 @@ class Param(BaseModel):
     takes_effect: Literal["immediately", "after_reset", "after_store_and_reset"]
     choices: dict[str, str]
     error: str | None = None
+    # written since the node's last boot-up, in effect only after a reset (the drive reads
+    # back the new value but still works with the old one)
+    pending: bool = False
 
 
 class ParamWriteRequest(RequestBody):

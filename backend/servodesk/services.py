@@ -141,6 +141,8 @@ def build_services(
     # the timeline and the active faults on the WebSocket (subscribed after the store: ids)
     live.follow_diagnostics(events, storage.id_of, faults.add_listener, faults.all_active)
     viewer = RerunServer(settings.data_dir / "rerun")
+    params = ParamService(registry, publish=events.publish)
+    registry.add_event_listener(params.on_node_event)
     usage = UsageMeter(
         settings.data_dir,
         logs_keep_mb=settings.logs_keep_mb,
@@ -165,7 +167,7 @@ def build_services(
         sync=sync,
         sdo=PublishingSdoService(registry, bus=events, on_write=pdos.sdo_written),
         jobs=jobs,
-        params=ParamService(registry, publish=events.publish),
+        params=params,
         node_ids=NodeIdService(registry, settings),
         paramsets=ParamSetService(registry, od_parser, pdos, publish=events.publish),
         pdos=pdos,

@@ -160,7 +160,8 @@ def test_parameters_store_restore(client: TestClient) -> None:
     assert ok(client.get("/api/nodes/1/params/PA-14"))["value"] == 4
     result = ok(client.put("/api/nodes/1/params/PA-106", json={"value": 6}))
     assert result["requires_reset"] is True
-    assert "takes effect after reset" in result["message"]
+    assert "use Change bitrate…" in result["message"]
+    assert result["param"]["pending"] is True
     out_of_range = client.put("/api/nodes/1/params/PA-106", json={"value": 9})
     assert out_of_range.status_code == 422
     assert client.get("/api/nodes/1/params/PA-999").status_code == 422

@@ -8,7 +8,7 @@ from dataclasses import replace
 import pytest
 
 from servodesk.errors import ConfirmationRequiredError, InvalidValueError
-from servodesk.models import NmtCommandName
+from servodesk.models import LiveEvent, NmtCommandName
 from servodesk.params.service import ParamService, resolve_value
 from servodesk.sdo.service import SdoService
 from servodesk_data import load
@@ -65,8 +65,10 @@ async def test_set_bitrate_by_choice_label_needs_reset(nodes: SimNodes) -> None:
     assert result.param.value == 4
     assert result.requires_reset is True
     assert result.requires_store is True
-    assert result.message.startswith("takes effect after reset")
-    assert "store the parameters (1010h), then reset the node" in result.message
+    # the bitrate has its own wizard, which also says how to bring the bus along
+    assert result.message.startswith("written; the drive talks at the new bitrate after a store")
+    assert "use Change bitrate…" in result.message
+    assert result.param.pending is True
     # only written, not applied: the drive still answers at its old bitrate after this
     assert (await SdoService(nodes).read(1, 0x2006, 0x0B)).value == 4
 
@@ -103,7 +105,20 @@ async def test_kinco_node_offset(nodes: SimNodes) -> None:
     result = await service.set(2, "Node offset", "0x05")
     assert result.param.value == 5
     assert result.requires_reset is True
-    assert "takes effect after reset" in result.message
+    assert "use Change node ID…" in result.message  # the offset sets the node id
+
+
+async def test_a_written_after_reset_parameter_is_pending_until_the_node_boots(
+    nodes: SimNodes,
+) -> None:
+    service = ParamService(nodes)
+    assert (await service.get(1, "PA-106")).pending is False
+    await service.set(1, "PA-106", 5)  # the bitrate it has: the reset below changes nothing
+    assert (await service.get(1, "PA-106")).pending is True
+    assert [p.name for p in await service.list(1) if p.pending] == ["PA-106"]
+    assert (await service.get(2, "Node offset")).pending is False  # another node
+    service.on_node_event(LiveEvent(time=0.0, node=1, kind="boot-up", message="node 1 booted"))
+    assert (await service.get(1, "PA-106")).pending is False
 
 
 def test_resolve_value_accepts_labels_and_numbers() -> None:

@@ -19,7 +19,7 @@ from servodesk.errors import (
     ServodeskError,
 )
 from servodesk.events.tool_writes import Publish, tool_write, where
-from servodesk.models import MessageResult, Param, ParamWriteResult
+from servodesk.models import LiveEvent, MessageResult, Param, ParamWriteResult
 from servodesk.nodes.access import NodeAccess
 from servodesk.sdo import codec
 from servodesk.sdo.service import SdoService
@@ -89,6 +89,14 @@ class ParamService:
         self._access = access
         self._sdo = SdoService(access)
         self._publish = publish  # "tool-write" events on the timeline
+        # parameters written since the node's last boot-up that take effect only after a reset:
+        # the drive reads back the new value, but still works with the old one
+        self._pending: dict[int, set[str]] = {}
+
+    def on_node_event(self, event: LiveEvent) -> None:
+        """A boot-up: the node now works with what it had stored; nothing is pending."""
+        if event.kind == "boot-up" and event.node is not None:
+            self._pending.pop(event.node, None)
 
     def catalogue(self, node: int) -> tuple[Parameter, ...]:
         data = self._access.profile_data(node)
@@ -137,9 +145,12 @@ class ParamService:
                 )
             )
         changed = parameter.takes_effect is not TakesEffect.IMMEDIATELY
+        if changed:
+            self._pending.setdefault(node, set()).add(parameter.name)
+        param = self._param(parameter, written.value if isinstance(written.value, int) else None)
         return ParamWriteResult(
-            param=self._param(parameter, written.value if isinstance(written.value, int) else None),
-            message=effect_message(parameter.takes_effect),
+            param=param.model_copy(update={"pending": changed}),
+            message=self._effect(node, parameter),
             requires_reset=changed,
             requires_store=changed,
         )
@@ -195,7 +206,30 @@ class ParamService:
         known = ", ".join(p.name for p in data.parameters)
         raise InvalidValueError(f"{data.profile} has no parameter '{name}'; known: {known}")
 
+    def _effect(self, node: int, parameter: Parameter) -> str:
+        """What the user does next: a bitrate or node-id parameter has its own wizard, which
+        also moves the bus or the tool along with the drive."""
+        data = self._access.profile_data(node)
+        quirks = data.quirks if data is not None else None
+        if quirks is not None and parameter.object in quirks.bitrate_objects:
+            return (
+                "written; the drive talks at the new bitrate after a store and a reset, and the "
+                "bus must follow it: use Change bitrate…, which stores, resets and says how to "
+                "reconnect"
+            )
+        if quirks is not None and parameter.object == quirks.node_id_object:
+            return (
+                "written; the drive answers at the new id after a store and a reset: use Change "
+                "node ID…, which stores, resets and follows the drive to its new id"
+            )
+        return effect_message(parameter.takes_effect)
+
     async def _read(self, node: int, parameter: Parameter) -> Param:
+        pending = parameter.name in self._pending.get(node, ())
+        param = await self._read_value(node, parameter)
+        return param.model_copy(update={"pending": True}) if pending else param
+
+    async def _read_value(self, node: int, parameter: Parameter) -> Param:
         index, subindex = parameter.object
         try:
             data = await self._access.session(node).upload(index, subindex)

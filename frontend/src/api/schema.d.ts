@@ -3139,6 +3139,11 @@ export interface components {
             name: string;
             /** Object */
             object: string;
+            /**
+             * Pending
+             * @default false
+             */
+            pending: boolean;
             /** Subindex */
             subindex: number;
             /**

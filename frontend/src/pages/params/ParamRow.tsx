@@ -134,6 +134,14 @@ export const ParamRow = memo(function ParamRow({ node, param, onWritten }: Props
           <span className={`badge effect-${param.takes_effect}`}>
             {TAKES_EFFECT_LABELS[param.takes_effect]}
           </span>
+          {param.pending && (
+            <span
+              className="badge pending"
+              title="Written since the drive last booted: it still works with the value it had"
+            >
+              pending until reset
+            </span>
+          )}
         </td>
       </tr>
       {(message || inputError || write.error) && (

@@ -1,4 +1,4 @@
-import { screen } from "@testing-library/react";
+import { screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
@@ -26,6 +26,7 @@ const PA106: Param = {
   takes_effect: "after_reset",
   choices: { "4": "250 kbit/s", "5": "500 kbit/s" },
   error: null,
+  pending: false,
 };
 
 const PA103: Param = {
@@ -51,8 +52,9 @@ describe("ParamsPage", () => {
       ...EMPTY_DCF_ROUTES,
       "GET /api/nodes/1/params": [PA106, PA103],
       "PUT /api/nodes/1/params/PA-106": {
-        param: { ...PA106, value: 4 },
-        message: "takes effect after reset: store the parameters, then reset the node",
+        param: { ...PA106, value: 4, pending: true },
+        message:
+          "written; the drive talks at the new bitrate after a store and a reset, and the bus must follow it: use Change bitrate…, which stores, resets and says how to reconnect",
         requires_reset: true,
         requires_store: true,
       },
@@ -66,7 +68,10 @@ describe("ParamsPage", () => {
     await userEvent.selectOptions(screen.getByLabelText("PA-106", { selector: "select" }), "4");
     await userEvent.click(screen.getByRole("button", { name: "Write PA-106" }));
 
-    expect(await screen.findByText(/takes effect after reset/)).toBeTruthy();
+    expect(await screen.findByText(/use Change bitrate…/)).toBeTruthy();
+    // written, not in effect: the row says so until the drive boots again
+    const row = screen.getByRole("rowheader", { name: "PA-106" }).closest("tr") as HTMLElement;
+    expect(within(row).getByText("pending until reset")).toBeTruthy();
     const put = fetch.calls.find((c) => c.method === "PUT");
     expect(put?.path).toBe("/api/nodes/1/params/PA-106");
     expect(JSON.parse(put?.body ?? "{}")).toEqual({ value: 4 });
