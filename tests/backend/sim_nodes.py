@@ -120,10 +120,15 @@ class SimNodes:
         if node not in self.profiles:
             raise NodeNotFoundError(node)
         profile = self.profiles[node]
+        identity = self.drive_data[profile].identity
         return NodeInfo(
             node=node,
+            # what the registry reads from 1018h/1000h at a scan
+            vendor_id=identity.vendor_id,
+            product_code=identity.product_code,
+            device_type=identity.device_type,
             profile=profile,
-            profile_label=self.drive_data[profile].identity.description,
+            profile_label=identity.description,
             nmt_state=NmtStateName.UNKNOWN,
             online=True,
         )

@@ -26,6 +26,7 @@ PATH_VALUES = {
     "jog_id": "x",
     "capture_id": "1",
     "entry_id": "1",
+    "log_id": "0" * 32,
 }
 BODIES: dict[str, dict[str, Any]] = {
     "json": {"json": {"command": "start", "value": 1, "confirm": True}},

@@ -18,7 +18,7 @@ MB = 1 << 20
 
 def test_health_reports_the_data_directory(tmp_path: Path) -> None:
     (tmp_path / "logs").mkdir()
-    (tmp_path / "logs" / "1.sqlite").write_bytes(b"\0" * (3 * MB))
+    (tmp_path / "logs" / f"{'a' * 32}.sqlite").write_bytes(b"\0" * (3 * MB))
     (tmp_path / "recordings").mkdir()
     (tmp_path / "recordings" / "bus.blf").write_bytes(b"\0" * MB)
     settings = Settings(simulated=True, data_dir=tmp_path, logs_keep_mb=100, captures_keep_mb=7)

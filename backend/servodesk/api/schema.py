@@ -74,11 +74,17 @@ def install_schema(app: FastAPI) -> None:
 def allowed_methods(app: FastAPI, path: str) -> list[str]:
     """Every method the schema offers at `path`, for a 405's `Allow` (Starlette's own names
     only the first route it tried: GET where PUT is allowed too)."""
-    methods: set[str] = set()
+    matching: list[tuple[int, set[str]]] = []
     for template, item in build_schema(app).get("paths", {}).items():
-        regex, _, _ = compile_path(template)
+        regex, _, params = compile_path(template)
         if regex.match(path):
-            methods |= {method.upper() for method in item}
+            matching.append((len(params), {method.upper() for method in item}))
+    # the most literal templates name the resource: /api/logs/decode is not a {log_id}
+    fewest = min((count for count, _ in matching), default=0)
+    methods: set[str] = set()
+    for count, offered in matching:
+        if count == fewest:
+            methods |= offered
     if "GET" in methods:
         methods.add("HEAD")
     return sorted(methods)

@@ -121,7 +121,8 @@ class LogStore:
     def ids(self) -> Iterator[str]:
         if self.root.is_dir():
             for path in sorted(self.root.glob("*.sqlite")):
-                yield path.stem
+                if _ID.match(path.stem):  # a stray file in logs/ is not a decoded log
+                    yield path.stem
 
     def kept(self) -> list[KeptLog]:
         """Every decoded log, newest first; one that vanishes meanwhile is left out."""
