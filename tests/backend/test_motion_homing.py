@@ -30,8 +30,14 @@ async def homed_at_edge(r: MotionRig, node: int, method: int) -> None:
     index, edge, lamp, side = EDGES[method]
     for shift, lit in ((side * EDGE_TOLERANCE, True), (-side * EDGE_TOLERANCE, False)):
         await r.write(node, index, 0, edge + shift)
-        state = await r.motion.state(node)
-        assert state.inputs[lamp] is lit, (node, method, shift)
+        # 60FDh follows the moved switch at the drive's next control period and reaches the
+        # state with its next TPDO: wait for it, a moment is not a measurement here
+        await r.until(
+            node,
+            lambda s, lamp=lamp, lit=lit: s.inputs[lamp] is lit,  # type: ignore[misc]
+            timeout=2,
+            what=f"{lamp} {'lit' if lit else 'dark'} with the edge moved {shift} inc",
+        )
     await r.write(node, index, 0, edge)
 
 
