@@ -49,8 +49,11 @@ def test_a_late_sync_delays_the_rest_instead_of_bursting() -> None:
     first = clock.wait(0)
     second = clock.wait(1)
     third = clock.wait(2)
-    assert second - first >= period * 0.99
-    assert third - second >= period * 0.99
+    assert second - first >= period * 0.99  # a full period after the late one
+    # Later SYNCs keep their schedule: one woken less than half a period late is not
+    # re-based, so the next interval may be that much shorter (jitter), but never a burst
+    # (a CI run on a loaded host saw 8.6 ms after a second SYNC woken 1.4 ms late).
+    assert third - second > period / 2
 
 
 @contextmanager
