@@ -19,6 +19,8 @@ from servodesk.api.uploads import Upload, read_limited, upload_name
 from servodesk.logs.events import Event
 from servodesk.logs.export import ExportFormat
 from servodesk.logs.service import EXPORT_TYPES, event_data
+from servodesk.logs.store import LogResult
+from servodesk.services import Services
 
 router = APIRouter(prefix="/logs", tags=["logs"], route_class=AuditedRoute)
 
@@ -87,6 +89,11 @@ async def decode_log(
         dcf_part = (dcf_name, await read_limited(dcf, MAX_DCF, dcf_name))
     result = await services.logs.decode(name, data, dcf_part, profiles)
     services.usage.forget()  # a new file under logs/
+    return await _decoded(services, result)
+
+
+async def _decoded(services: Services, result: LogResult) -> DecodedLog:
+    """A decode's answer: its summary and totals with the first page of its events."""
     first = _page(await services.logs.events(result.id, 0, FIRST_PAGE), FIRST_PAGE)
     return DecodedLog(
         id=result.id,
@@ -116,16 +123,7 @@ async def list_logs(services: ServicesDep) -> list[KeptLogInfo]:
 @router.get("/{log_id}", responses=NOT_FOUND)
 async def get_log(log_id: str, services: ServicesDep) -> DecodedLog:
     """A decoded log again: its summary, totals and first page of events."""
-    result = await services.logs.result(log_id)
-    first = _page(await services.logs.events(log_id, 0, FIRST_PAGE), FIRST_PAGE)
-    return DecodedLog(
-        id=result.id,
-        name=result.name,
-        summary=result.summary,
-        stats=result.stats,
-        events=first.events,
-        next=first.next,
-    )
+    return await _decoded(services, await services.logs.result(log_id))
 
 
 @router.delete(
