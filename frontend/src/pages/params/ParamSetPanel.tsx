@@ -40,6 +40,15 @@ function LoadResult({ result }: { result: DcfLoadResult }): ReactNode {
         Written {result.written}, skipped {result.skipped}, failed {result.failed.length}, differing
         after read-back {result.differences.length}.
       </p>
+      {result.warnings.length > 0 && (
+        <ul className="compact-list" aria-label="Written, but check">
+          {result.warnings.map((warning) => (
+            <li key={warning} className="warn-text">
+              {warning}
+            </li>
+          ))}
+        </ul>
+      )}
       {result.failed.length > 0 && (
         <ul className="compact-list">
           {result.failed.map((f) => (

@@ -171,4 +171,33 @@ describe("ParamsPage", () => {
     expect(screen.getByRole("button", { name: "Save DCF" })).toBeTruthy();
     expect(screen.queryByRole("button", { name: "Store parameters" })).toBeNull();
   });
+
+  it("lists what a DCF load wrote but asks to check (a synchronous PDO without SYNC)", async () => {
+    const warning =
+      "RPDO1 is synchronous (every SYNC) but no SYNC is produced or heard: it is written for the machine's controller";
+    const preview = {
+      rows: [],
+      read_only: [],
+      identity: { matches: true, file: "vendor 0x26C", device: "vendor 0x26C", checked: true },
+      confirm: [],
+    };
+    stubFetch({
+      "GET /api/nodes/3/params": [],
+      "POST /api/nodes/3/compare": preview,
+      "POST /api/nodes/3/dcf": {
+        identity: preview.identity,
+        written: 12,
+        skipped: 0,
+        failed: [],
+        differences: [],
+        warnings: [warning],
+      },
+    });
+    renderPage(<ParamsPage node={3} />, "/nodes/3/parameters");
+    await userEvent.upload(await screen.findByLabelText("Load DCF…"), new File(["x"], "plc.dcf"));
+    await userEvent.click(await screen.findByRole("button", { name: "Write the set anyway" }));
+    const check = await screen.findByRole("list", { name: "Written, but check" });
+    expect(check.textContent).toBe(warning);
+    expect(screen.getByText(/Written 12, skipped 0, failed 0/)).toBeTruthy();
+  });
 });
