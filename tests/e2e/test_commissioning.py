@@ -50,11 +50,17 @@ def test_writing_the_statusword_shows_the_abort_code_and_meaning(page: Page, ser
     expect(page.get_by_text(re.compile("Attempt to write a read-only object"))).to_be_visible()
 
 
-def test_changing_pa106_says_it_takes_effect_after_reset(page: Page, server: str) -> None:
+def test_changing_pa106_points_to_the_bitrate_wizard_and_is_pending(
+    page: Page, server: str
+) -> None:
     page.goto(f"{server}/nodes/1/parameters")
     page.get_by_label("PA-106", exact=True).select_option("4")
     page.get_by_role("button", name="Write PA-106").click()
-    expect(page.get_by_text(re.compile("takes effect after reset"))).to_be_visible()
+    expect(
+        page.get_by_text(re.compile("after a store and a reset.*use Change bitrate…"))
+    ).to_be_visible()
+    row = page.get_by_role("row").filter(has=page.get_by_role("rowheader", name="PA-106"))
+    expect(row.get_by_text("pending until reset")).to_be_visible()
 
 
 @pytest.mark.parametrize("eds", EDS_FILES, ids=lambda path: path.name)
