@@ -203,7 +203,7 @@ def _diagnostics(
     retention = Retention(
         settings.events_max_rows, settings.events_max_days, settings.faults_max_rows
     )
-    storage = Storage(settings.data_dir, retention)
+    storage = Storage(settings.data_dir, retention, bus_of=bus.label)
     faults = FaultService(registry, events, storage, settings)
     events.subscribe(storage.add_event)
     registry.add_event_listener(registry_events(events))

@@ -26,6 +26,13 @@ async def events(
         int | None, Query(ge=1, description="older events than this id, newest first")
     ] = None,
     limit: Annotated[int, Query(ge=1, le=1000)] = 100,
+    all_buses: Annotated[
+        bool,
+        Query(
+            description="also the events of other buses (another server sharing this data "
+            "directory, a bus connected before); default: the connected bus's only"
+        ),
+    ] = False,
 ) -> EventPage:
     storage = services.storage
     await storage.flush()  # everything published before the request is in the answer
@@ -35,6 +42,7 @@ async def events(
         since=since,
         before=None if since is not None else before,
         limit=limit,
+        bus=None if all_buses else services.bus.label(),
     )
     page = [TimelineEvent(**vars(row)) for row in rows]
     if since is not None:

@@ -202,6 +202,14 @@ class BusManager:
     def config(self) -> BusConfig | None:
         return self._config
 
+    def label(self) -> str | None:
+        """The bus in words, as stored with each event: "socketcan can0", "virtual
+        servodesk-sim-…" (each simulated bus is its own); None before any was configured."""
+        config = self._effective_config()
+        if config is None or config.interface is None:
+            return None
+        return f"{config.interface} {config.channel}" if config.channel else config.interface
+
     @property
     def sim(self) -> SimBus | None:
         return self._sim.sim if self._sim is not None else None

@@ -78,6 +78,7 @@ class TimelineEvent(BaseModel):
     node: int | None
     message: str
     data: dict[str, Any]
+    bus: str | None = None  # the bus it came from ("socketcan can0"); null: not recorded
 
 
 class EventPage(BaseModel):

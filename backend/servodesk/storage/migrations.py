@@ -41,6 +41,15 @@ MIGRATIONS: tuple[tuple[int, str], ...] = (
         CREATE INDEX faults_time ON faults (time);
         """,
     ),
+    (
+        2,
+        # the bus an event came from ("socketcan can0", "virtual servodesk-sim-…"): two servers
+        # sharing a data directory each show their own bus's timeline
+        """
+        ALTER TABLE events ADD COLUMN bus TEXT;
+        CREATE INDEX events_bus ON events (bus, id);
+        """,
+    ),
 )
 LATEST = MIGRATIONS[-1][0]
 

@@ -21,6 +21,7 @@ import logging
 import sqlite3
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -51,7 +52,12 @@ FAULT_COLUMNS = (
 )
 _QUOTED = ", ".join(f'"{c}"' for c in FAULT_COLUMNS)  # "check" is an SQL keyword
 _FAULT_INSERT = f"INSERT INTO faults ({_QUOTED}) VALUES ({', '.join('?' * len(FAULT_COLUMNS))})"
-_EVENT_INSERT = "INSERT INTO events (id, time, kind, node, message, data) VALUES (?, ?, ?, ?, ?, ?)"
+_EVENT_INSERT = (
+    "INSERT INTO events (id, time, kind, node, message, data, bus) VALUES (?, ?, ?, ?, ?, ?, ?)"
+)
+_EVENT_INSERT_NEW_ID = (
+    "INSERT INTO events (time, kind, node, message, data, bus) VALUES (?, ?, ?, ?, ?, ?)"
+)
 
 
 @dataclass(frozen=True)
@@ -69,6 +75,7 @@ class StoredEvent:
     node: int | None
     message: str
     data: dict[str, Any]
+    bus: str | None = None  # the bus it came from (None: stored before buses were recorded)
 
 
 def _connect(path: Path) -> sqlite3.Connection:
@@ -80,9 +87,18 @@ def _connect(path: Path) -> sqlite3.Connection:
 
 
 class Storage:
-    def __init__(self, data_dir: Path, retention: Retention | None = None) -> None:
+    def __init__(
+        self,
+        data_dir: Path,
+        retention: Retention | None = None,
+        *,
+        bus_of: Callable[[], str | None] | None = None,
+    ) -> None:
         self.path = data_dir / FILENAME
         self.retention = retention or Retention()
+        # names the bus each event is stored with ("socketcan can0"): another server may share
+        # this data directory, and each shows its own bus's timeline
+        self._bus_of = bus_of or (lambda: None)
         self._writer: sqlite3.Connection | None = None
         self._reader: sqlite3.Connection | None = None
         self._read_lock = threading.Lock()  # one read at a time on the read connection
@@ -97,6 +113,7 @@ class Storage:
         self.dropped = 0
         self._next_id: int | None = None  # known once the database is open
         self._last: tuple[BusEvent, int] | None = None  # the event queued last and its id
+        self._taken_to = 0  # the highest id another server sharing the database wrote
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -154,13 +171,15 @@ class Storage:
         (`id_of`). Its words and detail are stored bounded, whatever a client sent."""
         data = bounded_json(item.data)
         event_id = self._next_id
+        if event_id is not None and event_id <= self._taken_to:
+            event_id = self._taken_to + 1  # another server wrote up to there
         if event_id is not None:
             self._next_id = event_id + 1
             self._last = (item, event_id)
         self._queue(
             self._events,
             (event_id, item.time, item.kind.value, item.node, shorten(item.message, TEXT_LIMIT),
-             data),
+             data, self._bus_of()),
         )  # fmt: skip
 
     def id_of(self, item: BusEvent) -> int | None:
@@ -217,7 +236,7 @@ class Storage:
         db.execute("BEGIN")
         try:
             if events:
-                db.executemany(_EVENT_INSERT, events)
+                self._insert_events(db, events)
             if faults:
                 db.executemany(_FAULT_INSERT, faults)
             self._prune(db)
@@ -226,6 +245,21 @@ class Storage:
             if db.in_transaction:  # SQLite already rolled back a full disk's transaction
                 db.execute("ROLLBACK")
             raise
+
+    def _insert_events(self, db: sqlite3.Connection, events: list[tuple[Any, ...]]) -> None:
+        """Store the events under the ids they were given; where another server sharing this
+        database took an id meanwhile, under a new one (the next ids given follow it)."""
+        db.execute("SAVEPOINT events")
+        try:
+            db.executemany(_EVENT_INSERT, events)
+        except sqlite3.IntegrityError:
+            db.execute("ROLLBACK TO events")
+            for row in events:
+                taken = db.execute("SELECT 1 FROM events WHERE id = ?", (row[0],)).fetchone()
+                db.execute(*((_EVENT_INSERT_NEW_ID, row[1:]) if taken else (_EVENT_INSERT, row)))
+            newest = db.execute("SELECT MAX(id) FROM events").fetchone()[0]
+            self._taken_to = int(newest)  # read on the loop by add_event
+        db.execute("RELEASE events")
 
     def _prune(self, db: sqlite3.Connection) -> None:
         keep = self.retention
@@ -251,14 +285,16 @@ class Storage:
         since: int | None = None,
         before: int | None = None,
         limit: int = 100,
+        bus: str | None = None,
     ) -> list[StoredEvent]:
         """With `since`: events with id > since, oldest first. Otherwise the newest first,
-        below `before` when given."""
+        below `before` when given. `bus`: only that bus's events (None: every bus's)."""
         where: list[str] = []
         args: list[Any] = []
         for clause, value in (
             ("node = ?", node),
             ("kind = ?", kind),
+            ("bus = ?", bus),
             ("id > ?", since),
             ("id < ?", before),
         ):
@@ -266,12 +302,12 @@ class Storage:
                 where.append(clause)
                 args.append(value)
         order = "ASC" if since is not None else "DESC"
-        sql = "SELECT id, time, kind, node, message, data FROM events"
+        sql = "SELECT id, time, kind, node, message, data, bus FROM events"
         if where:
             sql += " WHERE " + " AND ".join(where)
         sql += f" ORDER BY id {order} LIMIT ?"
         rows = await self._read(sql, (*args, limit))
-        return [StoredEvent(r[0], r[1], r[2], r[3], r[4], json.loads(r[5])) for r in rows]
+        return [StoredEvent(r[0], r[1], r[2], r[3], r[4], json.loads(r[5]), r[6]) for r in rows]
 
     async def faults(self, node: int | None, limit: int) -> tuple[list[dict[str, Any]], int]:
         """The newest `limit` faults (of `node`, or all), newest first, and how many exist."""

@@ -3609,6 +3609,8 @@ export interface components {
         };
         /** TimelineEvent */
         TimelineEvent: {
+            /** Bus */
+            bus?: string | null;
             /** Data */
             data: {
                 [key: string]: unknown;
@@ -4289,6 +4291,8 @@ export interface operations {
                 /** @description older events than this id, newest first */
                 before?: number | null;
                 limit?: number;
+                /** @description also the events of other buses (another server sharing this data directory, a bus connected before); default: the connected bus's only */
+                all_buses?: boolean;
             };
             header?: never;
             path?: never;

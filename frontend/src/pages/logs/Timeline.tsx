@@ -79,8 +79,22 @@ export function Timeline(): ReactNode {
             </option>
           ))}
         </select>
+        <label
+          className="check small"
+          title="Events stored by another server sharing this data directory, or on a bus connected before"
+        >
+          <input
+            type="checkbox"
+            checked={filter.allBuses ?? false}
+            onChange={(e) => setFilter({ ...filter, allBuses: e.target.checked })}
+          />
+          Other buses too
+        </label>
       </div>
-      <TimelineList key={`${filter.node}-${filter.kind}`} filter={filter} />
+      <TimelineList
+        key={`${filter.node}-${filter.kind}-${String(filter.allBuses ?? false)}`}
+        filter={filter}
+      />
     </>
   );
 }
@@ -206,7 +220,12 @@ function TimelineList({ filter }: { filter: TimelineFilter }): ReactNode {
         </p>
       ) : (
         <EventList
-          rows={list.events.map((e) => ({ key: e.id, ...e, text: e.message }))}
+          rows={list.events.map((e) => ({
+            key: e.id,
+            ...e,
+            // with other buses listed, each event says whose it is
+            text: filter.allBuses && e.bus ? `${e.message} [${e.bus}]` : e.message,
+          }))}
           caption="Timeline"
           clock={formatClock}
         />

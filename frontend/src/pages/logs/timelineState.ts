@@ -10,6 +10,9 @@ export const TIMELINE_MAX = 2000;
 export interface TimelineFilter {
   node: number | null;
   kind: EventKind | null;
+  /** Also the events of other buses (another server on this data directory, an earlier bus);
+   * by default the server lists the connected bus's only. */
+  allBuses?: boolean;
 }
 
 export interface Timeline {
@@ -75,10 +78,18 @@ export function matchesFilter(filter: TimelineFilter, event: TimelineEvent): boo
 export function timelineQuery(
   filter: TimelineFilter,
   cursor: { since?: number; before?: number } = {},
-): { node?: number; kind?: EventKind; since?: number; before?: number; limit: number } {
+): {
+  node?: number;
+  kind?: EventKind;
+  since?: number;
+  before?: number;
+  limit: number;
+  all_buses?: boolean;
+} {
   return {
     ...(filter.node === null ? {} : { node: filter.node }),
     ...(filter.kind === null ? {} : { kind: filter.kind }),
+    ...(filter.allBuses ? { all_buses: true } : {}),
     ...cursor,
     limit: TIMELINE_PAGE,
   };
