@@ -9,7 +9,7 @@ it; after one timeout the remaining reads are skipped (the node just went away).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import canopen
 from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
@@ -83,6 +83,15 @@ def read_identity(remote: canopen.RemoteNode) -> Identity:
         serial=read.uint(IDENTITY, 4),
         name=read.text(DEVICE_NAME, 0),
         heartbeat_ms=read.uint(PRODUCER_HEARTBEAT, 0),
-        hardware=read.text(HARDWARE_VERSION, 0),
-        software=read.text(SOFTWARE_VERSION, 0),
     )
+
+
+def read_versions(remote: canopen.RemoteNode, identity: Identity) -> Identity:
+    """Blocking: `identity` with 1009h/100Ah, for the ones the node's dictionary lists (asked
+    after its profile is known: a read of an object the node lacks is an SDO abort, which the
+    timeline would show at every scan)."""
+    listed = remote.object_dictionary
+    read = _OptionalReader(remote)
+    hardware = read.text(HARDWARE_VERSION, 0) if HARDWARE_VERSION in listed else None
+    software = read.text(SOFTWARE_VERSION, 0) if SOFTWARE_VERSION in listed else None
+    return replace(identity, hardware=hardware, software=software)

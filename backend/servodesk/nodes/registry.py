@@ -9,6 +9,8 @@ disconnected; after a reconnect (a new Network) it binds every node's session ag
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import functools
 import logging
 import threading
 import time
@@ -29,6 +31,7 @@ from servodesk.errors import (
     NodeNotFoundError,
     NodeStoppedError,
     SdoAbortError,
+    ServodeskError,
     StateConflictError,
 )
 from servodesk.heap import keep_long_lived
@@ -46,7 +49,13 @@ from servodesk.network.scan import NODE_IDS, SweepListener, send_sweep
 from servodesk.nodes.entry import NodeEntry, OdSource, live_row
 from servodesk.nodes.heartbeat_floor import HEARTBEAT_FLOOR_MS as HEARTBEAT_FLOOR_MS
 from servodesk.nodes.heartbeat_floor import check_heartbeat_time
-from servodesk.nodes.identity import DEVICE_TYPE, PRODUCER_HEARTBEAT, Identity, read_identity
+from servodesk.nodes.identity import (
+    DEVICE_TYPE,
+    PRODUCER_HEARTBEAT,
+    Identity,
+    read_identity,
+    read_versions,
+)
 from servodesk.nodes.moved import moved
 from servodesk.nodes.profile_models import ProfileModels
 from servodesk.nodes.rediscovery import Rediscovery
@@ -306,7 +315,16 @@ class NodeRegistry:
             if existing is not None:
                 existing.unbind()
         self._monitor.track(node, identity.heartbeat_ms)
-        self._bind_if_connected(self._nodes[node])
+        entry = self._nodes[node]
+        self._bind_if_connected(entry)
+        # only of a node that just answered its identification (not one listed from its
+        # heartbeat alone, which may not answer SDO at all)
+        if entry.session is not None and identity.vendor_id is not None:
+            with contextlib.suppress(ServodeskError):  # versions are shown, never required
+                entry.identity = await entry.session.run(
+                    functools.partial(read_versions, identity=entry.identity),
+                    what=f"read the versions of node {node} (1009h, 100Ah)",
+                )
 
     # ------------------------------------------------------------------ NMT and heartbeat
 
