@@ -1,6 +1,7 @@
 import type { ReactNode } from "react";
 
 import { Timeline } from "../logs/Timeline";
+import { BootUpNote } from "./BootUpNote";
 
 /** Boot-ups, lost/back nodes, NMT, EMCYs, SDO aborts, CiA 402 states and the tool's writes, as
  * the server stored them (GET /api/events), newest first. */
@@ -11,6 +12,7 @@ export function EventsCard(): ReactNode {
         <h2 id="events-heading">Timeline</h2>
         <span className="muted small">stored by the server; survives a reload</span>
       </header>
+      <BootUpNote />
       <Timeline />
     </section>
   );

@@ -116,7 +116,9 @@ describe("NetworkPage", () => {
     await userEvent.click(screen.getByRole("button", { name: "Scan" }));
     expect(await screen.findByText("rev 0x00000001 · SN 0x53440001")).toBeTruthy();
     expect(screen.getByText("FW V1.01 · HW V1.0")).toBeTruthy();
-    expect(screen.getByRole("note").textContent).toContain("No node sends a heartbeat");
+    expect(screen.getByRole("note", { name: "No heartbeats" }).textContent).toContain(
+      "No node sends a heartbeat",
+    );
     expect(screen.queryByRole("link", { name: /in fault/ })).toBeNull();
     store.setActiveFaults([mdiAlarm4({ error_register: 0x81 })], store.faultVersion());
     const lamp = await screen.findByRole("link", {
@@ -150,5 +152,33 @@ describe("NetworkPage", () => {
     expect(screen.getByText("1,234")).toBeTruthy();
     const facts = screen.getByText("Bitrate", { selector: "dt" }).nextElementSibling;
     expect(facts?.textContent).toBe("250 kbit/s");
+  });
+
+  it("says when the drives booted before ServoDesk listened, with the last boot-up it knows", async () => {
+    stubFetch({
+      "GET /api/bus/interfaces": [],
+      "POST /api/scan": { nodes: [node(1, "DVS_CANOPEN", "MDi-S1-C")], duration_ms: 40 },
+      "GET /api/nodes/1/heartbeat": { producer_ms: 0 },
+      "GET /api/events": (request: Request) => {
+        const query = new URL(request.url).searchParams;
+        const other = {
+          id: 7,
+          time: 1795757857.3,
+          kind: "boot-up",
+          node: 1,
+          message: "node 1 booted",
+          data: {},
+          bus: "socketcan can0",
+        };
+        const events = query.get("kind") === "boot-up" && query.get("all_buses") ? [other] : [];
+        return { events, next: null };
+      },
+    });
+    renderPage(<NetworkPage />);
+    await userEvent.click(screen.getByRole("button", { name: "Scan" }));
+    const note = await screen.findByRole("note", { name: "No boot-up seen" });
+    expect(note.textContent).toMatch(
+      /^No boot-up on this bus since ServoDesk started listening: the drives booted before it\. The last boot-up ServoDesk knows of: node 1 at \d\d:\d\d:\d\d\.\d+ \(socketcan can0\)\.$/,
+    );
   });
 });

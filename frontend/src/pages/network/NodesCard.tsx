@@ -99,7 +99,7 @@ function NoHeartbeatHint({ infos }: { infos: readonly NodeInfo[] }): ReactNode {
   );
   if (online.length === 0 || beating) return null;
   return (
-    <p className="muted small" role="note">
+    <p className="muted small" role="note" aria-label="No heartbeats">
       No node sends a heartbeat (producer time 0), so ServoDesk notices a lost node only when it
       next asks it something. Set a heartbeat producer time (100 ms is usual) in the column above.
     </p>
