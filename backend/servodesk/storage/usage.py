@@ -43,6 +43,13 @@ def directory_bytes(path: Path) -> int:
     return total
 
 
+def _file_bytes(path: Path) -> int:
+    try:
+        return path.lstat().st_size
+    except OSError:
+        return 0
+
+
 def free_bytes(path: Path) -> int:
     try:
         return shutil.disk_usage(path).free
@@ -63,18 +70,19 @@ class UsageMeter:
         self._last: tuple[float, DataUsage] | None = None
 
     def measure(self) -> DataUsage:
-        """Blocking: walk the directory now."""
-        logs = directory_bytes(self.root / "logs")
-        captures = directory_bytes(self.root / "scope")
-        recordings = directory_bytes(self.root / "recordings")
+        """Blocking: walk the directory now, once, adding each file to its top folder."""
+        by_top: dict[str, int] = {}
+        for top in self.root.iterdir() if self.root.is_dir() else ():
+            size = directory_bytes(top) if top.is_dir() else _file_bytes(top)
+            by_top[top.name] = size
         usage = DataUsage(
-            total_bytes=directory_bytes(self.root),
+            total_bytes=sum(by_top.values()),
             free_bytes=free_bytes(self.root),
-            logs_bytes=logs,
+            logs_bytes=by_top.get("logs", 0),
             logs_keep_bytes=self.logs_keep,
-            captures_bytes=captures,
+            captures_bytes=by_top.get("scope", 0),
             captures_keep_bytes=self.captures_keep,
-            recordings_bytes=recordings,
+            recordings_bytes=by_top.get("recordings", 0),
             min_free_bytes=self.min_free,
         )
         self._last = (time.monotonic(), usage)
