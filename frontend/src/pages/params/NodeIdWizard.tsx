@@ -60,6 +60,8 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
   });
 
   const configure = useMay("configure");
+  const title = `Change the node ID of node ${node}`;
+  const close = (): void => setOpen(false);
 
   function submit(event: SubmitEvent): void {
     event.preventDefault();
@@ -90,10 +92,10 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
       </button>
       {open && !options && (
         <Dialog
-          title={`Change the node ID of node ${node}`}
-          onClose={() => setOpen(false)}
+          title={title}
+          onClose={close}
           actions={
-            <button type="button" onClick={() => setOpen(false)}>
+            <button type="button" onClick={close}>
               Cancel
             </button>
           }
@@ -104,10 +106,10 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
       )}
       {open && options && !options.settable && (
         <Dialog
-          title={`Change the node ID of node ${node}`}
-          onClose={() => setOpen(false)}
+          title={title}
+          onClose={close}
           actions={
-            <button type="button" onClick={() => setOpen(false)}>
+            <button type="button" onClick={close}>
               Close
             </button>
           }
@@ -118,11 +120,11 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
       )}
       {open && options?.settable && (
         <Dialog
-          title={`Change the node ID of node ${node}`}
-          onClose={() => setOpen(false)}
+          title={title}
+          onClose={close}
           actions={
             <>
-              <button type="button" onClick={() => setOpen(false)}>
+              <button type="button" onClick={close}>
                 Cancel
               </button>
               <button
