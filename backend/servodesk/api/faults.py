@@ -27,8 +27,15 @@ async def node_faults(
     node: NodeId,
     services: ServicesDep,
     limit: Annotated[int, Query(ge=1, le=10_000, description="newest history entries")] = 100,
+    all_buses: Annotated[
+        bool,
+        Query(
+            description="also the faults stored from other buses (another server sharing this "
+            "data directory, a bus connected before); default: the connected bus's only"
+        ),
+    ] = False,
 ) -> NodeFaults:
-    return await services.faults.node_faults(node, limit)
+    return await services.faults.node_faults(node, limit, all_buses=all_buses)
 
 
 @router.get("/faults/active")

@@ -25,6 +25,7 @@ class Fault(BaseModel):
     raw_hex: str
     state_before: str | None = None  # the CiA 402 state last seen before the EMCY
     state_after: str | None = None  # 6041h read after the EMCY (best effort)
+    bus: str | None = None  # the bus it came from ("socketcan can0"); null: not recorded
 
 
 class NodeFaults(BaseModel):

@@ -201,9 +201,12 @@ class FaultService:
     def all_active(self) -> list[Fault]:
         return [Fault.model_validate(self._active[node]) for node in sorted(self._active)]
 
-    async def node_faults(self, node: int, limit: int) -> NodeFaults:
+    async def node_faults(self, node: int, limit: int, *, all_buses: bool = False) -> NodeFaults:
+        """The node's history on the connected bus (node 1 of another bus is another drive),
+        or on every bus this data directory has seen."""
         await self._storage.flush()  # every EMCY decoded before the request is in
-        rows, total = await self._storage.faults(node, limit)
+        bus = None if all_buses else self._storage.bus()
+        rows, total = await self._storage.faults(node, limit, bus=bus)
         return NodeFaults(
             active=self.active(node),
             history=[Fault.model_validate(row) for row in rows],

@@ -50,6 +50,14 @@ MIGRATIONS: tuple[tuple[int, str], ...] = (
         CREATE INDEX events_bus ON events (bus, id);
         """,
     ),
+    (
+        3,
+        # the bus a fault came from, as for events: a node's fault history is its own bus's
+        """
+        ALTER TABLE faults ADD COLUMN bus TEXT;
+        CREATE INDEX faults_bus ON faults (bus, node, id);
+        """,
+    ),
 )
 LATEST = MIGRATIONS[-1][0]
 

@@ -51,7 +51,9 @@ FAULT_COLUMNS = (
     "state_after",
 )
 _QUOTED = ", ".join(f'"{c}"' for c in FAULT_COLUMNS)  # "check" is an SQL keyword
-_FAULT_INSERT = f"INSERT INTO faults ({_QUOTED}) VALUES ({', '.join('?' * len(FAULT_COLUMNS))})"
+_FAULT_INSERT = (
+    f"INSERT INTO faults ({_QUOTED}, bus) VALUES ({', '.join('?' * (len(FAULT_COLUMNS) + 1))})"
+)
 _EVENT_INSERT = (
     "INSERT INTO events (id, time, kind, node, message, data, bus) VALUES (?, ?, ?, ?, ?, ?, ?)"
 )
@@ -182,6 +184,10 @@ class Storage:
              data, self._bus_of()),
         )  # fmt: skip
 
+    def bus(self) -> str | None:
+        """The bus new events and faults are stored with (None: none configured yet)."""
+        return self._bus_of()
+
     def id_of(self, item: BusEvent) -> int | None:
         """The id `add_event` gave `item`, asked by a later subscriber of the same publish (the
         live channel); None before the database is open."""
@@ -189,8 +195,9 @@ class Storage:
         return last[1] if last is not None and last[0] is item else None
 
     def add_fault(self, fault: dict[str, Any]) -> None:
-        """Queue a fault record (the API's Fault fields plus state_before/state_after)."""
-        self._queue(self._faults, tuple(fault.get(c) for c in FAULT_COLUMNS))
+        """Queue a fault record (the API's Fault fields plus state_before/state_after), stored
+        with the bus it came from."""
+        self._queue(self._faults, (*(fault.get(c) for c in FAULT_COLUMNS), self._bus_of()))
 
     def _queue(self, rows: list[tuple[Any, ...]], row: tuple[Any, ...]) -> None:
         if len(self._events) + len(self._faults) >= PENDING_LIMIT:
@@ -309,10 +316,15 @@ class Storage:
         rows = await self._read(sql, (*args, limit))
         return [StoredEvent(r[0], r[1], r[2], r[3], r[4], json.loads(r[5]), r[6]) for r in rows]
 
-    async def faults(self, node: int | None, limit: int) -> tuple[list[dict[str, Any]], int]:
-        """The newest `limit` faults (of `node`, or all), newest first, and how many exist."""
-        cols = _QUOTED
-        where, args = ("", ()) if node is None else (" WHERE node = ?", (node,))
+    async def faults(
+        self, node: int | None, limit: int, *, bus: str | None = None
+    ) -> tuple[list[dict[str, Any]], int]:
+        """The newest `limit` faults (of `node`, or all), newest first, and how many exist.
+        `bus`: only that bus's faults (None: every bus's)."""
+        cols = f"{_QUOTED}, bus"
+        clauses = [(c, v) for c, v in (("node = ?", node), ("bus = ?", bus)) if v is not None]
+        where = " WHERE " + " AND ".join(c for c, _ in clauses) if clauses else ""
+        args = tuple(v for _, v in clauses)
         # one snapshot: an EMCY stored between the two reads would make `total` disagree
         # with the rows (2000 counted, 1995 listed during a storm)
         rows, total = await self._read_together(
@@ -320,7 +332,7 @@ class Storage:
             (f"SELECT COUNT(*) FROM faults{where}", args),
         )
         count = int(total[0][0]) if total else 0
-        return [dict(zip(FAULT_COLUMNS, row, strict=True)) for row in rows], count
+        return [dict(zip((*FAULT_COLUMNS, "bus"), row, strict=True)) for row in rows], count
 
     async def _read_together(
         self, *queries: tuple[str, tuple[Any, ...]]

@@ -2163,6 +2163,8 @@ export interface components {
          * @description One decoded EMCY (servodesk.faults.decode.FaultRecord) and the CiA 402 state around it.
          */
         Fault: {
+            /** Bus */
+            bus?: string | null;
             /** Check */
             check?: string | null;
             /** Code */
@@ -8000,6 +8002,8 @@ export interface operations {
             query?: {
                 /** @description newest history entries */
                 limit?: number;
+                /** @description also the faults stored from other buses (another server sharing this data directory, a bus connected before); default: the connected bus's only */
+                all_buses?: boolean;
             };
             header?: never;
             path: {

@@ -16,11 +16,14 @@ export function FaultTable({
   faults,
   caption,
   states = true,
+  buses = false,
 }: {
   faults: readonly Fault[];
   caption: string;
   /** Whether the rows carry the drive state before/after (ServoDesk's own history does). */
   states?: boolean;
+  /** Whether each row names the bus it came from (other buses' faults are listed too). */
+  buses?: boolean;
 }): ReactNode {
   const [open, setOpen] = useState<number | null>(null);
   const rows = newestFirst(faults);
@@ -37,6 +40,7 @@ export function FaultTable({
               <th scope="col">Meaning</th>
               <th scope="col">Error register</th>
               {states && <th scope="col">State before → after</th>}
+              {buses && <th scope="col">Bus</th>}
             </tr>
           </thead>
           <tbody>
@@ -59,6 +63,7 @@ export function FaultTable({
                 <td>{faultName(fault)}</td>
                 <td className="small">{errorRegisterText(fault.error_register)}</td>
                 {states && <td className="small">{stateChange(fault)}</td>}
+                {buses && <td className="small mono">{fault.bus ?? "—"}</td>}
               </tr>
             ))}
           </tbody>
@@ -79,24 +84,46 @@ export function historyCount(total: number, shown: number): string {
   return shown < total ? `${stored}, the newest ${shown} shown` : stored;
 }
 
-/** Every EMCY ServoDesk received from the node (resets included), newest first. */
+/** Every EMCY ServoDesk received from the node on this bus (resets included), newest first;
+ * with `allBuses`, also those stored from other buses, each naming its bus. */
 export function FaultHistoryCard({
   history,
   total,
+  allBuses = false,
+  onAllBuses,
 }: {
   history: readonly Fault[];
   total: number;
+  allBuses?: boolean;
+  onAllBuses?: (all: boolean) => void;
 }): ReactNode {
   return (
     <section className="card" aria-labelledby="fault-history-heading">
       <header className="card-header">
         <h2 id="fault-history-heading">Fault history</h2>
         <span className="muted small">{historyCount(total, history.length)}</span>
+        {onAllBuses && (
+          <label
+            className="check small"
+            title="Faults stored by another server sharing this data directory, or on a bus connected before (node numbers there are other drives)"
+          >
+            <input
+              type="checkbox"
+              checked={allBuses}
+              onChange={(e) => onAllBuses(e.target.checked)}
+            />
+            Other buses too
+          </label>
+        )}
       </header>
       {history.length === 0 ? (
-        <p className="muted">No EMCY from this node yet.</p>
+        <p className="muted">
+          {allBuses
+            ? "No EMCY from this node number on any bus yet."
+            : "No EMCY from this node on this bus yet."}
+        </p>
       ) : (
-        <FaultTable faults={history} caption="Fault history" />
+        <FaultTable faults={history} caption="Fault history" buses={allBuses} />
       )}
     </section>
   );

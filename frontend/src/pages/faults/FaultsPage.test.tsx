@@ -164,7 +164,7 @@ describe("FaultsPage", () => {
 
     const table = await screen.findByRole("table", { name: "Drive's error history" });
     expect(within(table).getByText("0x00008611")).toBeTruthy();
-    expect(screen.getByText("No EMCY from this node yet.")).toBeTruthy();
+    expect(screen.getByText("No EMCY from this node on this bus yet.")).toBeTruthy();
 
     await userEvent.click(screen.getByRole("button", { name: "Clear history…" }));
     const dialog = screen.getByRole("dialog");
@@ -198,5 +198,33 @@ describe("FaultsPage", () => {
     expect(card.getByText("00 00 00 00 00")).toBeTruthy();
     expect(card.getByText("CiA 402 (drive profile)")).toBeTruthy();
     await vi.waitFor(() => expect(errorCodeLine()).toContain("0x8611: Following error"));
+  });
+
+  it("lists this bus's faults, and other buses' too when asked, each naming its bus", async () => {
+    const mine = { ...mdiAlarm4({ time: 1_764_000_000 }), bus: "socketcan can0" };
+    const other = { ...mdiAlarm4({ time: 1_763_000_000 }), bus: "socketcan can1" };
+    const stub = stubFetch({
+      "GET /api/nodes/1/faults": (request: Request) =>
+        new URL(request.url).searchParams.get("all_buses") === "true"
+          ? { active: null, history: [mine, other], total: 2 }
+          : { active: null, history: [mine], total: 1 },
+      "GET /api/nodes/1/sdo/603F/00": sdo603f(0),
+      "GET /api/nodes/1/faults/device-history": {
+        node: 1,
+        count: 0,
+        entries: [],
+        error_code: null,
+      },
+    });
+    renderPage(<FaultsPage node={1} />, "/nodes/1/faults");
+
+    expect(await screen.findByText("1 EMCY stored")).toBeTruthy();
+    const history = screen.getByRole("table", { name: "Fault history" });
+    expect(within(history).queryByRole("columnheader", { name: "Bus" })).toBeNull();
+    await userEvent.click(screen.getByRole("checkbox", { name: "Other buses too" }));
+    expect(await screen.findByText("2 EMCYs stored")).toBeTruthy();
+    const every = screen.getByRole("table", { name: "Fault history" });
+    expect(within(every).getByText("socketcan can1")).toBeTruthy();
+    expect(stub.urls.some((url) => url.includes("all_buses=true"))).toBe(true);
   });
 });

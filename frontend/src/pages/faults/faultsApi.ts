@@ -14,8 +14,15 @@ import type {
 
 const path = (node: number): { path: { node: number } } => ({ path: { node } });
 
-export function nodeFaults(node: number, signal?: AbortSignal): Promise<NodeFaults> {
-  return call(api.GET("/api/nodes/{node}/faults", { params: path(node), signal }));
+/** The node's faults on the connected bus; `allBuses`: also those stored from other buses
+ * (another server sharing the data directory, a bus connected before). */
+export function nodeFaults(
+  node: number,
+  signal?: AbortSignal,
+  allBuses = false,
+): Promise<NodeFaults> {
+  const params = { path: { node }, query: allBuses ? { all_buses: true } : {} };
+  return call(api.GET("/api/nodes/{node}/faults", { params, signal }));
 }
 
 export function activeFaults(signal?: AbortSignal): Promise<ActiveFaults> {

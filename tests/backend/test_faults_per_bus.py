@@ -1,0 +1,85 @@
+"""A node's fault history is its own bus's: node 1 of another bus (another server sharing the
+data directory, a bus connected before) is another drive. GET …/faults lists the connected bus's
+faults unless asked for every bus's (`all_buses=true`), each then naming its bus; a database
+written before faults carried their bus keeps its rows (listed with every bus's)."""
+
+from __future__ import annotations
+
+import asyncio
+import sqlite3
+import time
+from pathlib import Path
+from typing import Any
+
+from fastapi.testclient import TestClient
+
+from servodesk.app import create_app
+from servodesk.settings import Settings
+from servodesk.storage import Storage
+from servodesk.storage.migrations import MIGRATIONS
+
+FAULT = {
+    "time": time.time(),  # recent: older faults are pruned (events_max_days)
+    "node": 1,
+    "code": 4,
+    "code_hex": "0x0004",
+    "source": "vendor",
+    "name_en": "Following error",
+    "name_zh": "位置超差",
+    "check": None,
+    "error_register": None,
+    "manufacturer_hex": None,
+    "raw_hex": "0400",
+    "state_before": "Operation enabled",
+    "state_after": "Fault",
+}
+
+
+def other_servers_fault(data_dir: Path, **fields: Any) -> None:
+    async def store() -> None:
+        storage = Storage(data_dir, bus_of=lambda: "socketcan can7")
+        await storage.start()
+        storage.add_fault({**FAULT, **fields})
+        await storage.close()
+
+    asyncio.run(store())
+
+
+def test_the_fault_history_is_this_buses_unless_asked(tmp_path: Path) -> None:
+    other_servers_fault(tmp_path, name_en="Overcurrent")
+    settings = Settings(simulated=True, data_dir=tmp_path)
+    with TestClient(create_app(settings, static_dir=None)) as client:
+        mine = client.get("/api/nodes/1/faults").json()
+        assert (mine["history"], mine["total"]) == ([], 0)
+        every = client.get("/api/nodes/1/faults", params={"all_buses": True}).json()
+        assert every["total"] == 1
+        assert [(f["name_en"], f["bus"]) for f in every["history"]] == [
+            ("Overcurrent", "socketcan can7")
+        ]
+
+
+def test_a_database_from_before_keeps_its_faults(tmp_path: Path) -> None:
+    db = sqlite3.connect(tmp_path / "servodesk.sqlite")
+    db.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
+    for version, sql in MIGRATIONS[:2]:  # as written before faults carried their bus
+        db.executescript(f"BEGIN; {sql}; INSERT INTO schema_version VALUES ({version}); COMMIT;")
+    columns = ", ".join(f'"{c}"' for c in FAULT)
+    db.execute(
+        f"INSERT INTO faults ({columns}) VALUES ({', '.join('?' * len(FAULT))})",
+        tuple(FAULT.values()),
+    )
+    db.commit()
+    db.close()
+
+    async def read() -> tuple[list[dict[str, Any]], int]:
+        storage = Storage(tmp_path, bus_of=lambda: "socketcan can0")
+        await storage.start()
+        try:
+            assert (await storage.faults(1, 10, bus="socketcan can0")) == ([], 0)
+            return await storage.faults(1, 10)
+        finally:
+            await storage.close()
+
+    rows, total = asyncio.run(read())
+    assert total == 1
+    assert (rows[0]["name_en"], rows[0]["bus"]) == ("Following error", None)
