@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, Field, StrictBool
+from pydantic import AfterValidator, BaseModel, Field, StrictBool
 
 from servodesk.model_base import NOT_TEXT, JsonInt, RequestBody
 from servodesk.pdo_models import BusLoadResult
@@ -26,9 +26,13 @@ Bit = Annotated[Annotated[int, Field(ge=0, le=63)], NOT_TEXT]
 TriggerKind = Literal["none", "level", "bit", "emcy", "state"]
 Edge = Literal["rising", "falling", "either"]
 TriggerMode = Literal["single", "normal"]
-CaptureState = Literal["armed", "running", "done", "failed"]
+# arming: its setup (TPDOs, NMT, SYNC, the trigger's first sample) not done yet: a trigger
+# condition met now would be missed; armed: waiting for the trigger; running: recording
+CaptureState = Literal["arming", "armed", "running", "done", "failed"]
+ACTIVE_STATES: tuple[CaptureState, ...] = ("arming", "armed", "running")
 Source = Literal["pdo", "sdo"]
 ExportFormat = Literal["csv", "parquet", "mf4", "rrd"]
+ExportLayout = Literal["long", "wide"]  # CSV: one row per sample, or per time stamp
 
 MAX_SIGNALS = 32
 MAX_DURATION_S = 3600.0
@@ -63,6 +67,26 @@ class TriggerRequest(RequestBody):
     keep: JsonInt = Field(default=10, ge=1, le=100)
 
 
+WordBit = Annotated[Annotated[int, Field(ge=0, le=15)], NOT_TEXT]
+DEFAULT_STATUSWORD_BITS = (3, 7, 10, 11, 12, 13)  # fault, warning, target reached, limit, mode
+DEFAULT_CONTROLWORD_BITS = (0, 1, 2, 3, 4, 7, 8)  # the command bits, new set-point, reset, halt
+
+
+def _bit_set(bits: list[int]) -> list[int]:
+    return sorted(set(bits))
+
+
+BitList = Annotated[list[WordBit], Field(max_length=16), AfterValidator(_bit_set)]
+
+
+class LanesRequest(RequestBody):
+    """Lanes drawn under a captured statusword (6041h) or controlword (6040h): its CiA 402
+    state (the controlword: its command) and each bit listed as a 0/1 step lane of its own."""
+
+    statusword_bits: BitList = Field(default_factory=lambda: list(DEFAULT_STATUSWORD_BITS))
+    controlword_bits: BitList = Field(default_factory=lambda: list(DEFAULT_CONTROLWORD_BITS))
+
+
 class CaptureRequest(RequestBody):
     signals: Annotated[list[ScopeSignalRequest], Field(min_length=1, max_length=MAX_SIGNALS)]
     sync_period_us: JsonInt = Field(
@@ -76,6 +100,7 @@ class CaptureRequest(RequestBody):
         description="put pre-operational nodes into Operational for the capture (TPDOs only "
         "flow there) and back afterwards",
     )
+    lanes: LanesRequest = Field(default_factory=LanesRequest)
 
 
 class CaptureSignal(BaseModel):
@@ -111,6 +136,7 @@ class Capture(BaseModel):
     sync_period_us: int
     duration_s: float
     trigger: TriggerRequest
+    lanes: LanesRequest = Field(default_factory=LanesRequest)
     samples: int  # all signals together
     lost: int = 0  # frames the pipeline could not keep (0 unless overloaded)
     size_bytes: int = 0  # the .rrd and the samples table on disk
@@ -138,3 +164,45 @@ class ScopeViewer(BaseModel):
     grpc_url: str  # rerun+http://… through ServoDesk
     version: str  # rerun-sdk version (viewer and SDK are the same by construction)
     running: bool
+
+
+class SignalMeasurement(BaseModel):
+    """One signal between the cursors, in physical units (`unit`); None where it has no sample
+    (at a cursor: none at or before it; between them: none at all)."""
+
+    node: int
+    index: int
+    subindex: int
+    name: str
+    unit: str
+    at_a: float | None  # the sample at or before cursor A
+    at_b: float | None
+    delta: float | None  # at_b − at_a
+    min: float | None
+    max: float | None
+    mean: float | None
+    count: int  # samples between the cursors (both ends included)
+
+
+class Measurement(BaseModel):
+    """Two cursors on a finished capture (seconds from its trigger) and what lies between."""
+
+    t0: float  # cursor A
+    t1: float  # cursor B
+    dt: float  # t1 − t0
+    start: float  # the capture's first and last sample time
+    end: float
+    signals: list[SignalMeasurement]
+
+
+class Trace(BaseModel):
+    """One signal of a finished capture reduced to at most `points` bins for an overview plot:
+    per bin its time and the lowest and highest value (a spike between samples stays)."""
+
+    signal: int
+    unit: str
+    start: float  # the capture's first and last sample time (any signal): where cursors go
+    end: float
+    times: list[float]
+    low: list[float]
+    high: list[float]

@@ -27,6 +27,7 @@ from servodesk.params.node_id import NodeIdService
 from servodesk.params.paramsets import ParamSetService
 from servodesk.params.service import ParamService
 from servodesk.pdo.service import PdoService
+from servodesk.pdo.write_watch import SdoWriteWatch
 from servodesk.scope.service import ScopeService
 from servodesk.scope.store import CaptureStore
 from servodesk.scope.viewer_server import RerunServer
@@ -124,12 +125,15 @@ def build_services(
         sync=sync.get,
         on_applied=lambda node, before, after: pdo_applied(events.publish, node, before, after),
     )
-    # the cached PDOs go stale on a dictionary change, NMT command, boot-up, bus change or a raw
-    # SDO write to a PDO parameter (SdoService on_write; a DCF load tells the service itself)
+    # the cached PDOs go stale on a dictionary change, NMT command, boot-up, bus change or an
+    # SDO write to a PDO parameter (SdoService on_write and the bus watch below; a DCF load
+    # tells the service itself)
     registry.add_od_listener(pdos.forget)
     registry.add_event_listener(pdos.on_event)
     bus.add_listener(pdos.on_bus)
     bus.add_frame_listener(pdos.sync_heard)  # SYNC from another producer counts as SYNC
+    # a PDO parameter written by anyone (this tool or another master) drops the cached PDOs
+    bus.add_frame_listener(SdoWriteWatch(pdos.sdo_written), sent=True)
     motion = MotionService(
         registry, settings, pdos, sync=sync, on_statusword=faults.observe_statusword
     )

@@ -104,7 +104,7 @@ def test_tpdo_capture_at_1ms_sync_matches_the_motion(client: TestClient) -> None
     with jogging(client, 1):
         time.sleep(0.5)  # at speed
         capture = ok(client.post("/api/scope/captures", json=request))
-        assert capture["state"] == "running"
+        assert capture["state"] == "arming"  # running from its first sample
         sources = {(s["index"], s["source"]) for s in capture["signals"]}
         assert {(POSITION, "pdo"), (VELOCITY, "pdo")} <= sources
         done = wait_done(client, capture["id"])
@@ -173,7 +173,7 @@ def capture_crossing(client: TestClient, level: int) -> tuple[dict[str, Any], di
         },
     }
     capture = ok(client.post("/api/scope/captures", json=request))
-    assert capture["state"] == "armed"
+    assert capture["state"] == "arming"  # armed from the first sample of 6064h
     return capture, wait_done(client, capture["id"])
 
 
@@ -230,7 +230,7 @@ def test_stop_an_armed_capture_then_delete_it(client: TestClient) -> None:
         "trigger": {"kind": "emcy", "node": 2},
     }
     capture = ok(client.post("/api/scope/captures", json=request))
-    assert capture["state"] == "armed"
+    assert capture["state"] == "arming"
     busy = client.post("/api/scope/captures", json=request)
     assert busy.status_code == 409
     assert busy.json()["error"] == "scope_busy"

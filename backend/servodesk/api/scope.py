@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import asyncio
+from pathlib import Path as FilePath
 from typing import Annotated
 
 from fastapi import APIRouter, Path, Query, Response
@@ -10,8 +12,20 @@ from fastapi.responses import FileResponse
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import NODE_ERRORS, PDO_APPLY_ERRORS, _error
+from servodesk.errors import InvalidValueError, StateConflictError
 from servodesk.scope import export as exports
-from servodesk.scope_models import Capture, CaptureRequest, ExportFormat, ScopePlan
+from servodesk.scope import measure as measures
+from servodesk.scope.samples import is_complete
+from servodesk.scope_models import (
+    ACTIVE_STATES,
+    Capture,
+    CaptureRequest,
+    ExportFormat,
+    ExportLayout,
+    Measurement,
+    ScopePlan,
+    Trace,
+)
 
 router = APIRouter(prefix="/scope", tags=["scope"], route_class=AuditedRoute)
 
@@ -23,8 +37,8 @@ START_ERRORS: Responses = {
     **NODE_ERRORS,
     **PDO_APPLY_ERRORS,
     409: _error(
-        "scope_busy: another capture is armed or running; or the scope's TPDOs could not be "
-        "written (pdo_apply_failed, the previous PDOs restored); or an SDO abort"
+        "scope_busy: another capture is arming, armed or running; or the scope's TPDOs could "
+        "not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort"
     ),
 }
 FILE: Responses = {
@@ -49,7 +63,9 @@ async def plan_capture(body: CaptureRequest, services: ServicesDep) -> ScopePlan
 @router.post("/captures", responses=START_ERRORS)
 async def start_capture(body: CaptureRequest, services: ServicesDep) -> Capture:
     """Set the bus up (SYNC, the scope's TPDOs in free slots, nodes Operational) and start a
-    capture: `running` at once when free-running, else `armed` until the trigger."""
+    capture. It is `arming` until the signal its trigger watches has sent a first sample (a
+    condition met before would be missed), then `armed` until the trigger (free-running: at
+    once), then `running`."""
     return await services.scope.start(body)
 
 
@@ -93,9 +109,64 @@ async def export_capture(
         ExportFormat,
         Query(alias="format", description="csv, parquet (pyarrow), mf4 (asammdf) or rrd (rerun)"),
     ] = "csv",
+    layout: Annotated[
+        ExportLayout,
+        Query(
+            description="CSV only: long (one row per sample) or wide (one row per time stamp, "
+            "a column per signal)"
+        ),
+    ] = "long",
 ) -> FileResponse:
     capture = await services.scope.get(capture_id)
-    path = await services.scope.export(capture_id, fmt)
-    return FileResponse(
-        path, media_type=exports.content_type(fmt), filename=exports.filename(capture, fmt)
-    )
+    path = await services.scope.export(capture_id, fmt, layout)
+    name = exports.filename(capture, fmt, layout)
+    return FileResponse(path, media_type=exports.content_type(fmt), filename=name)
+
+
+RECORDING: Responses = {
+    409: _error("The capture is still armed or running, or its samples were never finished")
+}
+Seconds = Annotated[float, Query(description="s from the trigger (negative before it)")]
+
+
+async def _finished_samples(capture_id: int, services: ServicesDep) -> tuple[Capture, FilePath]:
+    capture = await services.scope.get(capture_id)
+    if capture.state in ACTIVE_STATES:
+        raise StateConflictError(
+            "capture_recording",
+            f"capture {capture_id} is still {capture.state}: measure it when it is done",
+        )
+    path = services.scope.store.samples_path(capture_id)
+    if not await asyncio.to_thread(is_complete, path):
+        raise StateConflictError(
+            "samples_incomplete", f"capture {capture_id}'s samples were never finished"
+        )
+    return capture, path
+
+
+@router.get("/captures/{capture_id}/measure", responses={**NOT_FOUND, **RECORDING})
+async def measure_capture(
+    capture_id: CaptureId, services: ServicesDep, t0: Seconds, t1: Seconds
+) -> Measurement:
+    """Cursor A at `t0` and B at `t1` on a finished capture: per signal the value at each
+    (the sample at or before it), Δvalue, and min / max / mean / count between them."""
+    capture, path = await _finished_samples(capture_id, services)
+    try:
+        return await asyncio.to_thread(measures.measure_file, path, capture, t0, t1)
+    except measures.CursorError as error:
+        raise InvalidValueError(str(error)) from None
+
+
+@router.get("/captures/{capture_id}/trace", responses={**NOT_FOUND, **RECORDING})
+async def trace_capture(
+    capture_id: CaptureId,
+    services: ServicesDep,
+    signal: Annotated[int, Query(ge=0, description="position in the capture's signals")] = 0,
+    points: Annotated[int, Query(ge=2, le=measures.MAX_POINTS)] = 400,
+) -> Trace:
+    """One signal as min/max bins over the capture, for the overview the cursors sit on."""
+    capture, path = await _finished_samples(capture_id, services)
+    try:
+        return await asyncio.to_thread(measures.trace_file, path, capture, signal, points)
+    except measures.CursorError as error:
+        raise InvalidValueError(str(error)) from None

@@ -3,8 +3,10 @@ estimate bus load and run the live check. The I/O shell around the pure cores (v
 bus_load, recommended, decode, export) and the transactional apply (apply.py).
 
 Each node's PDOs are cached for the bus-wide views (bus load, CAN-id collisions with other
-nodes): refreshed by every read and apply, dropped on NMT commands, boot-ups, dictionary
-changes and bus changes (`forget`, `on_event`, `on_bus`).
+nodes) and the scope's plan: refreshed by every read and apply, dropped on NMT commands,
+boot-ups, dictionary changes, bus changes and every SDO write to a PDO parameter seen on the bus
+(`forget`, `on_event`, `on_bus`, write_watch.py). A read that a change overtook is not kept (a
+generation per node), and callers asking at once share one read.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ from __future__ import annotations
 import asyncio
 import dataclasses
 from collections.abc import Callable, Mapping, Sequence
+from functools import partial
 from typing import Literal
 
 import canopen
@@ -67,6 +70,11 @@ class PdoService:
         self._bitrate = bitrate
         self._sync = sync
         self._cache: dict[int, list[PdoConfig]] = {}
+        # bumped by every `forget` (also from the notifier thread): a read that started before
+        # a change must not be cached after it
+        self._generation: dict[int, int] = {}
+        self._epoch = 0  # bumped when every node is forgotten (a bus change)
+        self._reading: dict[int, asyncio.Task[list[PdoConfig]]] = {}
         self._live = LiveChecks()
         # SYNC from another producer (the machine's controller): the app feeds it every frame
         self.sync_heard = SyncHeard()
@@ -80,10 +88,19 @@ class PdoService:
     async def read(self, node: int) -> list[PdoConfig]:
         """Every PDO of the node as the device has it now (and the cache refreshed)."""
         facts = self.facts(node)
+        generation = self._stamp(node)
         async with self.access.session(node).exclusive(reading=True) as tx:  # one picture
             pdos = await _read_all(tx, facts)
-        self._cache[node] = pdos
+        self._keep(node, generation, pdos)
         return pdos
+
+    def _stamp(self, node: int) -> tuple[int, int]:
+        return self._epoch, self._generation.get(node, 0)
+
+    def _keep(self, node: int, stamp: tuple[int, int], pdos: list[PdoConfig]) -> None:
+        """Cache what was read unless a change came while it was read."""
+        if self._stamp(node) == stamp:
+            self._cache[node] = pdos
 
     def rules(self, node: int) -> PdoRules:
         return rules_of(self.facts(node))
@@ -98,9 +115,22 @@ class PdoService:
         return self._network()
 
     async def cached(self, node: int) -> list[PdoConfig]:
-        if node not in self._cache:
-            return await self.read(node)
-        return self._cache[node]
+        """The node's PDOs as the cache knows them, read once when it does not (callers
+        asking meanwhile share that read; one caller giving up does not cancel it)."""
+        known = self._cache.get(node)
+        if known is not None:
+            return known
+        task = self._reading.get(node)
+        if task is None:
+            task = asyncio.create_task(self.read(node))
+            self._reading[node] = task
+            task.add_done_callback(partial(self._read_done, node))
+        return await asyncio.shield(task)
+
+    def _read_done(self, node: int, task: asyncio.Task[list[PdoConfig]]) -> None:
+        self._reading.pop(node, None)
+        if not task.cancelled():
+            task.exception()  # retrieved: every caller may have given up waiting
 
     # ------------------------------------------------------------------ checking and applying
 
@@ -158,8 +188,9 @@ class PdoService:
                 )
             finally:
                 self.forget(node)
+            stamp = self._stamp(node)
             result = await _read_all(tx, facts)
-        self._cache[node] = result
+        self._keep(node, stamp, result)
         if self._on_applied is not None:
             self._on_applied(node, before, result)
         if self._live.active(node):  # decode with the new mapping
@@ -300,8 +331,10 @@ class PdoService:
     def forget(self, node: int | None = None) -> None:
         """Drop the cached PDOs of `node` (all nodes: None)."""
         if node is None:
+            self._epoch += 1
             self._cache.clear()
         else:
+            self._generation[node] = self._generation.get(node, 0) + 1
             self._cache.pop(node, None)
 
     def sdo_written(self, node: int, index: int, _subindex: int) -> None:

@@ -115,6 +115,13 @@ class CaptureCore:
     def armed(self) -> bool:
         return self.trigger_time is None
 
+    def listening(self) -> bool:
+        """The trigger can fire: the signal it watches has sent its first sample (a level or
+        edge is judged against the one before it); emcy or free-running: any signal has."""
+        signal = self.trigger.signal
+        tracks = self.tracks if signal is None else [self.tracks[signal]]
+        return any(track.last is not None for track in tracks)
+
     def done(self) -> bool:
         if self.trigger_time is None:
             return False

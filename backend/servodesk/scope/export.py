@@ -1,7 +1,8 @@
 """A capture's samples out as CSV, Parquet or MF4, streamed from its samples table.
 
 CSV and Parquet have one row per sample (`COLUMNS`), in the table's order: each signal in time
-order, signals interleaved in the chunks they were recorded in. Both are written one batch at a
+order, signals interleaved in the chunks they were recorded in; the wide CSV layout (wide.py)
+has one row per time stamp and a column per signal. Both are written one batch at a
 time, so memory stays flat for any capture length. MF4 (ASAM MDF 4.10, asammdf) has one channel
 group per signal with its own time master; asammdf extends its groups batch by batch through
 its temporary file. Floats are written at full precision: every value reads back exactly.
@@ -27,9 +28,10 @@ import pyarrow.compute as pc
 import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 
-from servodesk.errors import StateConflictError
+from servodesk.errors import InvalidValueError, StateConflictError
 from servodesk.scope.samples import COMPRESSION, is_complete, read_samples, signal_groups
-from servodesk.scope_models import Capture, CaptureSignal, ExportFormat
+from servodesk.scope.wide import write_wide_csv
+from servodesk.scope_models import Capture, CaptureSignal, ExportFormat, ExportLayout
 
 FileFormat = Literal["csv", "parquet", "mf4"]  # what export() writes (the .rrd is served as is)
 
@@ -75,9 +77,10 @@ def content_type(fmt: ExportFormat) -> str:
     return CONTENT_TYPES[fmt]
 
 
-def filename(capture: Capture, fmt: ExportFormat) -> str:
-    """`servodesk-capture-12.csv`: the name a download gets."""
-    return f"servodesk-capture-{capture.id}.{SUFFIXES[fmt]}"
+def filename(capture: Capture, fmt: ExportFormat, layout: ExportLayout = "long") -> str:
+    """`servodesk-capture-12.csv` (`…-12-wide.csv`): the name a download gets."""
+    wide = "-wide" if layout == "wide" else ""
+    return f"servodesk-capture-{capture.id}{wide}.{SUFFIXES[fmt]}"
 
 
 def object_label(signal: CaptureSignal) -> str:
@@ -90,24 +93,28 @@ def channel_name(signal: CaptureSignal) -> str:
     return f"node{signal.node}.{signal.key}"
 
 
-def export(capture: Capture, samples: Path, fmt: FileFormat, out: Path) -> Path:
+def export(
+    capture: Capture, samples: Path, fmt: FileFormat, out: Path, layout: ExportLayout = "long"
+) -> Path:
     """Write the capture's samples (`samples`: its table) as `fmt` to `out`, or into `out`
     under `filename()` when `out` is a directory; returns the file written. Blocking.
     StateConflictError (409) when the table was never finished (or never made)."""
     writers: dict[str, Callable[[Capture, Path, Path], Path]] = {
-        "csv": _write_csv,
+        "csv": write_wide_csv if layout == "wide" else _write_csv,
         "parquet": _write_parquet,
         "mf4": _write_mf4,
     }
     if fmt not in writers:
         raise ValueError(f"cannot export a capture as {fmt!r}")
+    if layout == "wide" and fmt != "csv":
+        raise InvalidValueError(f"the wide layout is for CSV only, not {fmt}: leave it out")
     if not is_complete(samples):  # ServoDesk stopped mid-capture: the table has no footer
         raise StateConflictError(
             "capture_samples_unavailable",
             f"capture {capture.id} has no finished samples table (ServoDesk stopped during it);"
             " its .rrd recording has what was recorded",
         )
-    target = out / filename(capture, fmt) if out.is_dir() else out
+    target = out / filename(capture, fmt, layout) if out.is_dir() else out
     # a name of its own: two downloads of the same export may run at once
     handle, name = tempfile.mkstemp(
         dir=target.parent, prefix=f".{target.stem}.", suffix=f".partial.{SUFFIXES[fmt]}"

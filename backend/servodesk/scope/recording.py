@@ -3,9 +3,11 @@ written to its .rrd file and (while live) to the app's loopback rerun server.
 
 Entity paths: `drives/{node}/{key}` in physical units, `raw/drives/{node}/{key}` as the drive
 sends it, `drives/{node}/state` the CiA 402 state lane and `drives/{node}/events` (NMT, EMCY,
-the trigger) as text annotations. Two timelines: `time` (wall clock, all nodes on one axis) and
-`capture` (seconds from the trigger, negative before it). Samples go in columns, a batch per
-flush (`send_columns`), never one log call per sample.
+the trigger) as text annotations; under a statusword or controlword its lanes
+(`drives/{node}/statusword/state`, `…/statusword/bit_10 target reached`, scope/lanes.py) as
+state changes, drawn one under the other in a state timeline. Two timelines: `time` (wall
+clock, all nodes on one axis) and `capture` (seconds from the trigger, negative before it).
+Samples go in columns, a batch per flush (`send_columns`), never one log call per sample.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import numpy.typing as npt
 import rerun as rr
 import rerun.blueprint as rrb
 
+from servodesk.scope.lanes import Lane, LaneTracker, lanes_for
 from servodesk.scope_models import Capture, CaptureSignal
 
 Floats = npt.NDArray[np.float64]
@@ -36,6 +39,15 @@ _COLOURS = ((31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 
 def signal_path(signal: CaptureSignal, *, raw: bool = False) -> str:
     path = f"drives/{signal.node}/{signal.key}"
     return f"raw/{path}" if raw else path
+
+
+def signal_lanes(capture: Capture, signal: CaptureSignal) -> list[Lane]:
+    chosen = capture.lanes
+    return lanes_for(signal.index, signal.subindex, chosen.statusword_bits, chosen.controlword_bits)
+
+
+def lane_path(signal: CaptureSignal, lane: Lane) -> str:
+    return f"{signal_path(signal)}/{rr.escape_entity_path_part(lane.key)}"
 
 
 def blueprint(capture: Capture) -> rrb.Blueprint:
@@ -58,6 +70,16 @@ def blueprint(capture: Capture) -> rrb.Blueprint:
                 name=title,
                 origin="/",
                 contents=[f"+ /{signal_path(s)}" for s in signals],
+                time_ranges=scrolling,
+            )
+        )
+    worded = [s for s in capture.signals if signal_lanes(capture, s)]
+    if worded:  # the words' lanes, one under the other: readable at a glance
+        plots.append(
+            rrb.StateTimelineView(
+                name="Statusword and controlword lanes",
+                origin="/",
+                contents=[f"+ /{signal_path(s)}/**" for s in worded],
                 time_ranges=scrolling,
             )
         )
@@ -100,6 +122,11 @@ class CaptureRecording:
             self.live.set_sinks(rr.GrpcSink(live_url), default_blueprint=blueprint(capture))
         self._pending: dict[str, _Pending] = {}
         self._signals = {signal_path(s): s for s in capture.signals}
+        self._lanes = {
+            signal_path(s): LaneTracker(lanes)
+            for s in capture.signals
+            if (lanes := signal_lanes(capture, s))
+        }
         name = capture.name or f"Capture {capture.id}"
         for rec in self._streams:
             rec.send_recording_name(name)
@@ -118,6 +145,8 @@ class CaptureRecording:
                     rr.SeriesLines(names=label + raw_unit, colors=[colour]),
                     static=True,
                 )
+                for lane in signal_lanes(capture, signal):
+                    rec.log(lane_path(signal, lane), _lane_style(lane), static=True)
 
     @property
     def _streams(self) -> list[rr.RecordingStream]:
@@ -132,10 +161,26 @@ class CaptureRecording:
         pending = self._pending.get(path)
         if pending is None:
             pending = self._pending[path] = _Pending(time.monotonic())
+        self._send_lanes(signal, path, times, rel, raw)
         pending.parts.append((times, rel, raw, values))
         pending.rows += times.size
         if pending.rows >= FILE_CHUNK_ROWS or time.monotonic() - pending.since >= FILE_CHUNK_S:
             self._write(path)
+
+    def _send_lanes(
+        self, signal: CaptureSignal, path: str, times: Floats, rel: Floats, raw: Floats
+    ) -> None:
+        tracker = self._lanes.get(path)
+        if tracker is None:
+            return
+        for change in tracker.feed(raw):
+            rows = change.rows
+            for rec in self._streams:  # a change now and then: straight to both
+                rec.send_columns(
+                    lane_path(signal, change.lane),
+                    indexes=_indexes(times[rows], rel[rows]),
+                    columns=rr.StateChange.columns(state=change.texts),
+                )
 
     def _write(self, path: str) -> None:
         pending = self._pending.pop(path, None)
@@ -187,6 +232,31 @@ def _send(
     rec.send_columns(
         signal_path(signal, raw=True), indexes=indexes, columns=rr.Scalars.columns(scalars=raw)
     )
+
+
+# state colours: green where the drive works, red on faults, grey where it is off
+_STATE_COLOURS = {
+    "Not ready to switch on": 0x9E9E9EFF,
+    "Switch on disabled": 0xBDBDBDFF,
+    "Ready to switch on": 0x90CAF9FF,
+    "Switched on": 0x42A5F5FF,
+    "Operation enabled": 0x43A047FF,
+    "Quick stop active": 0xFFA000FF,
+    "Fault reaction active": 0xEF6C00FF,
+    "Fault": 0xE53935FF,
+    "no CiA 402 state": 0x616161FF,
+}
+_BIT_OFF, _BIT_ON = 0x9E9E9E40, 0x1E88E5FF  # a cleared bit stays faint, a set one stands out
+
+
+def _lane_style(lane: Lane) -> rr.StateConfiguration:
+    if lane.kind == "state":
+        return rr.StateConfiguration(
+            values=list(_STATE_COLOURS), colors=list(_STATE_COLOURS.values())
+        )
+    if lane.kind == "bit":
+        return rr.StateConfiguration(values=["0", "1"], colors=[_BIT_OFF, _BIT_ON])
+    return rr.StateConfiguration()  # the command lane: the viewer's own palette
 
 
 def _indexes(times: Floats, rel: Floats) -> list[rr.TimeColumn]:

@@ -8,12 +8,13 @@ import logging
 from collections.abc import Collection
 
 from servodesk.scope.store import CaptureStore
+from servodesk.scope_models import ACTIVE_STATES
 from servodesk.storage.quota import Kept, describe_bytes, over_quota
 from servodesk.storage.usage import free_bytes
 
 log = logging.getLogger(__name__)
 
-ACTIVE = ("armed", "running")
+ACTIVE = ACTIVE_STATES
 
 
 def prune(store: CaptureStore, keep_bytes: int, protect: Collection[int] = ()) -> list[Kept]:

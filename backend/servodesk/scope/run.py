@@ -90,8 +90,10 @@ class CaptureRun:
                 signal.rate_hz = round((track.count - 1) / span, 1) if span > 0 else None
         capture.samples = sum(s.samples for s in capture.signals)
         capture.lost = self.sink.lost
-        if core.trigger_time is not None and capture.state == "armed":
+        if capture.state in ("arming", "armed") and core.trigger_time is not None:
             capture.state = "running"
+        elif capture.state == "arming" and core.listening():
+            capture.state = "armed"
         capture.trigger_time = core.trigger_time
 
     def stalled(self, now: float) -> bool:

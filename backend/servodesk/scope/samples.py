@@ -179,3 +179,15 @@ def signal_groups(signal: npt.NDArray[np.int32]) -> Iterator[tuple[int, npt.NDAr
     positions, starts = np.unique(signal[order], return_index=True)
     for position, rows in zip(positions.tolist(), np.split(order, starts[1:]), strict=True):
         yield int(position), rows
+
+
+def value_batches(
+    path: Path,
+) -> Iterator[tuple[npt.NDArray[np.int32], npt.NDArray[np.float64], npt.NDArray[np.float64]]]:
+    """(signal, time, value) columns batch by batch: what the cursors' readout reads."""
+    for batch in read_samples(path, columns=("signal", "time", "value")):
+        yield (
+            batch.column(0).to_numpy().astype(np.int32, copy=False),
+            batch.column(1).to_numpy().astype(np.float64, copy=False),
+            batch.column(2).to_numpy().astype(np.float64, copy=False),
+        )

@@ -44,13 +44,16 @@ from servodesk.scope.samples import SamplesWriter
 from servodesk.scope.setup import Key, build_core, capture_signals, lookup, wanted
 from servodesk.scope.signals import SignalInfo
 from servodesk.scope.store import CaptureStore
+from servodesk.scope.units import drive_units
 from servodesk.scope.viewer_server import RerunServer
 from servodesk.scope_models import (
+    ACTIVE_STATES,
     Capture,
     CaptureRequest,
     CaptureSignal,
     CaptureState,
     ExportFormat,
+    ExportLayout,
     ScopePlan,
 )
 from servodesk.storage.usage import UsageMeter
@@ -61,8 +64,6 @@ log = logging.getLogger(__name__)
 MAX_LOAD_PERCENT = 100.0
 ROOM_CHECK_S = 1.0  # how often a recording capture checks its size and the disk's free space
 TEARDOWN_WAIT_S = 10.0  # a new capture waits this long for the last one's setup to be undone
-ENCODER_RESOLUTION = 0x608F  # :01 increments per :02 motor revolutions
-GEAR_RATIO = 0x6091  # :01 motor increments per :02 user units (position factor)
 
 
 @dataclass
@@ -109,6 +110,7 @@ class ScopeService:
         self._setup: Setup | None = None
         self._run: CaptureRun | None = None
         self._series_task: asyncio.Task[None] | None = None
+        self._arming: int | None = None  # the capture whose bus setup `start` is doing
 
     async def open(self) -> None:
         await asyncio.to_thread(self.store.open)
@@ -151,7 +153,7 @@ class ScopeService:
         notes: list[str] = []
         for node in sorted({key[0] for key in need.keys}):
             facts = self.pdos.facts(node)
-            current = await self.pdos.read(node)
+            current = await self.pdos.cached(node)  # kept true by every PDO change
             plan = plan_node(
                 node,
                 [infos[key] for key in need.keys if key[0] == node],
@@ -193,26 +195,7 @@ class ScopeService:
         return load
 
     async def _units(self, node: int) -> DriveUnits:
-        """The drive's position factor and encoder resolution, where it has them."""
-        od = self.access.od(node)
-
-        async def read(index: int, subindex: int) -> int | None:
-            if od.get(index, subindex) is None:
-                return None
-            try:
-                data = await self.access.session(node).upload(index, subindex)
-            except ServodeskError:
-                return None
-            return int.from_bytes(data, "little")
-
-        counts, revs = await read(ENCODER_RESOLUTION, 1), await read(ENCODER_RESOLUTION, 2)
-        motor, user = await read(GEAR_RATIO, 1), await read(GEAR_RATIO, 2)
-        per_rev = counts // revs if counts and revs else counts
-        gear = (motor, user) if motor and user else None
-        # the three profiles report 606Ch in rpm (docs/simulator.md "Units"); a drive without a
-        # profile in 60FFh's units, as CiA 402 leaves it to the device (motion/axis.py)
-        rpm = self.access.profile_data(node) is not None
-        return DriveUnits.of(per_rev, gear, velocity_actual_rpm=rpm)
+        return await drive_units(self.access, node)
 
     # ------------------------------------------------------------------ starting and stopping
 
@@ -232,12 +215,18 @@ class ScopeService:
             setup = await self._prepare(request)
             if setup.bus_load_percent > MAX_LOAD_PERCENT:
                 raise InvalidValueError(overload(setup.bus_load_percent, request.sync_period_us))
+            # the record first: while the bus is set up it is listed as `arming`
+            capture = await self._create(setup)
+            self._arming = capture.id
             try:
                 await self._configure(setup)
-                run = await self._begin(setup)
+                run = await self._begin(setup, capture)
             except BaseException:
                 await self._undo(setup)
+                await self._forget_capture(capture.id)  # nothing was recorded
                 raise
+            finally:
+                self._arming = None
             self._setup = setup
             self._series_task = asyncio.create_task(self._series(setup, run))
             return run.capture.model_copy(deep=True)
@@ -301,15 +290,15 @@ class ScopeService:
         except ServodeskError as error:
             log.warning("scope: %s failed: %s", what, error)
 
-    async def _begin(self, setup: Setup, series: int | None = None) -> CaptureRun:
-        """A new capture on the configured bus: its record, files, tap and pollers."""
+    async def _create(self, setup: Setup, series: int | None = None) -> Capture:
+        """The capture's record, `arming` until its trigger can fire (run.py `refresh`)."""
         request = setup.request
 
         def build(capture_id: int) -> Capture:
             return Capture(
                 id=capture_id,
                 name=request.name,
-                state="running" if request.trigger.kind == "none" else "armed",
+                state="arming",
                 created=time.time(),
                 started=time.time(),
                 signals=[s.model_copy(deep=True) for s in setup.signals],
@@ -317,6 +306,7 @@ class ScopeService:
                 sync_period_us=request.sync_period_us,
                 duration_s=request.duration_s,
                 trigger=request.trigger,
+                lanes=request.lanes,
                 samples=0,
                 bus_load_percent=round(setup.bus_load_percent, 1),
                 recording_id=str(uuid.uuid4()),
@@ -324,7 +314,19 @@ class ScopeService:
                 notes=list(setup.notes),
             )
 
-        capture = await asyncio.to_thread(self.store.create, build)
+        return await asyncio.to_thread(self.store.create, build)
+
+    async def _forget_capture(self, capture_id: int) -> None:
+        try:
+            await asyncio.to_thread(self.store.delete, capture_id)
+        except ServodeskError as error:
+            log.warning("scope: could not delete capture %s: %s", capture_id, error)
+
+    async def _begin(self, setup: Setup, capture: Capture) -> CaptureRun:
+        """Recording starts on the configured bus: the capture's files, tap and pollers."""
+        request = setup.request
+        capture.notes = list(setup.notes)  # with what setting the bus up noted
+        capture.started = time.time()
         live = await self._live_url(capture)
         rrd = self.store.rrd_path(capture.id)
         recording = await asyncio.to_thread(CaptureRecording, capture, rrd, live)
@@ -379,7 +381,7 @@ class ScopeService:
                 if run.capture.series is None:
                     run.capture.series = setup.series
                     await asyncio.to_thread(self.store.save, run.capture)
-                run = await self._begin(setup, series=setup.series)
+                run = await self._begin(setup, await self._create(setup, setup.series))
         finally:
             self._run = None
             await self._undo(setup)
@@ -482,6 +484,9 @@ class ScopeService:
     async def stop(self, capture_id: int) -> Capture | None:
         """Stop the capture if it is the one recording (returns it, its state final); None
         when it is not active."""
+        if capture_id == self._arming:
+            async with self._lock:  # its setup finishes (or fails) first
+                pass
         run = self._run
         if run is None or run.capture.id != capture_id:
             return None
@@ -509,19 +514,23 @@ class ScopeService:
     async def delete(self, capture_id: int) -> None:
         await asyncio.to_thread(self.store.delete, capture_id)
 
-    async def export(self, capture_id: int, fmt: ExportFormat) -> Path:
+    async def export(
+        self, capture_id: int, fmt: ExportFormat, layout: ExportLayout = "long"
+    ) -> Path:
         capture = await self.get(capture_id)
-        if capture.state in ("armed", "running"):
+        if capture.state in ACTIVE_STATES:
             raise StateConflictError(
                 "capture_recording",
                 f"capture {capture_id} is still {capture.state}: export it when it is done"
                 " (or stop it)",
             )
+        if layout == "wide" and fmt != "csv":
+            raise InvalidValueError(f"the wide layout is for CSV only, not {fmt}: leave it out")
         if fmt == "rrd":
             return self.store.rrd_path(capture_id)
         samples = self.store.samples_path(capture_id)
-        out = self.store.directory(capture_id) / exports.filename(capture, fmt)
-        return await asyncio.to_thread(exports.export, capture, samples, fmt, out)
+        out = self.store.directory(capture_id) / exports.filename(capture, fmt, layout)
+        return await asyncio.to_thread(exports.export, capture, samples, fmt, out, layout)
 
     async def close(self) -> None:
         run = self._run

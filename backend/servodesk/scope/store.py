@@ -22,7 +22,7 @@ from pydantic import ValidationError
 
 from servodesk.errors import CaptureNotFoundError
 from servodesk.scope.samples import is_complete
-from servodesk.scope_models import Capture
+from servodesk.scope_models import ACTIVE_STATES, Capture
 
 log = logging.getLogger(__name__)
 
@@ -93,7 +93,7 @@ class CaptureStore:
         failed: list[int] = []
         for capture_id, data in rows:
             capture = _parse(capture_id, data)
-            if capture is not None and capture.state in ("armed", "running"):
+            if capture is not None and capture.state in ACTIVE_STATES:
                 self.save(self._interrupted(capture))
                 failed.append(capture.id)
         return failed

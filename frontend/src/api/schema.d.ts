@@ -1273,7 +1273,9 @@ export interface paths {
         /**
          * Start Capture
          * @description Set the bus up (SYNC, the scope's TPDOs in free slots, nodes Operational) and start a
-         *     capture: `running` at once when free-running, else `armed` until the trigger.
+         *     capture. It is `arming` until the signal its trigger watches has sent a first sample (a
+         *     condition met before would be missed), then `armed` until the trigger (free-running: at
+         *     once), then `running`.
          */
         post: operations["start_capture_api_scope_captures_post"];
         delete?: never;
@@ -1313,6 +1315,47 @@ export interface paths {
         };
         /** Export Capture */
         get: operations["export_capture_api_scope_captures__capture_id__export_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/captures/{capture_id}/measure": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Measure Capture
+         * @description Cursor A at `t0` and B at `t1` on a finished capture: per signal the value at each
+         *     (the sample at or before it), Δvalue, and min / max / mean / count between them.
+         */
+        get: operations["measure_capture_api_scope_captures__capture_id__measure_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/captures/{capture_id}/trace": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Trace Capture
+         * @description One signal as min/max bins over the capture, for the overview the cursors sit on.
+         */
+        get: operations["trace_capture_api_scope_captures__capture_id__trace_get"];
         put?: never;
         post?: never;
         delete?: never;
@@ -1657,6 +1700,7 @@ export interface components {
             error?: string | null;
             /** Id */
             id: number;
+            lanes?: components["schemas"]["LanesRequest"];
             /**
              * Lost
              * @default 0
@@ -1687,7 +1731,7 @@ export interface components {
              * State
              * @enum {string}
              */
-            state: "armed" | "running" | "done" | "failed";
+            state: "arming" | "armed" | "running" | "done" | "failed";
             /** Sync Period Us */
             sync_period_us: number;
             trigger: components["schemas"]["TriggerRequest"];
@@ -1698,6 +1742,7 @@ export interface components {
         CaptureRequest: {
             /** Duration S */
             duration_s: number;
+            lanes?: components["schemas"]["LanesRequest"];
             /** Name */
             name?: string | null;
             /** Signals */
@@ -2591,6 +2636,17 @@ export interface components {
             size_bytes: number;
         };
         /**
+         * LanesRequest
+         * @description Lanes drawn under a captured statusword (6041h) or controlword (6040h): its CiA 402
+         *     state (the controlword: its command) and each bit listed as a 0/1 step lane of its own.
+         */
+        LanesRequest: {
+            /** Controlword Bits */
+            controlword_bits?: number[];
+            /** Statusword Bits */
+            statusword_bits?: number[];
+        };
+        /**
          * LimitsRequest
          * @description PUT …/drive/limits: MotionLimits, strict (true/false is not a number).
          */
@@ -2778,6 +2834,24 @@ export interface components {
             samples: number;
             /** Window S */
             window_s: number;
+        };
+        /**
+         * Measurement
+         * @description Two cursors on a finished capture (seconds from its trigger) and what lies between.
+         */
+        Measurement: {
+            /** Dt */
+            dt: number;
+            /** End */
+            end: number;
+            /** Signals */
+            signals: components["schemas"]["SignalMeasurement"][];
+            /** Start */
+            start: number;
+            /** T0 */
+            t0: number;
+            /** T1 */
+            t1: number;
         };
         /** MessageResult */
         MessageResult: {
@@ -3570,6 +3644,37 @@ export interface components {
             user: string;
         };
         /**
+         * SignalMeasurement
+         * @description One signal between the cursors, in physical units (`unit`); None where it has no sample
+         *     (at a cursor: none at or before it; between them: none at all).
+         */
+        SignalMeasurement: {
+            /** At A */
+            at_a: number | null;
+            /** At B */
+            at_b: number | null;
+            /** Count */
+            count: number;
+            /** Delta */
+            delta: number | null;
+            /** Index */
+            index: number;
+            /** Max */
+            max: number | null;
+            /** Mean */
+            mean: number | null;
+            /** Min */
+            min: number | null;
+            /** Name */
+            name: string;
+            /** Node */
+            node: number;
+            /** Subindex */
+            subindex: number;
+            /** Unit */
+            unit: string;
+        };
+        /**
          * SpeedLimit
          * @description What caps the speed in profile torque: the drive's max speed object (MDi-S1-C: PA-103
          *     2006h:08, MDi-S1-C CANopen manual table 2.31; Kinco and CiA 402: 6080h Max motor speed).
@@ -3641,6 +3746,27 @@ export interface components {
              * @enum {string}
              */
             type: "timeline";
+        };
+        /**
+         * Trace
+         * @description One signal of a finished capture reduced to at most `points` bins for an overview plot:
+         *     per bin its time and the lowest and highest value (a spike between samples stays).
+         */
+        Trace: {
+            /** End */
+            end: number;
+            /** High */
+            high: number[];
+            /** Low */
+            low: number[];
+            /** Signal */
+            signal: number;
+            /** Start */
+            start: number;
+            /** Times */
+            times: number[];
+            /** Unit */
+            unit: string;
         };
         /**
          * TravelEnds
@@ -11448,7 +11574,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description scope_busy: another capture is armed or running; or the scope's TPDOs could not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort */
+            /** @description scope_busy: another capture is arming, armed or running; or the scope's TPDOs could not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -11634,6 +11760,8 @@ export interface operations {
             query?: {
                 /** @description csv, parquet (pyarrow), mf4 (asammdf) or rrd (rerun) */
                 format?: "csv" | "parquet" | "mf4" | "rrd";
+                /** @description CSV only: long (one row per sample) or wide (one row per time stamp, a column per signal) */
+                layout?: "long" | "wide";
             };
             header?: never;
             path: {
@@ -11673,6 +11801,133 @@ export interface operations {
                 };
             };
             /** @description The capture is still armed or running (capture_recording) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    measure_capture_api_scope_captures__capture_id__measure_get: {
+        parameters: {
+            query: {
+                /** @description s from the trigger (negative before it) */
+                t0: number;
+                /** @description s from the trigger (negative before it) */
+                t1: number;
+            };
+            header?: never;
+            path: {
+                /** @description capture id */
+                capture_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Measurement"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such capture (capture_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The capture is still armed or running, or its samples were never finished */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    trace_capture_api_scope_captures__capture_id__trace_get: {
+        parameters: {
+            query?: {
+                /** @description position in the capture's signals */
+                signal?: number;
+                points?: number;
+            };
+            header?: never;
+            path: {
+                /** @description capture id */
+                capture_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Trace"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such capture (capture_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The capture is still armed or running, or its samples were never finished */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -11750,7 +12005,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description scope_busy: another capture is armed or running; or the scope's TPDOs could not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort */
+            /** @description scope_busy: another capture is arming, armed or running; or the scope's TPDOs could not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort */
             409: {
                 headers: {
                     [name: string]: unknown;

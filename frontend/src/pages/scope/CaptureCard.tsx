@@ -10,7 +10,10 @@ import { Sparkline } from "./Sparkline";
 import type { History } from "./sparkline";
 import type { Capture } from "./types";
 
-const STATE_TEXT: Record<Capture["state"], string> = {
+// arming: the bus is still being set up, or the trigger's signal has not sent a sample yet:
+// something that happens now would not trigger the capture
+export const STATE_TEXT: Record<Capture["state"], string> = {
+  arming: "Arming… (not armed yet)",
   armed: "Armed: waiting for the trigger",
   running: "Recording",
   done: "Done",

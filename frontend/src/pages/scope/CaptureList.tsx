@@ -10,10 +10,16 @@ import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import { formatBytes, formatDateTime, isActive, triggerText } from "./model";
 import { exportUrl, stopOrDeleteCapture } from "./scopeApi";
-import type { Capture, ExportFormat } from "./types";
+import type { Capture, ExportFormat, ExportLayout } from "./types";
 
-const EXPORTS: { format: ExportFormat; label: string; title: string }[] = [
+const EXPORTS: { format: ExportFormat; layout?: ExportLayout; label: string; title: string }[] = [
   { format: "csv", label: "CSV", title: "one row per sample" },
+  {
+    format: "csv",
+    layout: "wide",
+    label: "Wide CSV",
+    title: "for spreadsheets: one row per time stamp, a column per signal",
+  },
   { format: "parquet", label: "Parquet", title: "Apache Parquet table" },
   { format: "mf4", label: "MF4", title: "ASAM MDF 4, one channel per signal" },
   { format: "rrd", label: ".rrd", title: "the rerun recording, for rerun's desktop viewer" },
@@ -122,16 +128,16 @@ export function CaptureList({
                         >
                           Open in viewer
                         </button>
-                        {EXPORTS.map(({ format, label, title }) =>
+                        {EXPORTS.map(({ format, layout, label, title }) =>
                           active ? (
-                            <span key={format} className="muted small">
+                            <span key={label} className="muted small">
                               {label}
                             </span>
                           ) : (
                             <a
-                              key={format}
+                              key={label}
                               className="button-link small"
-                              href={exportUrl(capture.id, format)}
+                              href={exportUrl(capture.id, format, layout)}
                               download
                               title={`Export ${title}`}
                               aria-label={`Export capture ${capture.id} as ${label}`}

@@ -14,6 +14,9 @@ import { buildRequest, isActive, startReason } from "./model";
 import { PlanView } from "./PlanView";
 import { getCapture, listCaptures, startCapture, stopOrDeleteCapture } from "./scopeApi";
 import { loadForm, saveForm } from "./formStore";
+import { asRequest, hasWord, loadLanes, saveLanes } from "./lanes";
+import { LaneSettings } from "./LaneSettings";
+import { MeasurePanel } from "./MeasurePanel";
 import { SignalPicker } from "./SignalPicker";
 import { EMPTY_HISTORY, pushHistory, type History } from "./sparkline";
 import type { Capture } from "./types";
@@ -29,6 +32,8 @@ export function ScopePage(): ReactNode {
   const nodes = useLive((s) => s.infos);
   const [form, setForm] = useState(loadForm);
   useEffect(() => saveForm(form), [form]);
+  const [lanes, setLanes] = useState(loadLanes);
+  useEffect(() => saveLanes(lanes), [lanes]);
   const built = useMemo(() => buildRequest(form), [form]);
   const [refresh, setRefresh] = useState(0);
 
@@ -103,7 +108,7 @@ export function ScopePage(): ReactNode {
 
   const start = useAction(async () => {
     if (!built.ok) return;
-    const capture = await startCapture(built.request);
+    const capture = await startCapture({ ...built.request, lanes: asRequest(lanes) });
     setHistory(EMPTY_HISTORY);
     follow(capture);
     setOpened(null); // the live view shows it
@@ -126,6 +131,11 @@ export function ScopePage(): ReactNode {
     const merged = captures.map((c) => (c.id === current.id ? current : c));
     return merged.some((c) => c.id === current.id) ? merged : [current, ...merged];
   }, [list.data, current]);
+  // the cursors sit on the capture opened in the viewer, else the newest finished one
+  const measured =
+    rows?.find((c) => c.id === opened?.id && c.state === "done") ??
+    rows?.find((c) => c.state === "done") ??
+    null;
 
   return (
     <section className="page scope-page">
@@ -143,6 +153,10 @@ export function ScopePage(): ReactNode {
             signals={form.signals}
             onChange={(signals) => setForm((old) => ({ ...old, signals }))}
           />
+          {hasWord(
+            form.signals.map((s) => s.index),
+            form.trigger.kind,
+          ) && <LaneSettings lanes={lanes} onChange={setLanes} />}
           <CaptureSettings
             form={form}
             nodes={nodes}
@@ -191,6 +205,7 @@ export function ScopePage(): ReactNode {
         </div>
       </div>
       <ViewerPanel opened={opened} onLive={() => setOpened(null)} />
+      {measured && <MeasurePanel key={measured.id} capture={measured} />}
       <CaptureList
         captures={rows}
         loading={list.loading}

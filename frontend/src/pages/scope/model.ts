@@ -302,7 +302,8 @@ export function triggerText(trigger: TriggerRequest): string {
 }
 
 export function isActive(capture: Pick<Capture, "state"> | null | undefined): boolean {
-  return capture?.state === "armed" || capture?.state === "running";
+  const state = capture?.state;
+  return state === "arming" || state === "armed" || state === "running";
 }
 
 /** The watched signal's raw level in its physical unit, as a hint beside the level field. */

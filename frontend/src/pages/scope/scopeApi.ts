@@ -3,7 +3,16 @@
 import { api, call } from "../../api/client";
 import { asApiError, toApiError } from "../../api/errors";
 import type { OdTree } from "../../api/types";
-import type { Capture, CaptureRequest, ExportFormat, ScopePlan, ScopeViewer } from "./types";
+import type {
+  Capture,
+  CaptureRequest,
+  ExportFormat,
+  ExportLayout,
+  Measurement,
+  ScopePlan,
+  ScopeViewer,
+  Trace,
+} from "./types";
 
 /** What the capture would do (sources, bus load), without starting it. */
 export function planCapture(request: CaptureRequest, signal?: AbortSignal): Promise<ScopePlan> {
@@ -51,9 +60,11 @@ export function nodeDictionary(node: number, signal?: AbortSignal): Promise<OdTr
   return call(api.GET("/api/nodes/{node}/od", { params: { path: { node } }, signal }));
 }
 
-/** A plain link: the browser downloads the export itself. */
-export function exportUrl(id: number, format: ExportFormat): string {
-  return `/api/scope/captures/${id}/export?format=${format}`;
+/** A plain link: the browser downloads the export itself. CSV `wide`: one row per time stamp,
+ * a column per signal (the default, long: one row per sample). */
+export function exportUrl(id: number, format: ExportFormat, layout?: ExportLayout): string {
+  const wide = layout === "wide" ? "&layout=wide" : "";
+  return `/api/scope/captures/${id}/export?format=${format}${wide}`;
 }
 
 /** The capture's rerun recording (.rrd) as bytes, for the embedded viewer. */
@@ -66,4 +77,34 @@ export async function fetchRrd(id: number, signal?: AbortSignal): Promise<Uint8A
     }),
   );
   return new Uint8Array(data);
+}
+
+/** The readout between cursor A (`t0`) and B (`t1`), s from the trigger. */
+export function measureCapture(
+  id: number,
+  t0: number,
+  t1: number,
+  signal?: AbortSignal,
+): Promise<Measurement> {
+  return call(
+    api.GET("/api/scope/captures/{capture_id}/measure", {
+      params: { path: { capture_id: id }, query: { t0, t1 } },
+      signal,
+    }),
+  );
+}
+
+/** One signal of a finished capture reduced to `points` min/max bins. */
+export function traceCapture(
+  id: number,
+  position: number,
+  points: number,
+  signal?: AbortSignal,
+): Promise<Trace> {
+  return call(
+    api.GET("/api/scope/captures/{capture_id}/trace", {
+      params: { path: { capture_id: id }, query: { signal: position, points } },
+      signal,
+    }),
+  );
 }

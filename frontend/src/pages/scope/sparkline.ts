@@ -68,3 +68,47 @@ export function sparklinePath(
     .map((value, i) => `${i === 0 ? "M" : "L"}${round(start + i * step)},${round(y(value))}`)
     .join("");
 }
+
+/** The overview of a whole signal: its min/max bins (`times`, `low`, `high`) as one filled
+ * band over `width` × `height`, time mapped from [start, end]. A flat signal is drawn through
+ * the middle; a single bin as a thin band. */
+export function envelopePath(
+  trace: {
+    times: readonly number[];
+    low: readonly number[];
+    high: readonly number[];
+  },
+  span: { start: number; end: number },
+  width: number,
+  height: number,
+  pad = 4,
+): string {
+  const n = Math.min(trace.times.length, trace.low.length, trace.high.length);
+  if (n === 0) return "";
+  let lowest = Infinity;
+  let highest = -Infinity;
+  for (let i = 0; i < n; i++) {
+    lowest = Math.min(lowest, trace.low[i] ?? 0);
+    highest = Math.max(highest, trace.high[i] ?? 0);
+  }
+  const range = highest - lowest;
+  const inner = height - 2 * pad;
+  const y = (value: number): number =>
+    range === 0 ? height / 2 : pad + inner - ((value - lowest) / range) * inner;
+  const duration = span.end - span.start;
+  const x = (t: number): number => (duration > 0 ? ((t - span.start) / duration) * width : 0);
+  const top: string[] = [];
+  const bottom: string[] = [];
+  for (let i = 0; i < n; i++) {
+    const left = x(trace.times[i] ?? 0);
+    const next = i + 1 < n ? x(trace.times[i + 1] ?? 0) : width;
+    const right = Math.max(left + 0.5, next); // each bin holds until the next: a step signal
+    top.push(
+      `${round(left)},${round(y(trace.high[i] ?? 0))}L${round(right)},${round(y(trace.high[i] ?? 0))}`,
+    );
+    bottom.unshift(
+      `${round(right)},${round(y(trace.low[i] ?? 0) + 0.5)}L${round(left)},${round(y(trace.low[i] ?? 0) + 0.5)}`,
+    );
+  }
+  return `M${top.join("L")}L${bottom.join("L")}Z`;
+}
