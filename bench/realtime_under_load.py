@@ -4,9 +4,11 @@ The drives and the app run in separate processes, as in bench/jog_stop.py: the s
 in `servodesk-sim --serve` (socketcand on loopback), the app as `servodesk serve -i socketcand`,
 and `--hogs` CPU-bound processes (2) beside them from before the app starts. For the whole timed
 run a scope capture of 5 signals at 1 kHz with the Scope page's poll (bench/quick_stop_load.py)
-and what the other pages poll (bench/soak.py) run, each in a process of its own. This process
-listens on the bus with its own socketcand client, stamping frames as they arrive
-(CLOCK_MONOTONIC is shared by all processes); its only other thread is that listener's.
+and what the other pages poll (bench/soak.py) run, each in a process of its own, and Chromium
+(/usr/bin/chromium, headless) renders the Scope page with its viewer following the capture
+(`--no-browser`: without it). This process listens on the bus with its own socketcand client,
+stamping frames as they arrive (CLOCK_MONOTONIC is shared by all processes); its only other
+thread is that listener's.
 
 The timed run (`--duration` s: 120, the CI run; 1800 for the 30-minute soak; at least one round
 of each condition) goes round the conditions idle, a scan (POST /api/scan), an upload-all of
@@ -72,6 +74,7 @@ from bench.soak import Focus, Load, page_polls, poller
 from bench.sync_timing import SyncFigures
 
 BENCH = Path(__file__).resolve().parent
+CHROMIUM = Path("/usr/bin/chromium")
 CONDITIONS = ("idle", "scan", "upload-all", "dcf-load", "log-decode")
 DCF_NODE = 2
 TARGET_VELOCITY = 0x60FF
@@ -304,6 +307,8 @@ def timed_run(base: str, ear: RunEar, args: argparse.Namespace) -> Results:
             commission(http)
         stack.enter_context(work_process(_scope, base, (capture_s,), 3.0))
         stack.enter_context(work_process(_pages, base, (), 1.0))
+        if args.browser:
+            stack.enter_context(viewer_browser(base))
         read_rpdos(http, ear)
         end = time.monotonic() + args.duration
         done = 0
@@ -320,6 +325,38 @@ def timed_run(base: str, ear: RunEar, args: argparse.Namespace) -> Results:
         print(f"    bus: {bus.get('reconnects')} reconnects, last error {bus.get('error')}")
     ear.count_trips()  # before the app stops: a stopped tool's heartbeat is not a trip
     return out
+
+
+@contextmanager
+def viewer_browser(base: str) -> Iterator[None]:
+    """Chromium rendering the Scope page for the whole timed run: its rerun viewer follows the
+    live capture (software rendering on this host, as on a laptop without a GPU driver)."""
+    if not CHROMIUM.exists():
+        print(f"    no {CHROMIUM}: the Scope page's viewer is not rendered beside the run")
+        yield
+        return
+    with tempfile.TemporaryDirectory(prefix="servodesk-rt-chromium-") as profile:
+        command = [
+            str(CHROMIUM),
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--disable-background-networking",
+            f"--user-data-dir={profile}",
+            "--remote-debugging-port=0",  # keeps a headless browser open on its page
+            "--window-size=1400,900",
+            f"{base}/scope",
+        ]
+        browser = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            yield
+        finally:
+            browser.terminate()
+            try:
+                browser.wait(10)
+            except subprocess.TimeoutExpired:
+                browser.kill()
 
 
 # ---------------------------------------------------------------------- measured apart
@@ -404,6 +441,12 @@ def main() -> int:
         help="leave node 3's PDOs as they boot (state by SDO) instead of the recommended ones",
     )
     parser.add_argument("--skip-apart", action="store_true", help="no SYNC / SDO benches first")
+    parser.add_argument(
+        "--no-browser",
+        dest="browser",
+        action="store_false",
+        help="no Chromium rendering the Scope page's viewer beside the run",
+    )
     args = parser.parse_args()
     quiet = loaded = None
     sdo = None

@@ -103,6 +103,10 @@ def running_app() -> Iterator[tuple[int, FastAPI]]:
     thread.start()
     while not server.started:
         time.sleep(0.02)
+    registry = app.state.services.registry
+    deadline = time.monotonic() + 60  # the start-up scan, slower on a loaded host
+    while not all(registry.known(node) for node in (1, 3)) and time.monotonic() < deadline:
+        time.sleep(0.1)
     try:
         yield port, app
     finally:
