@@ -155,8 +155,8 @@ class RerunServer:
     @property
     def client(self) -> httpx.AsyncClient:
         """The proxy's connection pool to this server (never through an HTTP proxy)."""
-        if self._client is None:
-            self._client = httpx.AsyncClient(trust_env=False, timeout=httpx.Timeout(10.0))
+        if self._client is None:  # ensure_started builds it off the loop
+            self._client = _new_client()
         return self._client
 
     def _started_ports(self) -> tuple[int, int]:
@@ -165,6 +165,10 @@ class RerunServer:
         return self._ports
 
     async def ensure_started(self) -> None:
+        if self._client is None:
+            # httpx loads the CA bundle for its default TLS context: 100+ ms of the loop on a
+            # busy host, were it built on first use by the proxy (a quick stop waits that long)
+            self._client = await asyncio.to_thread(_new_client)
         async with self._lock:
             if self.running:
                 return
@@ -282,3 +286,7 @@ class RerunServer:
                 os.killpg(process.pid, sig)  # the launcher and the rerun binary it runs
             else:
                 process.send_signal(sig)
+
+
+def _new_client() -> httpx.AsyncClient:
+    return httpx.AsyncClient(trust_env=False, timeout=httpx.Timeout(10.0))
