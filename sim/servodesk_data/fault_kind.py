@@ -13,6 +13,9 @@ class FaultKind(Enum):
     FOLLOWING_ERROR = "following_error"
     POSITIVE_LIMIT = "positive_limit"
     NEGATIVE_LIMIT = "negative_limit"
+    # Both limit inputs active while enabled: the fault of drives whose limit inputs are drive
+    # inhibits (MDi alarm 7 "CCW/CW 驱动禁止输入都 OFF"); one input alone only stops the motion.
+    BOTH_LIMITS = "both_limits"
     SYNC_LOST = "sync_lost"
     HEARTBEAT_LOST = "heartbeat_lost"
     LIFE_GUARD = "life_guard"

@@ -22,6 +22,7 @@ from servodesk_data.model import (
     EmcyFormat,
     FaultEntry,
     Identity,
+    LimitSwitchReaction,
     NodeIdSource,
     ObjectRef,
     Parameter,
@@ -244,6 +245,7 @@ def _quirks(t: _Table) -> Quirks:
         bitrate_objects=bitrate_objects,
         bitrate_codes=bitrate_codes,
         status_only_kinds=frozenset(t.enum_list("status_only_kinds", FaultKind)),
+        limit_switch_reaction=t.enum("limit_switch_reaction", LimitSwitchReaction),
         enumerated_objects=(
             t.object_refs("enumerated_objects") if t.has("enumerated_objects") else ()
         ),
@@ -357,17 +359,26 @@ def _check_fault(t: _Table, entry: FaultEntry, seen: list[FaultEntry], quirks: Q
 
 
 def _check_kinds(root: _Table, faults: list[FaultEntry], quirks: Quirks) -> None:
-    """Every FaultKind maps to exactly one fault, or is declared status-only."""
+    """Every FaultKind the drive can raise maps to exactly one fault, or is declared
+    status-only; one it never raises (see LimitSwitchReaction) maps to none."""
     mapped: dict[FaultKind, int] = {}
+    never = quirks.limit_switch_reaction.never_raised
     for entry in faults:
         for kind in entry.kinds:
+            if kind in never:
+                reaction = quirks.limit_switch_reaction.value
+                raise root.error(
+                    "faults",
+                    f"{kind.value} is never raised with limit_switch_reaction = {reaction!r}",
+                )
             if kind in mapped:
                 codes = f"{mapped[kind]:#x} and {entry.code:#x}"
                 raise root.error("faults", f"{kind.value} maps to both {codes}")
             if kind in quirks.status_only_kinds:
                 raise root.error("faults", f"{kind.value} is also in quirks.status_only_kinds")
             mapped[kind] = entry.code
-    missing = [k.value for k in FaultKind if k not in mapped and k not in quirks.status_only_kinds]
+    handled = mapped.keys() | quirks.status_only_kinds | never
+    missing = [k.value for k in FaultKind if k not in handled]
     if missing:
         raise root.error(
             "faults",

@@ -45,6 +45,23 @@ class NodeIdSource(StrEnum):
     FIXED = "fixed"  # set outside CANopen (not described by the manual)
 
 
+class LimitSwitchReaction(StrEnum):
+    """What a drive does when the axis runs into a limit switch (60FDh bit 0/1) outside homing."""
+
+    # a fault: positive_limit / negative_limit (Kinco 8613h/8612h, Kinco servo CANopen manual §8)
+    FAULT = "fault"
+    # drive-inhibit inputs: the drive stops and refuses that direction, no fault; both inputs
+    # active while enabled raise both_limits (MDi alarm 7, MDi-S1-C CANopen manual §4.1)
+    INHIBIT = "inhibit"
+
+    @property
+    def never_raised(self) -> frozenset[FaultKind]:
+        """Fault kinds a drive with this reaction never raises (its table need not map them)."""
+        if self is LimitSwitchReaction.INHIBIT:
+            return frozenset({FaultKind.POSITIVE_LIMIT, FaultKind.NEGATIVE_LIMIT})
+        return frozenset({FaultKind.BOTH_LIMITS})
+
+
 class TakesEffect(StrEnum):
     IMMEDIATELY = "immediately"
     AFTER_RESET = "after_reset"
@@ -96,6 +113,7 @@ class Quirks:
     bitrate_codes: tuple[BitrateCode, ...]
     # Kinds that this drive shows only in the statusword, never as a fault (no EMCY, no 603Fh).
     status_only_kinds: frozenset[FaultKind]
+    limit_switch_reaction: LimitSwitchReaction
     # Objects that accept only the values their catalogue entry lists as choices (MDi 605Ah:
     # 1, 2, 5, 6 although 3 and 4 lie inside the range); other values abort 06090030.
     enumerated_objects: tuple[ObjectRef, ...] = ()

@@ -12,6 +12,9 @@ Choices where the manuals leave room:
   always uses 6085h (605Eh is not read).
 - Disable operation (5) and shutdown (8) switch the power stage off at once (605Bh/605Ch are
   not read).
+- Limit switches (outside homing) per profile: a fault on running into one (Kinco, CiA 402), or
+  drive-inhibit inputs (MDi): one stops the motion toward it and sets statusword bit 11
+  "internal limit active" while active, both raise MDi alarm 7 (see drive_inhibit.py).
 - Statusword bits 10/12/13 come from the running mode in Operation enabled only; the error
   bits 13 (PP following error, HM homing error) stay visible through the fault they cause,
   until the drive is enabled again (PP) or homing is started again (HM).
@@ -21,10 +24,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
+from servodesk_data import LimitSwitchReaction
 from servodesk_protocol.cia402 import (
     CW_FAULT_RESET,
+    SW_INTERNAL_LIMIT,
     SW_MODE_BIT13,
     SW_REFERENCE_FOUND,
     Cia402State,
@@ -33,6 +38,7 @@ from servodesk_protocol.cia402 import (
     quick_stop_stays,
 )
 from servodesk_sim.cia402 import next_state, statusword_bits
+from servodesk_sim.drive_inhibit import DriveInhibit
 from servodesk_sim.fault_kind import FaultKind
 from servodesk_sim.modes import (
     Axis,
@@ -67,6 +73,7 @@ LIMIT_APPROACH_RPM = 0.1  # slower than this counts as standing at a limit switc
 
 _S = Cia402State
 _POWERED = frozenset({_S.OPERATION_ENABLED, _S.QUICK_STOP_ACTIVE, _S.FAULT_REACTION_ACTIVE})
+_BOTH_LIMITS = Switches.NEGATIVE_LIMIT | Switches.POSITIVE_LIMIT
 
 
 @dataclass(frozen=True)
@@ -77,6 +84,8 @@ class MotionConfig:
     unsupported_mode_display: int | None  # MDi: 6061h shows 0; None: keep the old mode
     reference_found_bit15: bool  # Kinco statusword 0x8000 after homing (Kinco manual §5.4.6)
     max_speed: tuple[int, int, str]  # overspeed limit object and unit ("rpm")
+    # MDi: INHIBIT (MDi-S1-C CANopen manual §4.1 alarm 7); Kinco, CiA 402: FAULT
+    limit_switch_reaction: LimitSwitchReaction = LimitSwitchReaction.FAULT
     ip_period_ms: tuple[int, int] = (1, 20)  # 60C2h clamp (MDi-S1-C manual §3.8 note 5)
     homing_timeout_s: float = 60.0  # "回零发生超时" (MDi-S1-C manual §3.7.1 bit 13)
     plant: PlantParams = field(default_factory=PlantParams)
@@ -114,6 +123,7 @@ class MotionCore:
         self._mode_number: int | None = None
         self._mode: Mode | None = None
         self._stop = StopRamp()
+        self._inhibit = DriveInhibit()
         self._setpoint = Setpoint(ControlKind.OFF)
         self._fault_reported = False
         self._following_error = False
@@ -213,10 +223,25 @@ class MotionCore:
         if state is _S.OPERATION_ENABLED:
             if self._mode is None:
                 return Setpoint(ControlKind.POSITION, position=self._stop.position)
-            return self._mode.step(dt, self._values, axis)
+            return self._inhibited(dt, self._mode.step(dt, self._values, axis), axis)
         if state in (_S.QUICK_STOP_ACTIVE, _S.FAULT_REACTION_ACTIVE):
             return self._braking(dt, axis)
         return Setpoint(ControlKind.OFF, position=axis.position, velocity=axis.velocity)
+
+    def _inhibited(self, dt: float, demand: Setpoint, axis: Axis) -> Setpoint:
+        """The mode's demand, unless a drive-inhibit input refuses it (drive_inhibit.py)."""
+        mode = self._mode
+        if not self._limits_inhibit() or mode is None or mode is self._homing:
+            return demand
+        dec = acceleration(read_or(self._values, 0x6085, 0, 100000))  # Quick stop deceleration
+        held = self._inhibit.apply(dt, demand, self._setpoint, axis, dec)
+        if held is None:
+            return demand
+        mode.take_over(held.position)  # the refused demand does not wind up behind the hold
+        return replace(held, fault=demand.fault)
+
+    def _limits_inhibit(self) -> bool:
+        return self._config.limit_switch_reaction is LimitSwitchReaction.INHIBIT
 
     def _braking(self, dt: float, axis: Axis) -> Setpoint:
         option = self._quick_stop_option()
@@ -285,7 +310,10 @@ class MotionCore:
             if abs(setpoint.position - axis.position) > window:
                 self._following_error = True
                 return FaultKind.FOLLOWING_ERROR  # MDi alarm 4 "位置超差"
-        if self._state is _S.OPERATION_ENABLED and self._mode is not self._homing:
+        if self._limits_inhibit():
+            if axis.switches & _BOTH_LIMITS == _BOTH_LIMITS:
+                return FaultKind.BOTH_LIMITS  # MDi alarm 7 "CCW/CW 驱动禁止输入都 OFF"
+        elif self._state is _S.OPERATION_ENABLED and self._mode is not self._homing:
             # Homing uses the limit switches itself; elsewhere running into one is a fault.
             speed = self._plant.rpm  # motor frame, like the switch positions
             if axis.switches & Switches.NEGATIVE_LIMIT and speed < -LIMIT_APPROACH_RPM:
@@ -335,6 +363,7 @@ class MotionCore:
 
     def _start_mode(self, axis: Axis) -> None:
         self._stop.start(axis.position, 0.0)  # standstill target when no mode runs
+        self._inhibit.reset()
         if self._mode is not None:
             self._mode.start(self._values, axis)
 
@@ -386,6 +415,13 @@ class MotionCore:
             word |= SW_MODE_BIT13  # PP bit 13 "跟随误差" (MDi-S1-C manual §3.4.1)
         if mode is self._homing and self._homing.phase is Phase.ERROR:
             word |= SW_MODE_BIT13  # HM bit 13 "回零错误"
+        if (
+            self._state is _S.OPERATION_ENABLED
+            and self._limits_inhibit()
+            and mode is not self._homing
+            and axis.switches & _BOTH_LIMITS
+        ):
+            word |= SW_INTERNAL_LIMIT  # a drive-inhibit input refuses one direction
         if self._config.reference_found_bit15 and self._homing.referenced:
             word |= SW_REFERENCE_FOUND
         self._values.set(0x6041, 0, word)  # Statusword

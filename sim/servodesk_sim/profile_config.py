@@ -58,6 +58,7 @@ def drive_config(data: DriveData) -> DriveConfig:
         unsupported_mode_display=quirks.unsupported_mode_display,
         reference_found_bit15=quirks.homing_reference_found_bit15,
         max_speed=(*quirks.max_speed_object, "rpm"),
+        limit_switch_reaction=quirks.limit_switch_reaction,
     )
     return DriveConfig(
         length_check=_LENGTH[quirks.sdo_length_check],

@@ -47,3 +47,26 @@ def test_kinco_manual_codes_keep_their_source() -> None:
     assert record.check is not None
     assert record.check.endswith("Source: Kinco servo CANopen manual §8.")
     assert "CiA code" not in record.check  # 8611h is the code it sent
+
+
+def test_kinco_8120_names_heartbeat_loss_and_keeps_the_manuals_words() -> None:
+    # What the Faults page shows for a Kinco EMCY 8120h: the simulated drive (and the profile)
+    # raise it for a lost consumed heartbeat too, not only for node guarding.
+    record = decode_emcy(KINCO, 2, bytes.fromhex("2081000000000000"))
+    assert record.source == "vendor"
+    assert record.code_hex == "0x8120"
+    assert record.name_en == "CAN communication interrupted (node guarding or heartbeat lost)"
+    assert record.name_zh is None  # the manual's name is the firmware symbol, not Chinese
+    assert record.check is not None
+    assert record.check.startswith("Cause: The master's node guarding, or a heartbeat the drive")
+    assert '"CAN communication interrupted in the Node Guarding mode"' in record.check
+    assert "consumer time 1016h" in record.check
+    assert record.check.endswith("Source: Kinco servo CANopen manual §8.")
+
+
+def test_mdi_alarm_7_says_both_inhibit_inputs() -> None:
+    record = decode_emcy(MDI, 1, bytes([7, 0]))
+    assert (record.name_zh, record.name_en) == ("驱动禁止异常", "Drive inhibit fault")
+    assert record.check is not None
+    assert "CCW/CW 驱动禁止输入都 OFF" in record.check
+    assert "One inhibit input alone raises no alarm" in record.check

@@ -245,3 +245,37 @@ def test_a_move_stopped_by_servodesk_says_why_before_the_drive_shows_it() -> Non
     assert state.move is not None
     assert state.move.phase == "interrupted"
     assert state.move.message == "stopped by quick stop (controlword bit 2 = 0)"
+
+
+@pytest.mark.parametrize(
+    ("statusword", "phase"),
+    [
+        (0x0C37, "interrupted"),  # at rest (bit 10) and held by a limit (bit 11): stopped there
+        (0x0837, "moving"),  # still moving off a limit switch (bit 11 without bit 10)
+        (0x0437, "moving"),  # bit 10 short of the target, no limit: the drive still settles
+    ],
+)
+def test_a_move_held_at_a_limit_short_of_its_target_says_so(statusword: int, phase: str) -> None:
+    """The MDi-S1-C stops a move at a drive-inhibit input without a fault: the move ends
+    interrupted, naming the limit, instead of "moving" for ever."""
+    axis = Axis(node=1, limits=MotionLimits(max_velocity_rpm=3000, max_torque_pct=100))
+    axis.move = MoveProgress(target_inc=393216, phase="moving", queued=0)
+    axis.target_user = 3000
+    held = Snapshot(
+        statusword=statusword,
+        controlword=0x001F,
+        mode=1,
+        mode_display=1,
+        position=1200,
+        velocity=0,
+        torque=0,
+        following_error=0,
+        inputs=0,
+        error_code=0,
+    )
+    state = build_state(axis, held, nmt_state="operational", data=None, fault_source="")
+    assert state.move is not None
+    assert state.move.phase == phase
+    if phase == "interrupted":
+        assert state.move.message is not None
+        assert "stopped at a limit" in state.move.message

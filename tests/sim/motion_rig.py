@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from servodesk_data import LimitSwitchReaction
 from servodesk_data.fault_kind import FaultKind
 from servodesk_protocol.cia402 import Cia402State
 from servodesk_sim.motion import MotionConfig, MotionCore
@@ -24,12 +25,14 @@ MDI_CONFIG = MotionConfig(
     unsupported_mode_display=0,
     reference_found_bit15=False,
     max_speed=(0x2006, 8, "rpm"),
+    limit_switch_reaction=LimitSwitchReaction.INHIBIT,
 )
 CIA402_CONFIG = replace(
     MDI_CONFIG,
     immediate_setpoint=True,
     unsupported_mode_display=None,
     max_speed=(0x6080, 0, "rpm"),
+    limit_switch_reaction=LimitSwitchReaction.FAULT,
 )
 KINCO_CONFIG = replace(CIA402_CONFIG, reference_found_bit15=True)
 

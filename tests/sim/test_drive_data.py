@@ -418,16 +418,19 @@ def test_mdi_pa_parameters_follow_the_rule_and_need_a_reset_for_node_and_bitrate
 MDI_ALARMS = [1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 14, 18, 19, 20, 21, 23, 29, 39, 40, 41, 42, 47]
 MDI_ALARMS += [50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 61, 62]  # MDi-S1-C manual §4.1
 
-KIND_CODES = {  # the fault each simulated cause raises (None: statusword only)
-    "mdi-s1c": [1, 4, 7, 7, 62, 61, 61, None],
-    "kinco": [0x8400, 0x8611, 0x8613, 0x8612, 0x6011, 0x8120, 0x8120, None],
-    "cia402": [0x8400, 0x8611, 0x8613, 0x8612, 0x8700, 0x8130, 0x8130, None],
+# The fault each simulated cause raises (None: statusword only or never raised). The MDi's limit
+# inputs are drive inhibits: one stops the motion, both are alarm 7 (MDi-S1-C manual §4.1).
+KIND_CODES = {
+    "mdi-s1c": [1, 4, None, None, 7, 62, 61, 61, None],
+    "kinco": [0x8400, 0x8611, 0x8613, 0x8612, None, 0x6011, 0x8120, 0x8120, None],
+    "cia402": [0x8400, 0x8611, 0x8613, 0x8612, None, 0x8700, 0x8130, 0x8130, None],
 }
 KIND_ORDER = [
     FaultKind.OVERSPEED,
     FaultKind.FOLLOWING_ERROR,
     FaultKind.POSITIVE_LIMIT,
     FaultKind.NEGATIVE_LIMIT,
+    FaultKind.BOTH_LIMITS,
     FaultKind.SYNC_LOST,
     FaultKind.HEARTBEAT_LOST,
     FaultKind.LIFE_GUARD,
@@ -440,9 +443,10 @@ def test_every_fault_kind_is_mapped_once(profile: str) -> None:
     assert set(KIND_ORDER) == set(FaultKind)
     codes = [_code(data, kind) for kind in KIND_ORDER]
     assert codes == KIND_CODES[profile]
+    never = data.quirks.limit_switch_reaction.never_raised
     for kind in FaultKind:
         holders = [f.code for f in data.faults if kind in f.kinds]
-        assert len(holders) + (kind in data.quirks.status_only_kinds) == 1, kind
+        assert len(holders) + (kind in data.quirks.status_only_kinds) + (kind in never) == 1, kind
 
 
 def _code(data: DriveData, kind: FaultKind) -> int | None:

@@ -96,6 +96,7 @@ kinco_fault_bits = false
 node_id_source = "fixed"
 bitrate_objects = []
 status_only_kinds = ["homing_error"]
+limit_switch_reaction = "fault"
 
 [[parameters]]
 name = "Window"
@@ -158,6 +159,10 @@ BAD = [  # (text to replace, replacement, expected message after the file name)
     ('"overspeed", ', "", r"faults: no fault for kind\(s\) overspeed"),
     ('"overspeed", ', '"overspeed", "overspeed", ', r"\(code 0x1000\)\.kinds: a kind is listed"),
     ('["homing_error"]', '["homing_error", "sync_lost"]', r"faults: sync_lost is also in quirks"),
+    # a drive-inhibit drive stops at one switch: it has no single-switch fault, but one for both
+    ('"fault"', '"inhibit"', r"faults: positive_limit is never raised with limit_switch_reac"),
+    ('"fault"', '"stop"', r"quirks\.limit_switch_reaction: 'stop' is not one of 'fault', 'inh"),
+    ('"life_guard"]', '"life_guard", "both_limits"]', r"both_limits is never raised with limit"),
     ("kinco_fault_bits = false", "kinco_fault_bits = true", r"\.kinco_bit: 0x0 is not a single"),
     ('seed = "none"', 'seed = "none', r"not valid TOML"),
 ]
@@ -170,6 +175,15 @@ def test_loader_errors_name_file_and_key(tmp_path: Path, old: str, new: str, mes
     with pytest.raises(ValueError, match=message) as info:
         servodesk_data.load_path(path)
     assert str(info.value).startswith(str(path))
+
+
+def test_inhibit_profile_maps_both_limits_instead_of_each_switch(tmp_path: Path) -> None:
+    text = MINIMAL.replace('"fault"', '"inhibit"').replace(
+        '"positive_limit", "negative_limit"', '"both_limits"'
+    )
+    data = servodesk_data.load_path(_write(tmp_path, text))
+    assert data.fault_for_kind(FaultKind.BOTH_LIMITS) == data.fault(0x1000)
+    assert data.fault_for_kind(FaultKind.POSITIVE_LIMIT) is None
 
 
 def test_duplicate_fault_code_is_refused(tmp_path: Path) -> None:

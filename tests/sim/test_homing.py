@@ -9,6 +9,7 @@ import pytest
 from canopen.profiles.p402 import Homing as CanopenHoming
 
 from servodesk_sim.fault_kind import FaultKind
+from servodesk_sim.motion import MotionConfig
 from tests.sim.motion_rig import INC, KINCO_CONFIG, MDI_CONFIG, Rig
 
 ATTAINED = 0x1000
@@ -38,6 +39,7 @@ def layout(
     n_ot: int | None = -4 * Q,
     p_ot: int | None = 4 * Q,
     home: tuple[int, int] = (16 * INC, 17 * INC),
+    config: MotionConfig = MDI_CONFIG,
     **objects: int,
 ) -> Rig:
     overrides = {
@@ -46,7 +48,7 @@ def layout(
         (0x5FF3, 0): home[0],
         (0x5FF4, 0): home[1],
     }
-    rig = Rig(overrides=overrides)
+    rig = Rig(config, overrides=overrides)
     for index, value in ((0x5FF1, n_ot), (0x5FF2, p_ot)):
         if value is None:
             del rig.values.values[(index, 0)]
@@ -187,9 +189,18 @@ def test_23_without_a_home_switch_in_the_travel_is_a_homing_error() -> None:
 
 
 def test_17_meeting_p_ot_is_a_homing_error() -> None:
-    rig = layout(17, n_ot=2 * Q, p_ot=Q)  # starts inside N-OT, P-OT before its edge
+    # starts inside N-OT, P-OT before its edge (Kinco: limit switches fault one at a time)
+    rig = layout(17, n_ot=2 * Q, p_ot=Q, config=KINCO_CONFIG)
     home(rig)
     assert rig.faults == [FaultKind.HOMING_ERROR]
+
+
+def test_mdi_17_meeting_p_ot_inside_n_ot_is_alarm_7() -> None:
+    # On the MDi both drive-inhibit inputs active at once is alarm 7, whatever the mode.
+    rig = layout(17, n_ot=2 * Q, p_ot=Q)
+    rig.controlword(0x1F)
+    rig.run(2.0)  # slow + from inside N-OT: P-OT rises after 1.25 s
+    assert rig.faults == [FaultKind.BOTH_LIMITS]
 
 
 def test_homing_timeout_without_a_switch() -> None:

@@ -9,7 +9,7 @@ import pytest
 from servodesk_data.fault_kind import FaultKind
 from servodesk_protocol.cia402 import Cia402State
 from servodesk_sim.motion import MotionConfig
-from tests.sim.motion_rig import CIA402_CONFIG, INC, MDI_CONFIG, REV, Rig
+from tests.sim.motion_rig import CIA402_CONFIG, INC, KINCO_CONFIG, MDI_CONFIG, REV, Rig
 
 S = Cia402State
 
@@ -214,11 +214,14 @@ def test_following_error_window_absent_uses_three_revolutions() -> None:
     assert 3 * REV - 2000 < max(errors[:-1]) <= 3 * REV
 
 
+@pytest.mark.parametrize("config", [KINCO_CONFIG, CIA402_CONFIG], ids=["kinco", "cia402"])
 @pytest.mark.parametrize(
     ("rpm", "fault"), [(600, FaultKind.POSITIVE_LIMIT), (-600, FaultKind.NEGATIVE_LIMIT)]
 )
-def test_running_into_a_limit_switch_faults(rpm: int, fault: FaultKind) -> None:
-    rig = Rig(overrides={(0x5FF1, 0): -INC // 2, (0x5FF2, 0): INC // 2})
+def test_running_into_a_limit_switch_faults(
+    config: MotionConfig, rpm: int, fault: FaultKind
+) -> None:
+    rig = Rig(config, overrides={(0x5FF1, 0): -INC // 2, (0x5FF2, 0): INC // 2})
     rig.enable(3)
     rig[0x60FF] = rpm * REV // 60
     rig.run(0.2)
@@ -228,7 +231,7 @@ def test_running_into_a_limit_switch_faults(rpm: int, fault: FaultKind) -> None:
 
 
 def test_leaving_a_limit_switch_is_allowed_and_reentering_faults() -> None:
-    rig = Rig(overrides={(0x5FF2, 0): INC // 2})
+    rig = Rig(KINCO_CONFIG, overrides={(0x5FF2, 0): INC // 2})
     rig.enable(3)
     rig[0x60FF] = 600 * REV // 60
     rig.run(0.2)

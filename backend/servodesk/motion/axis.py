@@ -27,6 +27,7 @@ from servodesk_data import DriveData
 from servodesk_protocol.cia402 import (
     CW_HALT,
     CW_QUICK_STOP,
+    SW_INTERNAL_LIMIT,
     SW_MODE_BIT13,
     SW_REFERENCE_FOUND,
     SW_TARGET_REACHED,
@@ -285,6 +286,10 @@ def _move(
         and abs(snap.position - axis.target_user) <= position_window(axis.statics)
     ):
         phase = "reached"
+    elif snap.statusword & SW_TARGET_REACHED and snap.statusword & SW_INTERNAL_LIMIT:
+        # at rest short of its target, held by a limit (the MDi-S1-C's drive-inhibit inputs
+        # stop a move without a fault): the drive will not go on with it
+        phase, message = "interrupted", STOPPED_AT_LIMIT
     else:
         phase = "moving"
     if phase == "interrupted":
@@ -296,6 +301,10 @@ def _move(
 
 
 TOOK_THE_AXIS = "stopped by ServoDesk before its target (another command took the axis)"
+STOPPED_AT_LIMIT = (
+    "stopped at a limit before its target (statusword bit 11, internal limit active: a limit "
+    "switch or drive-inhibit input); move the other way"
+)
 
 
 def interruption(snap: Snapshot, state: Cia402State, fault: FaultInfo | None) -> str:

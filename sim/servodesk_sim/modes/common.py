@@ -173,6 +173,12 @@ class Mode(Protocol):
 
     def step(self, dt: float, values: ValueStore, axis: Axis) -> Setpoint: ...
 
+    def take_over(self, position: float) -> None:
+        """The drive holds the axis at `position` itself (a drive-inhibit input is active):
+        drop the demand that pushed into it, so the mode goes on from standstill there instead
+        of winding up behind the hold."""
+        ...
+
     def status_bits(self, axis: Axis) -> int:
         """Statusword bits 10, 12 and 13 for this mode."""
         ...

@@ -107,6 +107,12 @@ class Interpolated:
             ControlKind.POSITION, position=self._position, velocity=self._velocity, fault=fault
         )
 
+    def take_over(self, position: float) -> None:
+        # Interpolation stays enabled; the next SYNC plans from here to the buffered point.
+        self._position = self._start = self._end = position
+        self._velocity = 0.0
+        self._elapsed = self._period
+
     def status_bits(self, axis: Axis) -> int:
         """Bit 12 interpolation active; bit 10 the demand stands at the last point."""
         bits = SW_MODE_BIT12 if self._active else 0

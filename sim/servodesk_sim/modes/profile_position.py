@@ -123,6 +123,14 @@ class ProfilePosition:
                 self._update_ack()
         return Setpoint(ControlKind.POSITION, position=self._position, velocity=self._velocity)
 
+    def take_over(self, position: float) -> None:
+        # The move that ran into the inhibit is dropped (its target lies beyond it); the
+        # handshake stays as it is, so the master can offer a set-point the other way.
+        self._position = self._last_target = position
+        self._velocity = 0.0
+        self._active = self._pending = None
+        self._update_ack()
+
     def status_bits(self, axis: Axis) -> int:
         """Bit 10 target reached (or halted at standstill), bit 12 set-point acknowledge."""
         bits = SW_MODE_BIT12 if self._ack else 0

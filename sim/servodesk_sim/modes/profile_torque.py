@@ -45,6 +45,9 @@ class ProfileTorque:
             velocity_limit=axis.max_speed,
         )
 
+    def take_over(self, position: float) -> None:
+        self._torque = 0.0  # 6071h slopes again from zero, checked anew each period
+
     def status_bits(self, axis: Axis) -> int:
         """Bit 10: the torque demand has reached the target (zero when halted)."""
         return SW_TARGET_REACHED if self._torque == self._target else 0

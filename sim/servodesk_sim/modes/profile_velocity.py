@@ -38,6 +38,9 @@ class ProfileVelocity:
         self._velocity = ramp_velocity(self._velocity, self._target, acc, acc, dt)
         return Setpoint(ControlKind.VELOCITY, position=axis.position, velocity=self._velocity)
 
+    def take_over(self, position: float) -> None:
+        self._velocity = 0.0  # 60FFh ramps again from standstill, checked anew each period
+
     def status_bits(self, axis: Axis) -> int:
         """Bit 10 target velocity reached (or halted at standstill), bit 13 speed over limit."""
         bits = SW_MODE_BIT13 if self._over_limit else 0

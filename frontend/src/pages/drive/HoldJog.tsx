@@ -139,6 +139,7 @@ export function HoldJog({
     hold?.phase,
     drive.velocity_rpm,
     lastJog !== null && lastJog.node === node && lastJog.mode === mode ? lastJog : null,
+    drive.inputs,
   );
 
   return (

@@ -60,4 +60,27 @@ describe("jogStatus", () => {
   ] as const)("%s at %s rpm → %s", (phase, rpm, last, text, stopping, reason) => {
     expect(jogStatus(phase, rpm, last)).toEqual({ text, stopping, reason });
   });
+
+  // An MDi-S1-C stops at one drive-inhibit input without a fault: the jog still runs, the
+  // axis stands. Moving off the switch again reads as moving.
+  it.each([
+    // phase, velocity, inputs, words
+    [
+      "running",
+      0,
+      { positive_limit: true },
+      "Held at the positive limit switch (P-OT): the drive refuses this direction — release, then jog the other way",
+    ],
+    [
+      "running",
+      2,
+      { negative_limit: true, home_switch: false },
+      "Held at the negative limit switch (N-OT): the drive refuses this direction — release, then jog the other way",
+    ],
+    ["running", -60, { positive_limit: true }, "Moving — release to stop"],
+    ["running", 0, { home_switch: true }, "Moving — release to stop"],
+    ["idle", 0, { positive_limit: true }, "Stopped"],
+  ] as const)("%s at %s rpm on %o → %s", (phase, rpm, inputs, text) => {
+    expect(jogStatus(phase, rpm, null, inputs)).toEqual({ text, stopping: false, reason: null });
+  });
 });

@@ -19,13 +19,29 @@ export interface JogStatus {
   reason: string | null;
 }
 
+/** The limit inputs of 60FDh (the server's `inputs` keys) as the page names them. */
+const LIMIT_SWITCHES: readonly (readonly [string, string])[] = [
+  ["positive_limit", "positive limit switch (P-OT)"],
+  ["negative_limit", "negative limit switch (N-OT)"],
+];
+
+/** A running jog at rest on an active limit input: a drive whose limit inputs are drive
+ * inhibits (MDi-S1-C) holds the axis there without a fault, so the hold alone would still
+ * read "Moving". */
 export function jogStatus(
   phase: HoldPhase | undefined,
   velocityRpm: number | null | undefined,
   last: JogInfo | null,
+  inputs: Readonly<Record<string, boolean>> = {},
 ): JogStatus {
-  if (phase === "running")
+  if (phase === "running") {
+    const limit = LIMIT_SWITCHES.find(([key]) => inputs[key] === true);
+    if (limit && Math.abs(velocityRpm ?? 0) < REST_RPM) {
+      const text = `Held at the ${limit[1]}: the drive refuses this direction — release, then jog the other way`;
+      return { text, stopping: false, reason: null };
+    }
     return { text: "Moving — release to stop", stopping: false, reason: null };
+  }
   if (phase === "starting") return { text: "Starting…", stopping: false, reason: null };
   const why = last?.stop_reason ?? null;
   const reason = why !== null && !PLAIN_STOPS.has(why) ? why : null;
