@@ -19,6 +19,7 @@ import threading
 import time
 import traceback
 from collections import deque
+from pathlib import Path
 
 from pydantic import BaseModel, Field
 
@@ -112,8 +113,7 @@ class LoopWatch:
             if frame is not None:
                 stack = traceback.extract_stack(frame)[-STACK_FRAMES:]
                 where = " <- ".join(
-                    f"{f.name} ({f.filename.rsplit('/', 2)[-1]}:{f.lineno})"
-                    for f in reversed(stack)
+                    f"{f.name} ({Path(f.filename).name}:{f.lineno})" for f in reversed(stack)
                 )
             log.warning("event loop stalled for %.0f ms so far, running: %s", silent * 1000, where)
 

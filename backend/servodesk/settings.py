@@ -5,8 +5,21 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from platformdirs import user_data_path
 from pydantic import Field, SecretStr
 from pydantic_settings import BaseSettings, SettingsConfigDict
+
+
+def default_data_dir() -> Path:
+    """The user's data directory for ServoDesk: `~/.local/share/servodesk` on Linux (or under
+    `$XDG_DATA_HOME`), `%LOCALAPPDATA%\\servodesk` on Windows, `~/Library/Application
+    Support/servodesk` on macOS. Where an earlier version's `~/.local/share/servodesk` holds
+    data and the platform's directory does not exist yet, that one is kept."""
+    chosen = user_data_path("servodesk", appauthor=False)
+    earlier = Path.home() / ".local" / "share" / "servodesk"
+    if chosen != earlier and not chosen.exists() and earlier.is_dir():
+        return earlier
+    return chosen
 
 
 class Settings(BaseSettings):
@@ -119,4 +132,4 @@ class Settings(BaseSettings):
     data_min_free_mb: int = Field(default=512, ge=0)
 
     # Files: uploaded object dictionaries live here, per node
-    data_dir: Path = Path.home() / ".local" / "share" / "servodesk"
+    data_dir: Path = Field(default_factory=default_data_dir)

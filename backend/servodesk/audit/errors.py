@@ -7,7 +7,7 @@ a stop or disable goes out anyway and its answer says that it is not recorded
 from __future__ import annotations
 
 import errno
-import os
+import shutil
 import sqlite3
 from pathlib import Path
 
@@ -58,7 +58,7 @@ def unavailable(error: BaseException, data_dir: Path) -> AuditUnavailableError:
 def _no_space(data_dir: Path) -> bool:
     """SQLite names a full disk "disk I/O error" when it cannot create its shared-memory file."""
     try:
-        return os.statvfs(data_dir).f_bavail == 0
+        return shutil.disk_usage(data_dir).free == 0
     except OSError:
         return False
 

@@ -13,15 +13,13 @@ from __future__ import annotations
 
 import asyncio
 import importlib
-import multiprocessing
-import os
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from servodesk.logs.blf import LogBoundsError
 from servodesk.logs.store import LogResult, LogStore
-from servodesk.od.parser import WORKER_NICENESS, shut_down_aside
+from servodesk.od.parser import lower_priority, shut_down_aside, worker_context
 
 PRELOAD = ["servodesk.od.parse_worker", "servodesk.od.parser"]  # as od/parser.py: one server
 
@@ -83,13 +81,11 @@ class DecodePool:
 
     def _executor(self) -> ProcessPoolExecutor:
         if self._pool is None:
-            context = multiprocessing.get_context("forkserver")
-            context.set_forkserver_preload(PRELOAD)
+            context = worker_context(PRELOAD)
             self._pool = ProcessPoolExecutor(
                 max_workers=self._parallel,
                 mp_context=context,
-                initializer=os.nice,  # below the server: a stop must not wait for a core
-                initargs=(WORKER_NICENESS,),
+                initializer=lower_priority,  # below the server: a stop must not wait for a core
                 max_tasks_per_child=1,
             )
         return self._pool

@@ -18,13 +18,17 @@ import mimetypes
 import multiprocessing
 import os
 import pickle
-import resource
 import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import replace
 from typing import Any, TypeVar, cast
+
+try:
+    import resource  # POSIX: the worker's memory limit
+except ImportError:  # Windows: parses run without one
+    resource = None  # type: ignore[assignment]
 
 from servodesk.errors import InvalidValueError
 from servodesk.od.loader import load_od_bytes
@@ -40,11 +44,31 @@ WORKER_MEMORY = 2 * 1024**3  # address space of one parse: a pathological file f
 WORKER_NICENESS = 10  # bulk work yields the CPU to the server that stops the drives
 
 
+def lower_priority(niceness: int = WORKER_NICENESS) -> None:
+    """Worker start-up: run below the server (on a busy host a stop must not wait for a core).
+    POSIX only (os.nice); on Windows the worker keeps the server's priority."""
+    if hasattr(os, "nice"):
+        os.nice(niceness)
+
+
+def worker_context(preload: list[str]) -> multiprocessing.context.BaseContext:
+    """forkserver: workers fork from a small clean process, not from this threaded one; it
+    imports `preload` first (ignored if it already runs), which keeps the workers small.
+    Windows has no fork: there they are spawned (a fresh interpreter per worker)."""
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        return multiprocessing.get_context("spawn")
+    context = multiprocessing.get_context("forkserver")
+    context.set_forkserver_preload(preload)
+    return context
+
+
 def _limit_memory(limit: int) -> None:
     """Worker start-up: a file that would need more than `limit` fails with MemoryError
-    instead of taking the machine's memory from the drives' server; and it runs at a lower
-    priority than the server (on a busy host a stop must not wait for a core)."""
-    os.nice(WORKER_NICENESS)
+    instead of taking the machine's memory from the drives' server (POSIX: RLIMIT_AS; on
+    Windows there is no such limit); and it runs at a lower priority than the server."""
+    lower_priority()
+    if resource is None:
+        return
     _, hard = resource.getrlimit(resource.RLIMIT_AS)
     soft = limit if hard == resource.RLIM_INFINITY else min(limit, hard)
     resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
@@ -125,10 +149,7 @@ class OdParser:
 
     def _executor(self) -> ProcessPoolExecutor:
         if self._pool is None:
-            # forkserver: workers fork from a small clean process, not from this threaded one
-            context = multiprocessing.get_context("forkserver")
-            # the forkserver imports these first (ignored if it already runs): small workers
-            context.set_forkserver_preload(["servodesk.od.parse_worker", "servodesk.od.parser"])
+            context = worker_context(["servodesk.od.parse_worker", "servodesk.od.parser"])
             self._pool = ProcessPoolExecutor(
                 max_workers=self._parallel,
                 mp_context=context,

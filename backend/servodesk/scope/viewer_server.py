@@ -272,20 +272,25 @@ class RerunServer:
     def _terminate(self, process: subprocess.Popen[bytes]) -> None:
         if process.poll() is not None:
             return
-        self._signal(process, signal.SIGTERM)
+        self._signal(process, kill=False)
         try:
             process.wait(STOP_TIMEOUT_S)
         except subprocess.TimeoutExpired:
             log.warning("rerun did not stop within %.0f s: killing it", STOP_TIMEOUT_S)
-            self._signal(process, signal.SIGKILL)
+            self._signal(process, kill=True)
             process.wait()
 
-    def _signal(self, process: subprocess.Popen[bytes], sig: signal.Signals) -> None:
+    def _signal(self, process: subprocess.Popen[bytes], *, kill: bool) -> None:
+        """SIGTERM, or SIGKILL; on Windows (no signals, no process groups: the launcher is not
+        used there) TerminateProcess either way."""
         with contextlib.suppress(ProcessLookupError):
             if self._launcher and sys.platform != "win32":
-                os.killpg(process.pid, sig)  # the launcher and the rerun binary it runs
+                # the launcher and the rerun binary it runs
+                os.killpg(process.pid, signal.SIGKILL if kill else signal.SIGTERM)
+            elif kill:
+                process.kill()
             else:
-                process.send_signal(sig)
+                process.terminate()
 
 
 def _new_client() -> httpx.AsyncClient:
