@@ -58,7 +58,8 @@ def mode_key(value: int | None) -> str | None:
     return MODE_KEYS.get(value, str(value))
 
 
-_COMMON_BITS: Mapping[int, str] = MappingProxyType(
+# the statusword's bits with the names they have in every mode (10, 12, 13 also by mode below)
+STATUSWORD_BIT_NAMES: Mapping[int, str] = MappingProxyType(
     {
         0: "ready to switch on",
         1: "switched on",
@@ -96,7 +97,7 @@ def status_bits(
 ) -> list[StatusBit]:
     """Every statusword bit with its name in the mode displayed (Kinco bit 15: "reference
     found", Kinco servo CANopen manual §5.4.6)."""
-    names = dict(_COMMON_BITS)
+    names = dict(STATUSWORD_BIT_NAMES)
     names.update(_MODE_BITS.get(mode_display or 0, {}))
     if reference_found_bit15:
         names[15] = "reference found"

@@ -15,6 +15,7 @@ from types import MappingProxyType
 import numpy as np
 import numpy.typing as npt
 
+from servodesk.motion.words import STATUSWORD_BIT_NAMES
 from servodesk.scope.trigger import NO_STATE, state_words, states_of
 from servodesk_protocol.cia402 import CONTROLWORD, STATUSWORD, Command, decode_command
 
@@ -24,22 +25,9 @@ Ints = npt.NDArray[np.int64]
 # CiA 402 bit names; 10, 12 and 13 mean what the mode says (both main meanings are given)
 STATUSWORD_BITS: Mapping[int, str] = MappingProxyType(
     {
-        0: "ready to switch on",
-        1: "switched on",
-        2: "operation enabled",
-        3: "fault",
-        4: "voltage enabled",
-        5: "quick stop (0 = active)",
-        6: "switch on disabled",
-        7: "warning",
-        8: "manufacturer specific",
-        9: "remote",
-        10: "target reached",
-        11: "internal limit active",
+        **STATUSWORD_BIT_NAMES,
         12: "set-point ack or homing attained",
         13: "following error or homing error",
-        14: "manufacturer specific",
-        15: "manufacturer specific",
     }
 )
 CONTROLWORD_BITS: Mapping[int, str] = MappingProxyType(
