@@ -22,6 +22,7 @@ from servodesk.api import (
     access,
     audit,
     bus,
+    commissioning,
     drive,
     faults,
     health,
@@ -66,6 +67,7 @@ def api_routers() -> list[APIRouter]:
     routers += [bus.sync_router, pdos.bus_router, ws.router]
     routers.append(rerun_proxy.router)  # /api/scope/viewer
     routers += [m.router for m in (faults, events_api, logs, recording, scope, audit)]
+    routers.append(commissioning.router)
     return routers
 
 

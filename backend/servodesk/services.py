@@ -9,6 +9,7 @@ from functools import partial
 from servodesk.audit import AuditLog, Outcome
 from servodesk.audit.log import Describe
 from servodesk.bus.connection import BusFactory, BusManager
+from servodesk.commissioning import CommissioningService
 from servodesk.events.bus import EventBus
 from servodesk.events.sources import PublishingSdoService, registry_events
 from servodesk.events.tool_writes import jog_stopped, pdo_applied
@@ -65,6 +66,7 @@ class Services:
     audit: AuditLog  # every write to a drive: who, when, old → new, result
     loop_watch: LoopWatch  # the event loop's lag (GET /api/health) and its stalls (the log)
     usage: UsageMeter  # what the data directory holds against its quotas (GET /api/health)
+    commissioning: CommissioningService  # commissioning records (SQLite beside the timeline)
 
     async def open(self) -> None:
         """The audit log, the event bus and the timeline store, before the bus connects
@@ -97,6 +99,7 @@ class Services:
         await self.registry.close()
         await self.bus.close()
         self.faults.close()
+        self.commissioning.close()
         await self.storage.close()  # what the others published on the way out is kept
         await self.audit.close()  # last: the results of the stops made on the way out
         await self.loop_watch.close()
@@ -164,12 +167,13 @@ def build_services(
         known_nodes=lambda: [info.node for info in registry.all()],
         usage=usage,
     )
+    sdo = PublishingSdoService(registry, bus=events, on_write=pdos.sdo_written)
     return Services(
         settings=settings,
         bus=bus,
         registry=registry,
         sync=sync,
-        sdo=PublishingSdoService(registry, bus=events, on_write=pdos.sdo_written),
+        sdo=sdo,
         jobs=jobs,
         params=params,
         node_ids=NodeIdService(registry, settings),
@@ -194,6 +198,15 @@ def build_services(
         audit=audit,
         loop_watch=LoopWatch(),
         usage=usage,
+        commissioning=CommissioningService(
+            registry,
+            sdo,
+            params,
+            audit,
+            settings,
+            bitrate=lambda: bus.status().bitrate,
+            simulated=lambda: bus.status().simulated,
+        ),
     )
 
 

@@ -24,7 +24,7 @@ from servodesk_sim.fault_kind import FaultKind
 from servodesk_sim.frames import Frame
 from servodesk_sim.motion import MotionCore
 from servodesk_sim.nmt import NmtSlave
-from servodesk_sim.od_store import ObjectStore, Value
+from servodesk_sim.od_store import SIM_FORGET_AT_STORE, ObjectStore, Value
 from servodesk_sim.pdo import PdoEngine
 from servodesk_sim.profile_config import DriveConfig, drive_config
 from servodesk_sim.sdo_server import SdoServer
@@ -145,6 +145,8 @@ class SimDrive:
         store = self.store
         store.add_write_hook(0x6040, lambda _sub, value: self._controlword(value))  # Controlword
         store.add_write_hook(0x5FF0, lambda _sub, value: self._inject(value))  # SIM inject fault
+        if store.has(SIM_FORGET_AT_STORE):  # refused before it is kept: only storable entries
+            store.add_validator(SIM_FORGET_AT_STORE, self._forget_at_store)
         if store.has(0x1016):  # Consumer heartbeat time
             store.add_validator(0x1016, self._validate_consumers)
             store.add_write_hook(0x1016, lambda _sub, _value: self._configure_consumers())
@@ -182,6 +184,10 @@ class SimDrive:
     def _inject(self, value: Value) -> None:
         if isinstance(value, int) and value != 0:
             self._raise(self._fault_for_code(value))
+
+    def _forget_at_store(self, _sub: int, value: Value) -> None:
+        if isinstance(value, int) and value != 0:
+            self.store.forget_at_next_store(value >> 8, value & 0xFF)
 
     def _consumer_entries(self) -> list[int]:
         count = self.store.get(0x1016, 0)

@@ -18,6 +18,7 @@ from servodesk_protocol.cob_id import CAN_ID_MASK
 from servodesk_protocol.sdo_abort import (
     CANNOT_STORE,
     GENERAL_ERROR,
+    INVALID_VALUE,
     LENGTH_TOO_HIGH,
     LENGTH_TOO_LOW,
     NO_OBJECT,
@@ -49,6 +50,7 @@ LOAD_SIGNATURE = 0x64616F6C  # ASCII "load", little-endian (CiA 301 §7.5.2.14)
 # Simulator-only objects (fault injection etc.) never end up in the stored parameter set.
 SIM_ONLY_FIRST = 0x5FF0
 SIM_ONLY_LAST = 0x5FFF
+SIM_FORGET_AT_STORE = 0x5FF5  # SIM forget at next store: index<<8|subindex of the entry
 
 _Key = tuple[int, int]
 
@@ -124,6 +126,8 @@ class ObjectStore:
         self._stored: dict[_Key, _Stored] = {}
         self._validators: dict[int, list[Validator]] = {}
         self._hooks: dict[int, list[WriteHook]] = {}
+        # entries the next store leaves out (5FF5h injection): "lost at power cycle" drives
+        self._forget_next: set[_Key] = set()
         self._load(self._vars)
 
     @property
@@ -253,9 +257,22 @@ class ObjectStore:
             and index not in (STORE_PARAMETERS, RESTORE_DEFAULTS)
         )
 
+    def forget_at_next_store(self, index: int, subindex: int) -> None:
+        """The next store does not keep this entry (nor its earlier stored value): after the
+        reset that follows, the entry holds its EDS default (simulated EEPROM fault)."""
+        var = self.variable(index, subindex)
+        if not self._storable((index, subindex), var):
+            raise SdoAbort(INVALID_VALUE, f"{index:04X}h:{subindex:02X}h is never stored")
+        self._forget_next.add((index, subindex))
+
     def _save(self, areas: frozenset[Area]) -> None:
+        forget, self._forget_next = self._forget_next, set()
+        if (SIM_FORGET_AT_STORE, 0) in self._values:
+            self._values[(SIM_FORGET_AT_STORE, 0)] = 0  # the injection is used up
         for key, var in self._vars.items():
-            if area_of(key[0]) in areas and self._storable(key, var):
+            if key in forget:
+                self._stored.pop(key, None)
+            elif area_of(key[0]) in areas and self._storable(key, var):
                 self._stored[key] = _Stored(self._values[key], self._node_id)
 
     def _forget(self, areas: frozenset[Area]) -> None:

@@ -27,6 +27,8 @@ PATH_VALUES = {
     "capture_id": "1",
     "entry_id": "1",
     "log_id": "0" * 32,
+    "record_id": "1",
+    "key": "identity",
 }
 BODIES: dict[str, dict[str, Any]] = {
     "json": {"json": {"command": "start", "value": 1, "confirm": True}},

@@ -15,6 +15,7 @@ from servodesk.access.actor import Role
 
 READS = frozenset({"GET", "HEAD", "OPTIONS"})
 _N = r"/api/nodes/[^/]+"
+_C = r"/api/commissioning/[^/]+"
 
 # Reachable without logging in: logging in, the health check monitors poll, and the API's
 # own description (it holds no data).
@@ -39,6 +40,14 @@ _OPERATOR = [
         rf"|{_N}/jog|/api/jog/[^/]+/keepalive|{_N}/faults/reset|/api/scope/captures|/api/recording",
     ),
     ("PUT", rf"{_N}/drive/limits"),
+    # commissioning: records live in the tool; running a step that only reads, signing off.
+    # store_verify stores and resets the drive: the engineer's (not listed here)
+    ("POST", rf"{_N}/commissioning"),
+    (
+        "POST",
+        rf"{_C}/steps/(identity|communication|parameters|pdo|limits|stop_test|test_move|homing)/run",
+    ),
+    ("PUT", rf"{_C}/steps/[^/]+"),
     ("POST|DELETE", rf"{_N}/drive/controller"),
     ("DELETE", r"/api/scope/captures/[^/]+|/api/recording|/api/logs/[^/]+"),
 ]

@@ -58,6 +58,21 @@ MIGRATIONS: tuple[tuple[int, str], ...] = (
         CREATE INDEX faults_bus ON faults (bus, node, id);
         """,
     ),
+    (
+        4,
+        # commissioning records (servodesk.commissioning): one row per axis's record, the
+        # record itself as JSON (its steps change shape as steps are automated), node and time
+        # as columns for the list and its filter
+        """
+        CREATE TABLE commissioning (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            node INTEGER NOT NULL,
+            created REAL NOT NULL,
+            record TEXT NOT NULL
+        );
+        CREATE INDEX commissioning_node ON commissioning (node, id);
+        """,
+    ),
 )
 LATEST = MIGRATIONS[-1][0]
 

@@ -166,6 +166,74 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/commissioning": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List Commissioning */
+        get: operations["list_commissioning_api_commissioning_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning/{record_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Commissioning */
+        get: operations["get_commissioning_api_commissioning__record_id__get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning/{record_id}/steps/{key}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        /** Sign Off Step */
+        put: operations["sign_off_step_api_commissioning__record_id__steps__key__put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning/{record_id}/steps/{key}/run": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Run Step */
+        post: operations["run_step_api_commissioning__record_id__steps__key__run_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/events": {
         parameters: {
             query?: never;
@@ -514,6 +582,23 @@ export interface paths {
         put?: never;
         /** Change Node Id */
         post: operations["change_node_id_api_nodes__node__change_node_id_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/commissioning": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Create Commissioning */
+        post: operations["create_commissioning_api_nodes__node__commissioning_post"];
         delete?: never;
         options?: never;
         head?: never;
@@ -1809,6 +1894,96 @@ export interface components {
          * @description Any message a client may send on /api/ws.
          */
         ClientMessage: components["schemas"]["HelloMessage"] | components["schemas"]["PingMessage"] | components["schemas"]["JogKeepaliveMessage"] | components["schemas"]["JogStopMessage"] | components["schemas"]["PageHiddenMessage"] | components["schemas"]["QuickStopMessage"] | components["schemas"]["WatchDriveMessage"] | components["schemas"]["UnwatchDriveMessage"];
+        /** CommissioningCreate */
+        CommissioningCreate: {
+            /** Modes */
+            modes: string[];
+            /** Title */
+            title?: string | null;
+        };
+        /**
+         * CommissioningIdentity
+         * @description The drive as the tool knew it when the record was made (1008h–100Ah, 1018h, profile).
+         */
+        CommissioningIdentity: {
+            /** Device Type */
+            device_type?: number | null;
+            /** Hardware Version */
+            hardware_version?: string | null;
+            /** Name */
+            name?: string | null;
+            /** Od Filename */
+            od_filename: string;
+            /** Od Source */
+            od_source: string;
+            /** Product Code */
+            product_code?: number | null;
+            /** Profile */
+            profile: string;
+            /** Profile Label */
+            profile_label: string;
+            /** Revision */
+            revision?: number | null;
+            /** Serial */
+            serial?: number | null;
+            /** Software Version */
+            software_version?: string | null;
+            /** Supported Modes */
+            supported_modes?: string[] | null;
+            /** Vendor Id */
+            vendor_id?: number | null;
+        };
+        /** CommissioningRecord */
+        CommissioningRecord: {
+            /** Created */
+            created: number;
+            /** Id */
+            id: number;
+            identity: components["schemas"]["CommissioningIdentity"];
+            /** Modes */
+            modes: string[];
+            /** Node */
+            node: number;
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "in_progress" | "done" | "failed";
+            /** Steps */
+            steps: components["schemas"]["CommissioningStep"][];
+            /** Title */
+            title: string;
+        };
+        /** CommissioningStep */
+        CommissioningStep: {
+            /** At */
+            at?: number | null;
+            /** By */
+            by?: string | null;
+            /** Evidence */
+            evidence?: {
+                [key: string]: unknown;
+            };
+            /** Figures */
+            figures?: {
+                [key: string]: number;
+            };
+            /**
+             * Key
+             * @enum {string}
+             */
+            key: "identity" | "communication" | "parameters" | "pdo" | "limits" | "stop_test" | "test_move" | "homing" | "store_verify";
+            /** Reason */
+            reason?: string | null;
+            /**
+             * Status
+             * @default to_do
+             * @enum {string}
+             */
+            status: "to_do" | "done" | "failed" | "skipped";
+            /** Title */
+            title: string;
+        };
         /** CompareResult */
         CompareResult: {
             /** Confirm */
@@ -3694,6 +3869,16 @@ export interface components {
             /** On */
             on: boolean;
         };
+        /** StepSignOff */
+        StepSignOff: {
+            /** Reason */
+            reason?: string | null;
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "done" | "skipped";
+        };
         /** SyncConfig */
         SyncConfig: {
             /** Period Us */
@@ -4391,6 +4576,285 @@ export interface operations {
             };
             /** @description Bus not connected */
             503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    list_commissioning_api_commissioning_get: {
+        parameters: {
+            query?: {
+                node?: number | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CommissioningRecord"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_commissioning_api_commissioning__record_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the record's id */
+                record_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CommissioningRecord"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    sign_off_step_api_commissioning__record_id__steps__key__put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the record's id */
+                record_id: number;
+                /** @description identity, communication, … store_verify */
+                key: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["StepSignOff"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CommissioningStep"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    run_step_api_commissioning__record_id__steps__key__run_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the record's id */
+                record_id: number;
+                /** @description identity, communication, … store_verify */
+                key: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CommissioningStep"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description step_not_automated: do the step on its page and sign it off with PUT; or an SDO abort / node_stopped while running it */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description timeout: the node did not answer, or (store_verify) did not boot after the reset; the message names its NMT state and the step is recorded failed */
+            504: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5979,6 +6443,123 @@ export interface operations {
             };
             /** @description Needs confirmation: send again with confirm=true */
             428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    create_commissioning_api_nodes__node__commissioning_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["CommissioningCreate"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CommissioningRecord"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };
