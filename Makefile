@@ -34,14 +34,18 @@ frontend: install $(STATIC)
 # Debian's Chromium drives the end-to-end tests (Playwright never downloads a browser here);
 # a CJK font renders the MDi's Chinese parameter names in its screenshots; tshark is the
 # independent CANopen decoder the log tests compare against (wireshark-common asks a debconf
-# question, hence noninteractive).
+# question, hence noninteractive). WeasyPrint lays out the commissioning report's PDF with pango
+# (the same font drives its Chinese names); poppler-utils (pdftotext, pdffonts, pdftoppm) is how
+# the report tests read that PDF back.
 system-deps:
-	@test -x $(CHROMIUM) && fc-list | grep -qi microhei && command -v tshark >/dev/null || { \
+	@test -x $(CHROMIUM) && fc-list | grep -qi microhei && command -v tshark >/dev/null && \
+		command -v pdftotext >/dev/null && ldconfig -p | grep -q libpangoft2-1.0 || { \
 		$(SUDO) apt-get update -qq && \
 		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-			chromium fonts-liberation fonts-wqy-microhei tshark; }
+			chromium fonts-liberation fonts-wqy-microhei tshark \
+			libpango-1.0-0 libpangoft2-1.0-0 poppler-utils; }
 
-run: frontend
+run: frontend system-deps
 	$(BIN)/servodesk serve --sim --bind 127.0.0.1 --port 8000
 
 sim: install

@@ -206,6 +206,8 @@ def build_services(
             settings,
             bitrate=lambda: bus.status().bitrate,
             simulated=lambda: bus.status().simulated,
+            safety=safety,
+            scope=scope,
         ),
     )
 

@@ -30,10 +30,12 @@ SOURCES = ("pyproject.toml", "README.md", "backend", "sim")
 INDEX = ROOT / "backend" / "servodesk" / "static" / "index.html"
 START_TIMEOUT_S = 120.0
 
-# What the wheel must carry besides the modules: the built page, the drives' data, the typing
-# markers of each package.
+# What the wheel must carry besides the modules: the built page, the commissioning report's
+# template, the drives' data, the typing markers of each package.
 PACKAGE_DATA = (
     "servodesk/static/index.html",
+    "servodesk/commissioning/templates/report.html.j2",
+    "servodesk/commissioning/templates/report.css",
     "servodesk/py.typed",
     "servodesk_sim/py.typed",
     "servodesk_protocol/py.typed",

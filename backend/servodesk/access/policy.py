@@ -40,7 +40,8 @@ _OPERATOR = [
         rf"|{_N}/jog|/api/jog/[^/]+/keepalive|{_N}/faults/reset|/api/scope/captures|/api/recording",
     ),
     ("PUT", rf"{_N}/drive/limits"),
-    # commissioning: records live in the tool; running a step that only reads, signing off.
+    # commissioning: records live in the tool; running a step that only reads or moves the axis
+    # as a test (stop_test, test_move: the operator's, like jogs), signing off.
     # store_verify stores and resets the drive: the engineer's (not listed here)
     ("POST", rf"{_N}/commissioning"),
     (

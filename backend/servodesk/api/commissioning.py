@@ -5,8 +5,9 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Path, Query
+from fastapi import APIRouter, Path, Query, Response
 
+from servodesk.api import report_files
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import NODE_ERRORS
@@ -14,8 +15,10 @@ from servodesk.commissioning.models import (
     CommissioningCreate,
     CommissioningRecord,
     CommissioningStep,
+    StepRun,
     StepSignOff,
 )
+from servodesk.commissioning.report import MachineFormat, ReportFormat
 from servodesk.models import ErrorBody
 
 router = APIRouter(tags=["commissioning"], route_class=AuditedRoute)
@@ -59,6 +62,32 @@ async def list_commissioning(
     return await services.commissioning.list(node)
 
 
+IdList = Annotated[str | None, Query(pattern=r"^\d{1,9}(,\d{1,9}){0,127}$", description="1,2,3")]
+REPORT_RESPONSES: dict[int | str, dict[str, object]] = {
+    **NOT_FOUND,
+    200: {
+        "content": {"text/html": {}, "application/pdf": {}, "application/zip": {}},
+        "description": "the report as an HTML page or a PDF; zip: the record's bundle",
+    },
+}
+
+
+# before /commissioning/{record_id}: "report" is not a record id
+@router.get("/commissioning/report", response_class=Response, responses=REPORT_RESPONSES)
+async def machine_report(
+    services: ServicesDep,
+    format: MachineFormat = "html",  # the query parameter's name
+    ids: IdList = None,
+    nodes: IdList = None,
+) -> Response:
+    """One report for a machine: the listed records (`ids`), else the latest record of each
+    listed node (`nodes`), else the latest record of every node, by node."""
+    records = await report_files.machine_records(
+        services, report_files.numbers(ids), report_files.numbers(nodes)
+    )
+    return await report_files.answer(services, records, format, "servodesk-commissioning-machine")
+
+
 @router.get("/commissioning/{record_id}", responses=NOT_FOUND)
 async def get_commissioning(record_id: RecordId, services: ServicesDep) -> CommissioningRecord:
     return await services.commissioning.get(record_id)
@@ -72,5 +101,23 @@ async def sign_off_step(
 
 
 @router.post("/commissioning/{record_id}/steps/{key}/run", responses=RUN_ERRORS)
-async def run_step(record_id: RecordId, key: StepKey, services: ServicesDep) -> CommissioningStep:
-    return await services.commissioning.run(record_id, key)
+async def run_step(
+    record_id: RecordId, key: StepKey, services: ServicesDep, body: StepRun | None = None
+) -> CommissioningStep:
+    """Optional body: stop_test `{"speed_rpm"}`, test_move `{"distance"}` (rev); no body or
+    `{}` runs a step with its defaults."""
+    return await services.commissioning.run(record_id, key, body)
+
+
+@router.get(
+    "/commissioning/{record_id}/report", response_class=Response, responses=REPORT_RESPONSES
+)
+async def record_report(
+    record_id: RecordId,
+    services: ServicesDep,
+    format: ReportFormat = "html",  # the query parameter's name
+) -> Response:
+    """The axis's hand-over report as HTML or PDF, or its bundle (zip)."""
+    record = await services.commissioning.get(record_id)
+    name = f"servodesk-commissioning-{record.id}-node{record.node}"
+    return await report_files.answer(services, [record], format, name)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any, Literal
 
-from pydantic import BaseModel, Field, StrictStr
+from pydantic import BaseModel, Field, StrictFloat, StrictStr
 
 from servodesk.model_base import RequestBody
 
@@ -87,3 +87,11 @@ class CommissioningCreate(RequestBody):
 class StepSignOff(RequestBody):
     status: Literal["done", "skipped"]
     reason: StrictStr | None = Field(default=None, max_length=500)
+
+
+class StepRun(RequestBody):
+    """The optional body of `POST …/steps/{key}/run`: each step reads what it takes (stop_test:
+    speed_rpm; test_move: distance); a field the step does not take is refused."""
+
+    speed_rpm: StrictFloat | None = Field(default=None, gt=0, le=10_000)
+    distance: StrictFloat | None = Field(default=None, ge=-100, le=100)  # rev, relative

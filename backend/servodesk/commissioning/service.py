@@ -12,13 +12,14 @@ from typing import Any
 from servodesk.access.actor import current_actor
 from servodesk.audit import AuditLog
 from servodesk.commissioning import evidence as ev
-from servodesk.commissioning import store_verify
+from servodesk.commissioning import moving, store_verify
 from servodesk.commissioning.models import (
     STEP_KEYS,
     CommissioningCreate,
     CommissioningIdentity,
     CommissioningRecord,
     CommissioningStep,
+    StepRun,
     StepSignOff,
     StepStatus,
 )
@@ -31,8 +32,10 @@ from servodesk.commissioning.plan import (
 )
 from servodesk.commissioning.store import RecordStore
 from servodesk.errors import InvalidValueError, NotFoundError, StateConflictError
+from servodesk.motion.safety import MotionSafety
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.params.service import ParamService
+from servodesk.scope.service import ScopeService
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
 
@@ -73,6 +76,8 @@ class CommissioningService:
         *,
         bitrate: Callable[[], int | None],
         simulated: Callable[[], bool],
+        safety: MotionSafety | None = None,
+        scope: ScopeService | None = None,
     ) -> None:
         self._registry = registry
         self._sdo = sdo
@@ -83,6 +88,12 @@ class CommissioningService:
         self._simulated = simulated
         self.store = RecordStore(settings.data_dir)
         self._locks: dict[int, asyncio.Lock] = {}
+        # the steps that move the axis use the motion safety layer and the scope
+        self._moving = (
+            None
+            if safety is None or scope is None
+            else moving.MovingTools(safety, scope, registry, sdo, audit, settings)
+        )
 
     def close(self) -> None:
         self.store.close()
@@ -131,13 +142,20 @@ class CommissioningService:
             record_id, key, lambda step: self._signed(step, body.status, reason)
         )
 
-    async def run(self, record_id: int, key: str) -> CommissioningStep:
+    async def run(self, record_id: int, key: str, body: StepRun | None = None) -> CommissioningStep:
         self._check_key(key)
-        if key not in AUTOMATED:
+        if key not in AUTOMATED or (key in moving.MOVING and self._moving is None):
             raise StepNotAutomatedError(key)
+        moving.check_body(key, body)
         record = await self.get(record_id)
+        figures: dict[str, float] = {}
         try:
-            status, evidence, reason = await self._run(key, record)
+            if key in moving.MOVING and self._moving is not None:
+                (status, evidence, reason), figures = await moving.run(
+                    self._moving, key, record, body
+                )
+            else:
+                status, evidence, reason = await self._run(key, record)
         except store_verify.BootTimeoutError as error:
             # the record keeps what happened; the caller gets the timeout (504)
             message = str(error)
@@ -147,7 +165,7 @@ class CommissioningService:
             )
             raise
         return await self._update(
-            record_id, key, lambda step: self._ran(step, status, evidence, reason)
+            record_id, key, lambda step: self._ran(step, status, evidence, reason, figures)
         )
 
     async def _run(self, key: str, record: CommissioningRecord) -> ev.Outcome:
@@ -183,9 +201,14 @@ class CommissioningService:
 
     @staticmethod
     def _ran(
-        step: CommissioningStep, status: StepStatus, evidence: dict[str, Any], reason: str | None
+        step: CommissioningStep,
+        status: StepStatus,
+        evidence: dict[str, Any],
+        reason: str | None,
+        figures: dict[str, float] | None = None,
     ) -> None:
         step.status, step.evidence, step.reason = status, evidence, reason
+        step.figures = figures or {}
         step.by = current_actor().user
         step.at = time.time()
 

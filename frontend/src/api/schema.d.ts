@@ -183,6 +183,27 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/commissioning/report": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Machine Report
+         * @description One report for a machine: the listed records (`ids`), else the latest record of each
+         *     listed node (`nodes`), else the latest record of every node, by node.
+         */
+        get: operations["machine_report_api_commissioning_report_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/commissioning/{record_id}": {
         parameters: {
             query?: never;
@@ -192,6 +213,26 @@ export interface paths {
         };
         /** Get Commissioning */
         get: operations["get_commissioning_api_commissioning__record_id__get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning/{record_id}/report": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Record Report
+         * @description The axis's hand-over report as HTML or PDF, or its bundle (zip).
+         */
+        get: operations["record_report_api_commissioning__record_id__report_get"];
         put?: never;
         post?: never;
         delete?: never;
@@ -226,7 +267,11 @@ export interface paths {
         };
         get?: never;
         put?: never;
-        /** Run Step */
+        /**
+         * Run Step
+         * @description Optional body: stop_test `{"speed_rpm"}`, test_move `{"distance"}` (rev); no body or
+         *     `{}` runs a step with its defaults.
+         */
         post: operations["run_step_api_commissioning__record_id__steps__key__run_post"];
         delete?: never;
         options?: never;
@@ -3869,6 +3914,17 @@ export interface components {
             /** On */
             on: boolean;
         };
+        /**
+         * StepRun
+         * @description The optional body of `POST …/steps/{key}/run`: each step reads what it takes (stop_test:
+         *     speed_rpm; test_move: distance); a field the step does not take is refused.
+         */
+        StepRun: {
+            /** Distance */
+            distance?: number | null;
+            /** Speed Rpm */
+            speed_rpm?: number | null;
+        };
         /** StepSignOff */
         StepSignOff: {
             /** Reason */
@@ -4634,6 +4690,61 @@ export interface operations {
             };
         };
     };
+    machine_report_api_commissioning_report_get: {
+        parameters: {
+            query?: {
+                format?: "html" | "pdf";
+                /** @description 1,2,3 */
+                ids?: string | null;
+                /** @description 1,2,3 */
+                nodes?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the report as an HTML page or a PDF; zip: the record's bundle */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/pdf": unknown;
+                    "application/zip": unknown;
+                    "text/html": unknown;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
     get_commissioning_api_commissioning__record_id__get: {
         parameters: {
             query?: never;
@@ -4653,6 +4764,60 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["CommissioningRecord"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    record_report_api_commissioning__record_id__report_get: {
+        parameters: {
+            query?: {
+                format?: "html" | "pdf" | "zip";
+            };
+            header?: never;
+            path: {
+                /** @description the record's id */
+                record_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the report as an HTML page or a PDF; zip: the record's bundle */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/pdf": unknown;
+                    "application/zip": unknown;
+                    "text/html": unknown;
                 };
             };
             /** @description A login is needed: access tokens are configured */
@@ -4779,7 +4944,11 @@ export interface operations {
             };
             cookie?: never;
         };
-        requestBody?: never;
+        requestBody?: {
+            content: {
+                "application/json": components["schemas"]["StepRun"] | null;
+            };
+        };
         responses: {
             /** @description Successful Response */
             200: {
@@ -4788,6 +4957,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["CommissioningStep"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description A login is needed: access tokens are configured */

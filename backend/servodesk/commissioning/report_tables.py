@@ -1,0 +1,153 @@
+"""A step's evidence and figures as tables a technician reads (pure: the report template only
+lays them out). Evidence is free-form JSON per step; lists of objects become tables, objects
+become name/value rows, and numbers are printed the way the manuals print them: object
+indices and identity codes in hex, times as UTC dates."""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+# evidence keys whose integers the manuals print in hex
+HEX_KEYS = {"vendor_id": 8, "product_code": 8, "revision": 8, "serial": 8, "device_type": 8}
+# objects whose value is a code, not a quantity: 1000h device type, 1018h identity, 605Ah
+HEX_OBJECTS = {"1000:00", "1018:01", "1018:02", "1018:03", "1018:04"}
+TIME_KEYS = {"at", "time", "created"}
+# the unit a figure's name ends with ("stop_time_s", "overshoot_pct")
+UNIT_SUFFIXES = {
+    "_ms": "ms", "_s": "s", "_rpm": "rpm", "_pct": "%", "_percent": "%", "_rev": "rev",
+    "_inc": "inc", "_counts": "inc", "_mm": "mm", "_deg": "°", "_hz": "Hz", "_a": "A",
+}  # fmt: skip
+
+
+@dataclass
+class Table:
+    title: str
+    columns: list[str]
+    rows: list[list[str]] = field(default_factory=list)
+
+
+def when(stamp: float | None) -> str:
+    if stamp is None:
+        return ""
+    return time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime(stamp))
+
+
+def cell(key: str, value: Any, row: dict[str, Any] | None = None) -> str:
+    """One value as text: hex where the manuals print hex, dates for time stamps."""
+    if value is None:
+        return "—"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, int):
+        if key == "index":
+            return f"{value:04X}h"
+        if key == "subindex":
+            return f"{value:02X}h"
+        if key in HEX_KEYS:
+            return f"0x{value:0{HEX_KEYS[key]}X}"
+        if key == "value" and row is not None and row.get("object") in HEX_OBJECTS:
+            return f"0x{value:08X}"
+        return str(value)
+    if isinstance(value, float):
+        return when(value) if key in TIME_KEYS else f"{value:.6g}"
+    if isinstance(value, str):
+        return value
+    return json.dumps(value, ensure_ascii=False, default=str)
+
+
+def _title(key: str) -> str:
+    return key.replace("_", " ").capitalize()
+
+
+def _is_rows(value: Any) -> bool:
+    return isinstance(value, list) and bool(value) and all(isinstance(v, dict) for v in value)
+
+
+def rows_table(title: str, items: list[dict[str, Any]]) -> Table:
+    columns: list[str] = []
+    for item in items:
+        columns.extend(k for k in item if k not in columns)
+    return Table(
+        title,
+        [_title(c) for c in columns],
+        [[cell(c, item.get(c), item) for c in columns] for item in items],
+    )
+
+
+def changes_table(entries: list[dict[str, Any]], labels: dict[str, str]) -> Table:
+    """The parameters step: each write as old → new with the audit entry that proves it."""
+    table = Table("Changes (audit log)", ["Object", "Name", "Old → new", "Audit id", "By", "At"])
+    for entry in entries:
+        name = entry.get("name") or ""
+        label = labels.get(str(entry.get("object")))
+        old, new = cell("old", entry.get("old")), cell("new", entry.get("new"))
+        table.rows.append(
+            [
+                f"{entry.get('index', 0):04X}h:{entry.get('subindex', 0):02X}",
+                f"{name} — {label}" if label and label != name else name,
+                f"{old} → {new}",
+                f"#{entry.get('audit_id')}",
+                str(entry.get("by") or ""),
+                cell("at", entry.get("at")),
+            ]
+        )
+    return table
+
+
+def evidence_tables(key: str, evidence: dict[str, Any], labels: dict[str, str]) -> list[Table]:
+    tables: list[Table] = []
+    plain = Table("Evidence", ["Name", "Value"])
+    for name, value in evidence.items():
+        if key == "parameters" and name == "entries" and isinstance(value, list):
+            tables.append(changes_table(value, labels))
+        elif _is_rows(value):
+            tables.append(rows_table(_title(name), value))
+        elif (
+            isinstance(value, dict)
+            and value
+            and not any(isinstance(v, dict | list) for v in value.values())
+        ):
+            sub = Table(_title(name), ["Name", "Value"])
+            sub.rows = [[str(k), cell(str(k), v)] for k, v in value.items()]
+            tables.append(sub)
+        elif value not in ([], {}):
+            plain.rows.append([_title(name), cell(name, value)])
+    return ([plain] if plain.rows else []) + tables
+
+
+def figures_table(figures: dict[str, float]) -> Table | None:
+    if not figures:
+        return None
+    table = Table("Figures", ["Figure", "Value", "Unit"])
+    for name, value in figures.items():
+        unit = next((u for s, u in UNIT_SUFFIXES.items() if name.endswith(s)), "")
+        shown = name[: -len(next(s for s in UNIT_SUFFIXES if name.endswith(s)))] if unit else name
+        table.rows.append([_title(shown), f"{value:.6g}", unit])
+    return table
+
+
+def capture_ids(evidence: Any) -> list[int]:
+    """Every capture id the evidence names (`capture_id`, `capture_ids`, or `capture` inside
+    nested objects), each once, in the order found."""
+    found: list[int] = []
+
+    def visit(value: Any, key: str = "") -> None:
+        if isinstance(value, dict):
+            for k, v in value.items():
+                visit(v, str(k))
+        elif isinstance(value, list):
+            for v in value:
+                visit(v, key)
+        elif (
+            key in ("capture_id", "capture_ids", "capture", "captures")
+            and isinstance(value, int)
+            and not isinstance(value, bool)
+            and value not in found
+        ):
+            found.append(value)
+
+    visit(evidence)
+    return found
