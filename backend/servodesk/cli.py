@@ -8,6 +8,7 @@
     servodesk write NODE INDEX SUB VALUE [--size 1|2|4] [--sim] [bus flags]
     servodesk dump NODE [--sim] [bus flags] > node.dcf
     servodesk eds-check FILE
+    servodesk check-record BUNDLE.zip [--node N] [--json] [--sim] [bus flags]
     servodesk decode-log FILE [--dcf FILE] [--profile N=NAME] [--format text|csv|json|parquet]
                          [-o OUT]
 
@@ -46,18 +47,27 @@ def main(argv: Sequence[str] | None = None) -> int:
             from servodesk.logs.cli import decode_log
 
             return decode_log(args)
+        if args.command == "check-record":
+            from servodesk.cli_check import check_record
+
+            return asyncio.run(check_record(args))
         from servodesk.cli_field import field_command
 
         return asyncio.run(field_command(args))
     except ServodeskError as error:
         _say(str(error), debug=args.debug)
-        return 1
+        return _failed(args.command)
     except KeyboardInterrupt:
         return 130
     except Exception as error:
         # a failure we did not foresee: one line, the traceback only when asked for
         _say(f"{type(error).__name__}: {error}; run with --debug for the details", args.debug)
-        return 1
+        return _failed(args.command)
+
+
+def _failed(command: str) -> int:
+    # check-record's 1 means "the drive differs": an error must not look like an answer
+    return USAGE_ERROR if command == "check-record" else 1
 
 
 def _say(message: str, debug: bool) -> None:

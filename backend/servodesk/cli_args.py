@@ -13,7 +13,7 @@ if TYPE_CHECKING:
     from servodesk.models import BusConfig
 
 USAGE_ERROR = 2
-BUS_COMMANDS = frozenset({"serve", "scan", "read", "write", "dump"})
+BUS_COMMANDS = frozenset({"serve", "scan", "read", "write", "dump", "check-record"})
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -103,6 +103,23 @@ def build_parser(*, bus_flags: bool = True) -> argparse.ArgumentParser:
     dump = commands.add_parser("dump", help="save a node's configuration as DCF to stdout")
     _bus_flags(dump, bus_flags)
     dump.add_argument("node", type=_node_id)
+
+    record = commands.add_parser(
+        "check-record",
+        help="compare a drive with its commissioning bundle (exit 0 same, 1 differs, 2 error)",
+        description="Compare the drive as it is now with the hand-over in a commissioning "
+        "bundle (GET /api/commissioning/{id}/report?format=zip): every parameter and PDO "
+        "entry that differs, with who changed it where the bundle's audit.csv knows, the "
+        "drive's error history (1003h) and its firmware. Needs no server: the bundle and the "
+        "bus are enough. Exit status: 0 nothing differs, 1 something differs, 2 an error "
+        "(unreadable bundle, bus or node not reachable).",
+    )
+    _bus_flags(record, bus_flags)
+    record.add_argument("bundle", help="the bundle zip (servodesk-commissioning-…zip)")
+    record.add_argument(
+        "--node", type=_node_id, help="the node to check (default: the record's node)"
+    )
+    record.add_argument("--json", action="store_true", help="print the result as JSON")
 
     check = commands.add_parser("eds-check", help="load an EDS/DCF/XDD and list its problems")
     check.add_argument("file")

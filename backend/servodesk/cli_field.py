@@ -22,7 +22,7 @@ T = TypeVar("T")
 
 
 @asynccontextmanager
-async def _connected(args: argparse.Namespace) -> AsyncIterator[Services]:
+async def connected(args: argparse.Namespace) -> AsyncIterator[Services]:
     config = check_bus_config(bus_config(args))  # before anything starts
     # each command says which node it wants: no scan of its own after connecting
     services = build_services(Settings(auto_scan=False))
@@ -36,7 +36,7 @@ async def _connected(args: argparse.Namespace) -> AsyncIterator[Services]:
 
 
 async def field_command(args: argparse.Namespace) -> int:
-    async with _connected(args) as services:
+    async with connected(args) as services:
         registry = services.registry
         if args.command == "scan":
             result = await _with_spinner(

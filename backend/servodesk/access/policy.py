@@ -27,8 +27,9 @@ _EVERYONE = [
     ("DELETE", r"/api/jog/[^/]+"),  # stopping a jog
     # computations that send nothing to a drive and change nothing
     ("POST", rf"{_N}/pdos/validate|/api/scope/plan|{_N}/compare|/api/od/check|/api/logs/decode"),
-    # reading: scanning the bus, uploading every entry, watching the PDOs that pass
-    ("POST", rf"/api/scan|{_N}/upload-all|{_N}/pdos/live"),
+    # reading: scanning the bus, uploading every entry, watching the PDOs that pass, the field
+    # check of a drive against its commissioning record (reads the drive, like compare)
+    ("POST", rf"/api/scan|{_N}/upload-all|{_N}/pdos/live|/api/commissioning/check"),
     ("DELETE", rf"/api/jobs/[^/]+|{_N}/pdos/live"),
     # rerun's viewer streams a recording over gRPC-web POSTs: reading
     ("POST", r"/rerun\.sdk_comms\.[^/]+/[^/]+"),

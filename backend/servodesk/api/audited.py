@@ -35,6 +35,7 @@ NOT_AUDITED = frozenset(
         "validate_pdos",
         "plan_capture",
         "compare",
+        "check_record",
         "check_od",
         "decode_log",
         "scan",

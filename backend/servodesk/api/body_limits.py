@@ -15,7 +15,7 @@ from fastapi.routing import APIRoute
 from starlette.datastructures import Headers
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from servodesk.api import logs, od, paramsets
+from servodesk.api import commissioning, logs, od, paramsets
 from servodesk.api.errors import body_response
 from servodesk.models import ErrorBody
 from servodesk.settings import Settings
@@ -39,6 +39,12 @@ class BodyLimit:
 
 JSON_LIMIT = BodyLimit(JSON_BODY_MAX, "send a smaller request (limits: docs/limits.md)")
 FILE_LIMIT = BodyLimit(FILE_BODY_MAX, "upload a smaller file (limits: docs/limits.md)")
+# A commissioning bundle carries its captures (.rrd, Parquet) and the report's PDF; the upload
+# is spooled to disk by the form parser, not held in memory.
+BUNDLE_BODY_MAX = 512 * MIB
+BUNDLE_LIMIT = BodyLimit(
+    BUNDLE_BODY_MAX, "check against the record id instead, or leave big captures out"
+)
 
 
 def log_upload_limit(settings: Settings) -> BodyLimit:
@@ -54,6 +60,8 @@ def log_upload_limit(settings: Settings) -> BodyLimit:
 def route_body_limit(route: APIRoute, settings: Settings) -> BodyLimit:
     if route.endpoint is logs.decode_log:
         return log_upload_limit(settings)
+    if route.endpoint is commissioning.check_record:
+        return BUNDLE_LIMIT
     if any(isinstance(param.field_info, params.File) for param in route.dependant.body_params):
         return FILE_LIMIT
     return JSON_LIMIT

@@ -3,15 +3,22 @@ step's automated part, sign a step off. Paths and fields are a contract for outs
 
 from __future__ import annotations
 
+import asyncio
 from typing import Annotated
 
-from fastapi import APIRouter, Path, Query, Response
+from fastapi import APIRouter, Form, Path, Query, Request, Response
+from fastapi.exceptions import RequestValidationError
+from pydantic import ValidationError
 
 from servodesk.api import report_files
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import NODE_ERRORS
+from servodesk.api.uploads import Upload
+from servodesk.commissioning.check import FieldCheck, HandOver, open_bundle
+from servodesk.commissioning.check_core import CheckResult
 from servodesk.commissioning.models import (
+    CheckRequest,
     CommissioningCreate,
     CommissioningRecord,
     CommissioningStep,
@@ -19,6 +26,7 @@ from servodesk.commissioning.models import (
     StepSignOff,
 )
 from servodesk.commissioning.report import MachineFormat, ReportFormat
+from servodesk.errors import InvalidValueError
 from servodesk.models import ErrorBody
 
 router = APIRouter(tags=["commissioning"], route_class=AuditedRoute)
@@ -86,6 +94,48 @@ async def machine_report(
         services, report_files.numbers(ids), report_files.numbers(nodes)
     )
     return await report_files.answer(services, records, format, "servodesk-commissioning-machine")
+
+
+CHECK_ERRORS: dict[int | str, dict[str, object]] = {
+    **NODE_ERRORS,
+    **NOT_FOUND,
+    422: {
+        "model": ErrorBody,
+        "description": "invalid_value: the upload is not a ServoDesk bundle (no record.json), "
+        "or no bundle/record_id was given; invalid_request: an unknown field",
+    },
+}
+# The route reads either body itself: the JSON form is said in the schema by hand
+CHECK_BODY: dict[str, object] = {
+    "requestBody": {"content": {"application/json": {"schema": CheckRequest.model_json_schema()}}}
+}
+
+
+@router.post("/commissioning/check", responses=CHECK_ERRORS, openapi_extra=CHECK_BODY)
+async def check_record(
+    request: Request,
+    services: ServicesDep,
+    bundle: Upload = None,
+    node: Annotated[int | None, Form(ge=1, le=127, description="default: the record's")] = None,
+) -> CheckResult:
+    """The drive now against its hand-over: JSON `{"record_id", "node"?}` (a record of this
+    server), or a multipart upload of a bundle zip (`bundle`) and `node`. Only reads."""
+    if bundle is None or isinstance(bundle, str):
+        if request.headers.get("content-type", "").startswith("multipart/"):
+            raise InvalidValueError(
+                "no bundle given: send the zip as the multipart file field 'bundle'"
+            )
+        try:
+            body = CheckRequest.model_validate_json(await request.body() or b"{}")
+        except ValidationError as error:
+            raise RequestValidationError(error.errors(include_url=False)) from None
+        hand_over = HandOver(await services.commissioning.get(body.record_id), "record")
+        node = body.node
+    else:
+        hand_over = await asyncio.to_thread(open_bundle, bundle.file)
+    check = FieldCheck(services.registry, services.od_parser, services.faults,
+                       audit=services.audit)  # fmt: skip
+    return await check.run(hand_over, node)
 
 
 @router.get("/commissioning/{record_id}", responses=NOT_FOUND)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any, Literal
 
-from pydantic import BaseModel, Field, StrictFloat, StrictStr
+from pydantic import BaseModel, Field, StrictFloat, StrictInt, StrictStr
 
 from servodesk.model_base import RequestBody
 
@@ -95,3 +95,11 @@ class StepRun(RequestBody):
 
     speed_rpm: StrictFloat | None = Field(default=None, gt=0, le=10_000)
     distance: StrictFloat | None = Field(default=None, ge=-100, le=100)  # rev, relative
+
+
+class CheckRequest(RequestBody):
+    """`POST /api/commissioning/check` as JSON: a record of this server, and the node to check
+    (default: the record's)."""
+
+    record_id: StrictInt = Field(ge=1)
+    node: StrictInt | None = Field(default=None, ge=1, le=127)

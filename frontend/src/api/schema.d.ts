@@ -183,6 +183,27 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/commissioning/check": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Check Record
+         * @description The drive now against its hand-over: JSON `{"record_id", "node"?}` (a record of this
+         *     server), or a multipart upload of a bundle zip (`bundle`) and `node`. Only reads.
+         */
+        post: operations["check_record_api_commissioning_check_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/commissioning/report": {
         parameters: {
             query?: never;
@@ -1672,6 +1693,19 @@ export interface components {
              */
             file?: string | null;
         };
+        /** Body_check_record_api_commissioning_check_post */
+        Body_check_record_api_commissioning_check_post: {
+            /**
+             * Bundle
+             * @description the file (a file part or a form field)
+             */
+            bundle?: string | null;
+            /**
+             * Node
+             * @description default: the record's
+             */
+            node?: number | null;
+        };
         /** Body_compare_api_nodes__node__compare_post */
         Body_compare_api_nodes__node__compare_post: {
             /** File */
@@ -1933,6 +1967,41 @@ export interface components {
             tpdo?: number | null;
             /** Unit */
             unit: string;
+        };
+        /** CheckResult */
+        CheckResult: {
+            /** Checked Parameters */
+            checked_parameters: number;
+            /** Checked Pdos */
+            checked_pdos: number;
+            /**
+             * Differs
+             * @description a parameter, a PDO entry or the firmware differs
+             */
+            differs: boolean;
+            /** Faults Since */
+            faults_since: components["schemas"]["FaultSince"][];
+            firmware: components["schemas"]["Firmware"];
+            /**
+             * Handover At
+             * @description the record's last step time (unix s)
+             */
+            handover_at: number;
+            /** Node */
+            node: number;
+            /** Notes */
+            notes?: string[];
+            /** Parameters */
+            parameters: components["schemas"]["Difference"][];
+            /** Pdos */
+            pdos: components["schemas"]["Difference"][];
+            /** Record Id */
+            record_id: number;
+            /**
+             * Source
+             * @description record (this server's record) or bundle (an uploaded zip)
+             */
+            source: string;
         };
         /**
          * ClientMessage
@@ -2236,6 +2305,34 @@ export interface components {
             /** Value Hex */
             value_hex: string;
         };
+        /** Difference */
+        Difference: {
+            /** At Handover */
+            at_handover: unknown;
+            /** Audit Id */
+            audit_id?: number | null;
+            /** Changed At */
+            changed_at?: number | null;
+            /**
+             * Changed By
+             * @description who wrote it last, where the audit log knows
+             */
+            changed_by: string | null;
+            /** Error */
+            error?: string | null;
+            /** Index */
+            index: number;
+            /** Name */
+            name: string | null;
+            /** Now */
+            now: unknown;
+            /** Object */
+            object: string;
+            /** Source */
+            source: string;
+            /** Subindex */
+            subindex: number;
+        };
         /**
          * DriveCommandRequest
          * @description One CiA 402 controlword command (MDi-S1-C CANopen manual §3.2.2, figure 3.2).
@@ -2503,6 +2600,34 @@ export interface components {
             state_before: string;
             /** Statusword Hex */
             statusword_hex: string;
+        };
+        /** FaultSince */
+        FaultSince: {
+            /** Code Hex */
+            code_hex: string;
+            /** Name */
+            name: string;
+            /** Number */
+            number?: number | null;
+            /** Source */
+            source: string;
+            /** Time */
+            time?: number | null;
+        };
+        /** Firmware */
+        Firmware: {
+            /** At Handover */
+            at_handover: {
+                [key: string]: unknown;
+            };
+            /** Changed */
+            changed: boolean;
+            /** Changed Fields */
+            changed_fields?: string[];
+            /** Now */
+            now: {
+                [key: string]: unknown;
+            };
         };
         /** Health */
         Health: {
@@ -4681,6 +4806,117 @@ export interface operations {
             };
             /** @description Invalid request: what is wrong, per field */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    check_record_api_commissioning_check_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "application/json": {
+                    /** Node */
+                    node?: number | null;
+                    /** Record Id */
+                    record_id: number;
+                };
+                "multipart/form-data": components["schemas"]["Body_check_record_api_commissioning_check_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CheckResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
                 headers: {
                     [name: string]: unknown;
                 };
