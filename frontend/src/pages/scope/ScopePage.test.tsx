@@ -96,6 +96,43 @@ describe("ScopePage", () => {
     expect(fetch.calls.some((c) => c.method === "DELETE")).toBe(true);
   });
 
+  it("keeps 'Done' when a poll sent before the stop answers after it", async () => {
+    let releasePoll: () => void = () => undefined;
+    let stopping = false;
+    const fetch = render({
+      "POST /api/scope/captures": capture(),
+      "GET /api/scope/captures/7": async () => {
+        if (stopping) {
+          // this poll left before the stop; its answer (still recording) comes after the stop's
+          await new Promise<void>((resolve) => (releasePoll = resolve));
+        }
+        return capture();
+      },
+      "DELETE /api/scope/captures/7": () => {
+        stopping = false;
+        return capture({ state: "done", ended: 1_790_000_003, notes: ["stopped by the user"] });
+      },
+    });
+    await pickPositionAndVelocity();
+    const start = screen.getByRole("button", { name: "● Start capture" });
+    await waitFor(() => expect(start).toHaveProperty("disabled", false));
+    await userEvent.click(start);
+    expect((await screen.findByTestId("capture-state")).textContent).toBe("Recording");
+
+    stopping = true; // the next poll hangs until after the stop has answered
+    const polls = fetch.calls.filter((c) => c.method === "GET" && c.path.endsWith("/7")).length;
+    await waitFor(() =>
+      expect(fetch.calls.filter((c) => c.method === "GET" && c.path.endsWith("/7")).length).toBe(
+        polls + 1,
+      ),
+    );
+    await userEvent.click(screen.getByRole("button", { name: "■ Stop" }));
+    await waitFor(() => expect(screen.getByTestId("capture-state").textContent).toBe("Done"));
+    releasePoll();
+    await new Promise((resolve) => setTimeout(resolve, 50));
+    expect(screen.getByTestId("capture-state").textContent).toBe("Done");
+  });
+
   it("says why a start is refused and keeps the selection", async () => {
     render({
       "POST /api/scope/captures": json(

@@ -45,6 +45,9 @@ export function ScopePage(): ReactNode {
   const [opened, setOpened] = useState<OpenedCapture | null>(null);
   const [stopped, setStopped] = useState<ReadonlySet<number>>(() => new Set());
   const polling = useRef(false);
+  // bumped by every stop: a poll sent before it may answer after the stop's own answer, with
+  // the capture still recording; that answer is dropped (it would show "Recording" again)
+  const stops = useRef(0);
 
   // The capture shown: the one this page follows, or one the list shows recording (started
   // before the page opened, or the next of a re-armed series).
@@ -81,9 +84,11 @@ export function ScopePage(): ReactNode {
     () => {
       if (!current || polling.current) return;
       polling.current = true;
+      const sent = stops.current;
       getCapture(current.id).then(
         (capture) => {
           polling.current = false;
+          if (sent !== stops.current) return; // overtaken by a stop
           setPollError(null);
           follow(capture);
           if (!isActive(capture)) ended();
@@ -117,6 +122,7 @@ export function ScopePage(): ReactNode {
   const stop = useAction(async () => {
     if (!current) return;
     const id = current.id;
+    stops.current += 1;
     setStopped((old) => new Set(old).add(id));
     const capture = await stopOrDeleteCapture(id);
     if (capture) follow(capture);
