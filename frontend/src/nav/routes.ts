@@ -3,6 +3,7 @@
 import type { ComponentType } from "react";
 
 import { AuditPage } from "../pages/audit/AuditPage";
+import { CommissionPage } from "../pages/commission/CommissionPage";
 import { DrivePage } from "../pages/drive/DrivePage";
 import { FaultsPage } from "../pages/faults/FaultsPage";
 import { LogsPage } from "../pages/logs/LogsPage";
@@ -43,6 +44,7 @@ export const NODE_TABS: readonly NodeTab[] = [
   { path: "pdos", label: "PDOs", Component: PdoPage },
   { path: "drive", label: "Drive", Component: DrivePage },
   { path: "faults", label: "Faults", Component: FaultsPage },
+  { path: "commission", label: "Commission", Component: CommissionPage },
 ];
 
 export function nodeUrl(node: number, tab: string = NODE_TABS[0]?.path ?? ""): string {

@@ -4,6 +4,7 @@ import { api, call } from "../../api/client";
 import type { ScanResult } from "../../api/types";
 import { useAction } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
+import { useLatestRecords } from "../commission/latestRecords";
 import { BusCard } from "./BusCard";
 import { EventsCard } from "./EventsCard";
 import { NodesCard } from "./NodesCard";
@@ -12,6 +13,7 @@ import { NodesCard } from "./NodesCard";
 export function NetworkPage(): ReactNode {
   const store = useLiveStore();
   const [lastScan, setLastScan] = useState<ScanResult | null>(null);
+  const commissioning = useLatestRecords();
   const scan = useAction(async () => {
     const result = await call(api.POST("/api/scan", { body: { sdo_sweep: true, timeout_ms: 50 } }));
     store.setInfos(result.nodes);
@@ -25,7 +27,7 @@ export function NetworkPage(): ReactNode {
       </header>
       {/* A fresh connection is scanned straight away: the next thing a user wants is the nodes. */}
       <BusCard onConnected={() => void scan.run()} />
-      <NodesCard scan={scan} lastScan={lastScan} />
+      <NodesCard scan={scan} lastScan={lastScan} commissioning={commissioning.latest} />
       <EventsCard />
     </section>
   );

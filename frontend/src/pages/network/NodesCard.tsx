@@ -13,6 +13,8 @@ import { useLive, useLiveStore } from "../../live/context";
 import { refreshNodes } from "../../live/nodes";
 import { nodeUrl } from "../../nav/routes";
 import { useMay } from "../../session/context";
+import { CommissionChip } from "../commission/CommissionChip";
+import type { LatestRecord } from "../commission/latestRecords";
 import { QuickStopAllButton, QuickStopButton } from "../drive/QuickStopButton";
 import { HeartbeatEditor } from "./HeartbeatEditor";
 import { NMT_COMMANDS, NmtMenu } from "./NmtMenu";
@@ -108,7 +110,14 @@ function NoHeartbeatHint({ infos }: { infos: readonly NodeInfo[] }): ReactNode {
 
 const INTERACTIVE = "a, button, input, select, textarea, summary, details, label, form";
 
-const NodeRow = memo(function NodeRow({ info }: { info: NodeInfo }): ReactNode {
+const NodeRow = memo(function NodeRow({
+  info,
+  commission,
+}: {
+  info: NodeInfo;
+  /** The node's latest commissioning record; null: none; undefined: not loaded. */
+  commission: LatestRecord | null | undefined;
+}): ReactNode {
   const navigate = useNavigate();
   const store = useLiveStore();
   const nmt = useAction(async (command: NmtCommandName) => {
@@ -177,6 +186,9 @@ const NodeRow = memo(function NodeRow({ info }: { info: NodeInfo }): ReactNode {
         {nmt.error && <ErrorText error={nmt.error} />}
       </td>
       <td>
+        <CommissionChip node={info.node} latest={commission} />
+      </td>
+      <td>
         <QuickStopButton node={info.node} compact />
       </td>
     </tr>
@@ -211,10 +223,12 @@ function BroadcastNmt(): ReactNode {
 interface ScanProps {
   scan: { run: () => Promise<ScanResult | undefined>; busy: boolean; error: ApiError | null };
   lastScan: ScanResult | null;
+  /** Each node's latest commissioning record; null while it loads (or could not load). */
+  commissioning?: ReadonlyMap<number, LatestRecord> | null;
 }
 
 /** Nodes on the bus: identity, live NMT state and heartbeat, NMT commands, scan. */
-export function NodesCard({ scan, lastScan }: ScanProps): ReactNode {
+export function NodesCard({ scan, lastScan, commissioning = null }: ScanProps): ReactNode {
   const infos = useLive((s) => s.infos);
   const infosError = useLive((s) => s.infosError);
   return (
@@ -256,12 +270,19 @@ export function NodesCard({ scan, lastScan }: ScanProps): ReactNode {
                 <th scope="col">Heartbeat age</th>
                 <th scope="col">Heartbeat producer</th>
                 <th scope="col">Actions</th>
+                <th scope="col" title="The node's latest commissioning record">
+                  Record
+                </th>
                 <th scope="col">Motion</th>
               </tr>
             </thead>
             <tbody>
               {infos.map((info) => (
-                <NodeRow key={info.node} info={info} />
+                <NodeRow
+                  key={info.node}
+                  info={info}
+                  commission={commissioning ? (commissioning.get(info.node) ?? null) : undefined}
+                />
               ))}
             </tbody>
           </table>

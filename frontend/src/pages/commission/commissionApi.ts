@@ -1,0 +1,79 @@
+// The commissioning routes (docs/api.md, "Commissioning"), one function each. A step run that
+// finds the axis held by another client comes back as HeldByOtherError, which names the holder.
+import { api, call } from "../../api/client";
+import { ApiError, asApiError } from "../../api/errors";
+import { motionError } from "../drive/driveApi";
+import type {
+  CommissioningRecord,
+  CommissioningStep,
+  ReportFormat,
+  StepKey,
+  StepRun,
+} from "./types";
+
+/** The node's records, newest first; without a node, every node's. */
+export function listRecords(
+  node: number | null,
+  signal?: AbortSignal,
+): Promise<CommissioningRecord[]> {
+  const query = node === null ? {} : { node };
+  return call(api.GET("/api/commissioning", { params: { query }, signal }));
+}
+
+export function getRecord(id: number, signal?: AbortSignal): Promise<CommissioningRecord> {
+  return call(
+    api.GET("/api/commissioning/{record_id}", { params: { path: { record_id: id } }, signal }),
+  );
+}
+
+export function createRecord(
+  node: number,
+  modes: string[],
+  title: string,
+): Promise<CommissioningRecord> {
+  const body = title.trim() ? { modes, title: title.trim() } : { modes };
+  return call(api.POST("/api/nodes/{node}/commissioning", { params: { path: { node } }, body }));
+}
+
+export function signOffStep(
+  id: number,
+  key: StepKey,
+  status: "done" | "skipped",
+  reason?: string,
+): Promise<CommissioningStep> {
+  const body = reason ? { status, reason } : { status };
+  return call(
+    api.PUT("/api/commissioning/{record_id}/steps/{key}", {
+      params: { path: { record_id: id, key } },
+      body,
+    }),
+  );
+}
+
+/** Runs the step's automated part; takes seconds (the moving steps and store_verify). */
+export async function runStep(
+  id: number,
+  key: StepKey,
+  body: StepRun = {},
+): Promise<CommissioningStep> {
+  let result;
+  try {
+    result = await api.POST("/api/commissioning/{record_id}/steps/{key}/run", {
+      params: { path: { record_id: id, key } },
+      body,
+    });
+  } catch (error) {
+    throw asApiError(error);
+  }
+  const { data, error, response } = result;
+  if (!response.ok) throw motionError(response.status, error, response.statusText);
+  if (data === undefined) {
+    throw new ApiError(response.status, "error", "The server sent an empty answer", null);
+  }
+  return data;
+}
+
+/** The report route as a plain link (the browser opens or downloads it). */
+export function reportUrl(id: number, format: ReportFormat): string {
+  return `/api/commissioning/${id}/report?format=${format}`;
+}
