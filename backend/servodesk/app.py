@@ -57,6 +57,20 @@ log = logging.getLogger(__name__)
 
 STATIC_DIR = Path(__file__).parent / "static"
 
+# Modules the server would otherwise import on the loop at their first use, each import a stall
+# (100+ ms measured under load: anyio's asyncio backend at the first page, its streams at the
+# first file or WebSocket): imported with this module, before any loop runs.
+LAZY_IMPORTS = (
+    "anyio._backends._asyncio",
+    "anyio._core._sockets",
+    "anyio._core._streams",
+    "anyio.streams.memory",
+    "anyio.streams.stapled",
+    "anyio.streams.tls",
+)
+for _name in LAZY_IMPORTS:
+    importlib.import_module(_name)
+
 
 def api_routers() -> list[APIRouter]:
     """The API's routers, in the order their routes are matched (and listed in the schema).
@@ -141,7 +155,6 @@ def create_app(
             services.start()
             await _connect_at_start(services)
             await _prepare_routes(app)
-            _import_what_serving_imports()
         finally:
             settle_after_start()  # start-up's objects out of every later full collection
         try:
@@ -190,24 +203,6 @@ def create_app(
     if static_dir is not None:
         mount_frontend(app, static_dir)
     return app
-
-
-# Modules the server would otherwise import on the loop at their first use, each import a stall
-# (100+ ms measured under load: anyio's asyncio backend at the first page, its streams at the
-# first file or WebSocket): imported with start-up instead.
-LAZY_IMPORTS = (
-    "anyio._backends._asyncio",
-    "anyio._core._sockets",
-    "anyio._core._streams",
-    "anyio.streams.memory",
-    "anyio.streams.stapled",
-    "anyio.streams.tls",
-)
-
-
-def _import_what_serving_imports() -> None:
-    for name in LAZY_IMPORTS:
-        importlib.import_module(name)
 
 
 WILDCARD_BINDS = frozenset({"0.0.0.0", "::", ""})
