@@ -163,6 +163,12 @@ def test_errors(client: TestClient) -> None:
     assert no_node.json()["error"] == "node_not_found"
 
 
+def test_check_and_report_are_not_record_ids(client: TestClient) -> None:
+    """/commissioning/check takes a POST only: a GET is 405, not a 422 about a record id."""
+    assert client.get("/api/commissioning/check").status_code == 405
+    assert client.get("/api/commissioning/999999").json()["error"] == "commissioning_not_found"
+
+
 def test_roles(tmp_path: Path) -> None:
     """An operator makes a record, runs the reading steps and signs off; store_verify writes
     to the drive, so it is the engineer's."""

@@ -31,7 +31,7 @@ from servodesk.models import ErrorBody
 
 router = APIRouter(tags=["commissioning"], route_class=AuditedRoute)
 
-RecordId = Annotated[int, Path(ge=1, description="the record's id")]
+RecordId = Annotated[int, Path(ge=1, le=2**53, description="the record's id")]
 StepKey = Annotated[str, Path(max_length=40, description="identity, communication, … store_verify")]
 NOT_FOUND: dict[int | str, dict[str, object]] = {
     404: {
@@ -107,7 +107,10 @@ CHECK_ERRORS: dict[int | str, dict[str, object]] = {
 }
 # The route reads either body itself: the JSON form is said in the schema by hand
 CHECK_BODY: dict[str, object] = {
-    "requestBody": {"content": {"application/json": {"schema": CheckRequest.model_json_schema()}}}
+    "requestBody": {
+        "required": True,
+        "content": {"application/json": {"schema": CheckRequest.model_json_schema()}},
+    }
 }
 
 
@@ -116,7 +119,10 @@ async def check_record(
     request: Request,
     services: ServicesDep,
     bundle: Upload = None,
-    node: Annotated[int | None, Form(ge=1, le=127, description="default: the record's")] = None,
+    node: Annotated[
+        str | None,
+        Form(max_length=8, description="node 1–127; default: the record's"),
+    ] = None,
 ) -> CheckResult:
     """The drive now against its hand-over: JSON `{"record_id", "node"?}` (a record of this
     server), or a multipart upload of a bundle zip (`bundle`) and `node`. Only reads."""
@@ -125,20 +131,39 @@ async def check_record(
             raise InvalidValueError(
                 "no bundle given: send the zip as the multipart file field 'bundle'"
             )
+        raw = await request.body()
+        if not raw.strip():
+            raise InvalidValueError(
+                'nothing to check against: send {"record_id": …} as JSON, or a bundle zip '
+                "as the multipart file field 'bundle'"
+            )
         try:
-            body = CheckRequest.model_validate_json(await request.body() or b"{}")
+            body = CheckRequest.model_validate_json(raw)
         except ValidationError as error:
             raise RequestValidationError(error.errors(include_url=False)) from None
         hand_over = HandOver(await services.commissioning.get(body.record_id), "record")
-        node = body.node
+        node_id = body.node
     else:
+        node_id = _form_node(node)
         hand_over = await asyncio.to_thread(open_bundle, bundle.file)
     check = FieldCheck(services.registry, services.od_parser, services.faults,
                        audit=services.audit)  # fmt: skip
-    return await check.run(hand_over, node)
+    return await check.run(hand_over, node_id)
 
 
-@router.get("/commissioning/{record_id}", responses=NOT_FOUND)
+def _form_node(text: str | None) -> int | None:
+    """A form field is text: empty (or a client's "null") is the record's node."""
+    value = (text or "").strip()
+    if value in ("", "null"):
+        return None
+    if not value.isdigit() or not 1 <= int(value) <= 127:
+        raise InvalidValueError(f"node {value!r}: give a node id from 1 to 127")
+    return int(value)
+
+
+# `:int`: /commissioning/check (POST) and /commissioning/report are not record ids; a GET of
+# /commissioning/check is then 405 (the path has a POST), not a 422 about a record id
+@router.get("/commissioning/{record_id:int}", responses=NOT_FOUND)
 async def get_commissioning(record_id: RecordId, services: ServicesDep) -> CommissioningRecord:
     return await services.commissioning.get(record_id)
 

@@ -3,11 +3,11 @@ Field names are a contract (outside scripts read them): do not rename."""
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, Field, StrictFloat, StrictInt, StrictStr
+from pydantic import BaseModel, Field, StrictFloat, StrictStr
 
-from servodesk.model_base import RequestBody
+from servodesk.model_base import NOT_TEXT, RequestBody
 
 StepKey = Literal[
     "identity",
@@ -101,5 +101,6 @@ class CheckRequest(RequestBody):
     """`POST /api/commissioning/check` as JSON: a record of this server, and the node to check
     (default: the record's)."""
 
-    record_id: StrictInt = Field(ge=1)
-    node: StrictInt | None = Field(default=None, ge=1, le=127)
+    # JSON Schema's integers (12 and 12.0), never "12" (model_base.py)
+    record_id: Annotated[Annotated[int, Field(ge=1, le=2**53)], NOT_TEXT]
+    node: Annotated[Annotated[int, Field(ge=1, le=127)], NOT_TEXT] | None = None

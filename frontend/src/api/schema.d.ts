@@ -1702,9 +1702,9 @@ export interface components {
             bundle?: string | null;
             /**
              * Node
-             * @description default: the record's
+             * @description node 1–127; default: the record's
              */
-            node?: number | null;
+            node?: string | null;
         };
         /** Body_compare_api_nodes__node__compare_post */
         Body_compare_api_nodes__node__compare_post: {
@@ -4822,7 +4822,7 @@ export interface operations {
             path?: never;
             cookie?: never;
         };
-        requestBody?: {
+        requestBody: {
             content: {
                 "application/json": {
                     /** Node */
