@@ -137,6 +137,16 @@ class PdoApplyError(ServodeskError):
         return None if self.abort_code is None else f"0x{self.abort_code:08X}"
 
 
+class ForbiddenError(ServodeskError):
+    """What the acting user's role may not do, where the route alone cannot tell (403
+    forbidden, as the access guard answers): the message names the role it needs."""
+
+    def __init__(self, message: str, *, role: str, required: str) -> None:
+        super().__init__(message)
+        self.role = role
+        self.required = required
+
+
 class NotFoundError(ServodeskError):
     """Something the URL names does not exist (a decoded log); `kind` is the API's error kind."""
 

@@ -208,6 +208,7 @@ def build_services(
             simulated=lambda: bus.status().simulated,
             safety=safety,
             scope=scope,
+            pdos=pdos,
         ),
     )
 

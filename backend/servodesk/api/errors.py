@@ -25,6 +25,7 @@ from servodesk.errors import (
     BusOpenError,
     CommTimeoutError,
     ConfirmationRequiredError,
+    ForbiddenError,
     IdentityMismatchError,
     InvalidValueError,
     NodeNotFoundError,
@@ -132,6 +133,10 @@ def describe(error: ServodeskError) -> tuple[int, ErrorBody]:
         return 503, ErrorBody(error="interrupted", message=str(error), node=error.node_id)
     if isinstance(error, JobNotFoundError):
         return 404, ErrorBody(error="job_not_found", message=str(error))
+    if isinstance(error, ForbiddenError):
+        return 403, ErrorBody(
+            error="forbidden", message=str(error), role=error.role, required=error.required
+        )
     if isinstance(error, NotFoundError):  # log_not_found
         return 404, ErrorBody(error=error.kind, message=str(error))
     if isinstance(error, StateConflictError):  # recording_not_running

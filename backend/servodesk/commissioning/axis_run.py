@@ -20,8 +20,7 @@ from typing import Any
 import numpy as np
 
 from servodesk.audit import AuditLog
-from servodesk.audit.entry import current_entry
-from servodesk.audit.store import AuditFilter
+from servodesk.commissioning.evidence import step_audit_ids
 from servodesk.commissioning.stop_figures import Series
 from servodesk.errors import ServodeskError
 from servodesk.motion.jog import JogStoppedError
@@ -243,16 +242,7 @@ class AxisRun:
     # ------------------------------------------------------------------ evidence
 
     async def audit_ids(self) -> list[int]:
-        """The audit entries of what the step wrote: the run's own (its SDO writes are recorded
-        in it) and those the tool made by itself for the node meanwhile (a jog stopped on a
-        missed keep-alive, the heartbeat consumer)."""
-        ids: list[int] = []
-        entry = current_entry()
-        if entry is not None and entry.row.done() and entry.row.exception() is None:
-            ids.append(entry.row.result())
-        rows = await self.audit.entries(AuditFilter(node=self.node, since=self.started, limit=500))
-        ids.extend(row.id for row in rows if row.id not in ids)
-        return sorted(ids)
+        return await step_audit_ids(self.audit, self.node, self.started)
 
 
 def _read_series(path: Any, capture: Capture) -> dict[int, Series]:

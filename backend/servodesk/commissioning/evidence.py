@@ -7,6 +7,7 @@ from typing import Any
 
 import servodesk_data
 from servodesk.audit import AuditLog
+from servodesk.audit.entry import current_entry
 from servodesk.audit.store import AuditFilter
 from servodesk.commissioning.models import CommissioningRecord, StepStatus
 from servodesk.commissioning.reads import label, read_listed, where
@@ -197,3 +198,16 @@ async def parameters(
     if not entries:
         evidence["note"] = "nothing was written to this node since the record was made"
     return "done", evidence, None
+
+
+async def step_audit_ids(audit: AuditLog, node: int, since: float) -> list[int]:
+    """The audit entries of what a step wrote: the run's own (its SDO writes are recorded in
+    it) and those made for the node meanwhile (by the tool itself too: a jog stopped on a missed
+    keep-alive, the heartbeat consumer)."""
+    ids: list[int] = []
+    entry = current_entry()
+    if entry is not None and entry.row.done() and entry.row.exception() is None:
+        ids.append(entry.row.result())
+    rows = await audit.entries(AuditFilter(node=node, since=since, limit=500))
+    ids.extend(row.id for row in rows if row.id not in ids)
+    return sorted(ids)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, Field, StrictFloat, StrictStr
+from pydantic import BaseModel, Field, StrictBool, StrictFloat, StrictStr
 
 from servodesk.model_base import NOT_TEXT, RequestBody
 
@@ -91,10 +91,15 @@ class StepSignOff(RequestBody):
 
 class StepRun(RequestBody):
     """The optional body of `POST …/steps/{key}/run`: each step reads what it takes (stop_test:
-    speed_rpm; test_move: distance); a field the step does not take is refused."""
+    speed_rpm; test_move: distance; homing: method; pdo: apply); a field the step does not take
+    is refused."""
 
     speed_rpm: StrictFloat | None = Field(default=None, gt=0, le=10_000)
     distance: StrictFloat | None = Field(default=None, ge=-100, le=100)  # rev, relative
+    # homing: the method to run (6098h); default: the one the drive is set to
+    method: Annotated[Annotated[int, Field(ge=-128, le=127)], NOT_TEXT] | None = None
+    # pdo: apply the manuals' recommended mapping for the record's modes first (engineer)
+    apply: StrictBool | None = None
 
 
 class CheckRequest(RequestBody):

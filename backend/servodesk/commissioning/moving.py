@@ -1,7 +1,7 @@
-"""The steps that move the axis (stop_test, test_move): what their run body may hold, and the
-dispatch the commissioning service calls. A step that cannot finish (the jog never settles, a
-capture fails) is recorded failed with the reason; a refusal before anything moved (another
-client holds the drive, the scope is busy) is the request's error."""
+"""The steps that move the axis (stop_test, test_move, homing): what their run body may hold,
+and the dispatch the commissioning service calls. A step that cannot finish (the jog never
+settles, a capture fails) is recorded failed with the reason; a refusal before anything moved
+(another client holds the drive, the scope is busy) is the request's error."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from servodesk.audit import AuditLog
-from servodesk.commissioning import stop_test, test_move
+from servodesk.commissioning import homing_step, stop_test, test_move
 from servodesk.commissioning.axis_run import AxisRun, StepError, app_client
 from servodesk.commissioning.evidence import Outcome
 from servodesk.commissioning.models import CommissioningRecord, StepRun
@@ -20,11 +20,13 @@ from servodesk.scope.service import ScopeService
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
 
-MOVING = frozenset({"stop_test", "test_move"})
+MOVING = frozenset({"stop_test", "test_move", "homing"})
 # the run body's fields each step reads; any other field given is refused
 TAKES: dict[str, frozenset[str]] = {
     "stop_test": frozenset({"speed_rpm"}),
     "test_move": frozenset({"distance"}),
+    "homing": frozenset({"method"}),
+    "pdo": frozenset({"apply"}),
 }
 
 
@@ -59,6 +61,8 @@ async def run(
     try:
         if key == "stop_test":
             return await stop_test.run(axis, body.speed_rpm)
+        if key == "homing":
+            return await homing_step.run(axis, body.method)
         modes = record.identity.supported_modes
         return await test_move.run(axis, record.modes, modes, body.distance)
     except StepError as error:

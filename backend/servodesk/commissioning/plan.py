@@ -17,11 +17,10 @@ from servodesk.errors import InvalidValueError
 from servodesk.motion.words import MODE_VALUES
 
 # Steps whose automated part exists; the others are done on their page and signed off.
-AUTOMATED = frozenset(
-    {"identity", "communication", "parameters", "limits", "stop_test", "test_move", "store_verify"}
-)
-# Where the user does a step that is not automated yet (the 409 step_not_automated says so).
-DONE_ON_PAGE = {"pdo": "PDOs", "homing": "Drive"}  # the steps not automated yet
+AUTOMATED = frozenset(STEP_KEYS)
+# Where the user does a step by hand when the server has no part to run it with (a moving step
+# without the motion safety layer, the pdo step without the PDO service): the 409 says so.
+DONE_ON_PAGE = {"pdo": "PDOs", "homing": "Drive", "stop_test": "Drive", "test_move": "Drive"}
 
 
 def check_modes(modes: Iterable[str]) -> list[str]:

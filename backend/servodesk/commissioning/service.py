@@ -12,7 +12,7 @@ from typing import Any
 from servodesk.access.actor import current_actor
 from servodesk.audit import AuditLog
 from servodesk.commissioning import evidence as ev
-from servodesk.commissioning import moving, store_verify
+from servodesk.commissioning import moving, pdo_step, store_verify
 from servodesk.commissioning.models import (
     STEP_KEYS,
     CommissioningCreate,
@@ -35,6 +35,7 @@ from servodesk.errors import InvalidValueError, NotFoundError, StateConflictErro
 from servodesk.motion.safety import MotionSafety
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.params.service import ParamService
+from servodesk.pdo.service import PdoService
 from servodesk.scope.service import ScopeService
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
@@ -60,7 +61,7 @@ class StepNotAutomatedError(StateConflictError):
         page = DONE_ON_PAGE.get(key, "its")
         super().__init__(
             "step_not_automated",
-            f"step {key} has no automated part yet: do it on the {page} page, then sign it off "
+            f"step {key} has no automated part here: do it on the {page} page, then sign it off "
             f"with PUT /api/commissioning/{{id}}/steps/{key}",
         )
 
@@ -78,6 +79,7 @@ class CommissioningService:
         simulated: Callable[[], bool],
         safety: MotionSafety | None = None,
         scope: ScopeService | None = None,
+        pdos: PdoService | None = None,
     ) -> None:
         self._registry = registry
         self._sdo = sdo
@@ -86,6 +88,7 @@ class CommissioningService:
         self._settings = settings
         self._bitrate = bitrate
         self._simulated = simulated
+        self._pdos = pdos
         self.store = RecordStore(settings.data_dir)
         self._locks: dict[int, asyncio.Lock] = {}
         # the steps that move the axis use the motion safety layer and the scope
@@ -144,7 +147,11 @@ class CommissioningService:
 
     async def run(self, record_id: int, key: str, body: StepRun | None = None) -> CommissioningStep:
         self._check_key(key)
-        if key not in AUTOMATED or (key in moving.MOVING and self._moving is None):
+        if (
+            key not in AUTOMATED
+            or (key in moving.MOVING and self._moving is None)
+            or (key == "pdo" and self._pdos is None)
+        ):
             raise StepNotAutomatedError(key)
         moving.check_body(key, body)
         record = await self.get(record_id)
@@ -153,6 +160,11 @@ class CommissioningService:
             if key in moving.MOVING and self._moving is not None:
                 (status, evidence, reason), figures = await moving.run(
                     self._moving, key, record, body
+                )
+            elif key == "pdo" and self._pdos is not None:
+                apply = body is not None and bool(body.apply)
+                status, evidence, reason = await pdo_step.run(
+                    self._pdos, self._audit, record, apply=apply, started=time.time()
                 )
             else:
                 status, evidence, reason = await self._run(key, record)

@@ -32,6 +32,8 @@ class FrameStats:
     rate_hz: float | None
     last_data: bytes | None
     age_s: float | None  # since the last frame
+    # (frames - 1) / (last - first) since the capture started: a slow PDO's rate too
+    mean_hz: float | None = None
 
 
 class _Buffer:
@@ -43,6 +45,7 @@ class _Buffer:
         self._frames = 0
         self._last: bytes | None = None
         self._last_time: float | None = None
+        self._first_time: float | None = None
 
     def record(self, data: bytes, now: float) -> None:
         with self._lock:
@@ -50,6 +53,8 @@ class _Buffer:
             self._times.append(now)
             self._last = data
             self._last_time = now
+            if self._first_time is None:
+                self._first_time = now
 
     def stats(self, now: float) -> FrameStats:
         with self._lock:
@@ -58,10 +63,13 @@ class _Buffer:
             recent = len(self._times)
             span = self._times[-1] - self._times[0] if recent else 0.0
             frames, data, last_time = self._frames, self._last, self._last_time
+            first_time = self._first_time
         # frame to frame: a single frame (or two at once) has no rate yet
         rate = (recent - 1) / span if recent >= 2 and span > 0 else None
         age = None if last_time is None else max(now - last_time, 0.0)
-        return FrameStats(frames=frames, rate_hz=rate, last_data=data, age_s=age)
+        whole = None if first_time is None or last_time is None else last_time - first_time
+        mean = (frames - 1) / whole if frames >= 2 and whole else None
+        return FrameStats(frames=frames, rate_hz=rate, last_data=data, age_s=age, mean_hz=mean)
 
 
 class PdoCapture:

@@ -128,6 +128,22 @@ def recommended(
     return out
 
 
+def mode_needs(
+    profile: str, mode: str, od: ObjectDictionaryModel, byte_granular: bool
+) -> tuple[dict[PdoKind, list[MappedObject]], str]:
+    """What `mode` cannot run without, per direction (the manual's required objects this
+    dictionary can map), and the manual section that says so. ValueError for an unknown
+    profile or mode."""
+    if mode not in MODES:
+        raise ValueError(f"unknown mode {mode!r}; known: {', '.join(MODES)}")
+    data = load_recommendations(profile)
+    needs: dict[PdoKind, list[MappedObject]] = {
+        kind: _objects(data, [mode], kind, od, byte_granular, required=True)
+        for kind in ("rpdo", "tpdo")
+    }
+    return needs, data.modes[mode].source
+
+
 def load_recommendations(profile: str) -> Recommendations:
     """Parse and check `profile`'s recommended_pdos.toml (ValueError naming file and key)."""
     if profile not in PROFILES:

@@ -4042,11 +4042,16 @@ export interface components {
         /**
          * StepRun
          * @description The optional body of `POST …/steps/{key}/run`: each step reads what it takes (stop_test:
-         *     speed_rpm; test_move: distance); a field the step does not take is refused.
+         *     speed_rpm; test_move: distance; homing: method; pdo: apply); a field the step does not take
+         *     is refused.
          */
         StepRun: {
+            /** Apply */
+            apply?: boolean | null;
             /** Distance */
             distance?: number | null;
+            /** Method */
+            method?: number | null;
             /** Speed Rpm */
             speed_rpm?: number | null;
         };

@@ -16,7 +16,11 @@ const step = (name: string): HTMLElement =>
   screen.getByRole("listitem", { name: new RegExp(`^Step \\d: ${name}$`) });
 
 /** A server holding one record whose steps change as the page runs and signs them. */
-function serve(initial: CommissioningRecord, runs: Record<string, () => unknown> = {}) {
+function serve(
+  initial: CommissioningRecord,
+  runs: Record<string, () => unknown> = {},
+  extra: Record<string, (request: Request) => unknown> = {},
+) {
   let current = initial;
   const replace = (answer: CommissioningStep): CommissioningStep => {
     current = {
@@ -26,6 +30,7 @@ function serve(initial: CommissioningRecord, runs: Record<string, () => unknown>
     return answer;
   };
   const routes: Record<string, (request: Request) => unknown> = {
+    ...extra,
     "GET /api/commissioning": () => [current],
     [`GET /api/commissioning/${initial.id}`]: () => current,
   };
@@ -91,12 +96,14 @@ describe("CommissionPage", () => {
       "Step 9: Store and verify",
     ]);
     expect(screen.getByText("In progress")).toBeTruthy();
-    // manual steps point to their pages and have no Run
+    // pdo and homing run here, or are done by hand on their pages
     expect(within(step("PDO mapping")).getByRole("link", { name: /PDOs page/ })).toBeTruthy();
-    expect(within(step("PDO mapping")).queryByRole("button", { name: /^Run/ })).toBeNull();
+    expect(
+      within(step("PDO mapping")).getByRole("button", { name: "Run PDO mapping" }),
+    ).toBeTruthy();
     expect(
       within(step("Homing"))
-        .getByRole("link", { name: /Drive page/ })
+        .getByRole("link", { name: /wizard on the Drive page/ })
         .getAttribute("href"),
     ).toBe("/nodes/3/drive");
   });
@@ -144,6 +151,43 @@ describe("CommissionPage", () => {
     expect(stop.queryByText(/Running the stop test/)).toBeNull();
     const run = stub.calls.find((c) => c.path.endsWith("/stop_test/run"));
     expect(JSON.parse(run?.body ?? "{}")).toEqual({ speed_rpm: 150 });
+  });
+
+  it("runs homing with the chosen method and the pdo step with the recommended mapping", async () => {
+    const stub = serve(
+      record(),
+      {
+        homing: () => ({ ...record().steps[7], status: "done", by: "local" }),
+        pdo: () => ({ ...record().steps[3], status: "done", by: "local" }),
+      },
+      {
+        "GET /api/nodes/3/drive/homing-methods": () => [
+          { method: 17, name: "Negative limit switch", description: "", path: [] },
+          { method: 35, name: "Current position", description: "", path: [] },
+        ],
+      },
+    );
+    renderPage(<CommissionPage node={3} />, "/nodes/3/commission");
+
+    const homing = within(await screen.findByRole("listitem", { name: "Step 8: Homing" }));
+    expect(homing.getByRole("note", { name: "The axis will move" }).textContent).toContain(
+      "homing",
+    );
+    const method = homing.getByRole<HTMLSelectElement>("combobox", { name: "Homing method" });
+    expect(method.value).toBe("");
+    await homing.findByRole("option", { name: "35: Current position" });
+    await userEvent.selectOptions(method, "35");
+    await userEvent.click(homing.getByRole("button", { name: "Run Homing" }));
+    expect(await homing.findByText("Done")).toBeTruthy();
+    const ran = stub.calls.find((c) => c.path.endsWith("/homing/run"));
+    expect(JSON.parse(ran?.body ?? "{}")).toEqual({ method: 35 });
+
+    const pdo = within(step("PDO mapping"));
+    await userEvent.click(pdo.getByRole("checkbox", { name: /recommended mapping/ }));
+    await userEvent.click(pdo.getByRole("button", { name: "Run PDO mapping" }));
+    expect(await pdo.findByText("Done")).toBeTruthy();
+    const applied = stub.calls.find((c) => c.path.endsWith("/pdo/run"));
+    expect(JSON.parse(applied?.body ?? "{}")).toEqual({ apply: true });
   });
 
   it("skips a step only with a reason", async () => {

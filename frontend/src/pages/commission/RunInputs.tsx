@@ -3,23 +3,32 @@ import { Link } from "react-router";
 
 import { nodeUrl } from "../../nav/routes";
 import { DEFAULT_DISTANCE_REV, DEFAULT_SPEED_RPM, MAX_DISTANCE_REV } from "./steps";
-import type { StepKey } from "./types";
+import { HomingMethodInput } from "./HomingMethodInput";
+import type { StepKey, StepRun } from "./types";
 
 export interface RunSettings {
   speedRpm: string;
   distanceRev: string;
+  /** homing: a method number, or "" for the one the drive is set to (6098h) */
+  homingMethod: string;
+  /** pdo: apply the manuals' recommended mapping for the record's modes first */
+  applyPdo: boolean;
 }
 
 export const DEFAULT_RUN_SETTINGS: RunSettings = {
   speedRpm: String(DEFAULT_SPEED_RPM),
   distanceRev: String(DEFAULT_DISTANCE_REV),
+  homingMethod: "",
+  applyPdo: false,
 };
+
+export type RunBody = StepRun;
 
 /** The run's body from the inputs, or the reason it cannot be sent. */
 export function runBody(
   key: StepKey,
   settings: RunSettings,
-): { body: { speed_rpm?: number; distance?: number } } | { invalid: string } {
+): { body: RunBody } | { invalid: string } {
   if (key === "stop_test") {
     const speed = Number(settings.speedRpm);
     if (!Number.isFinite(speed) || speed <= 0) return { invalid: "The speed must be above 0 rpm." };
@@ -34,7 +43,50 @@ export function runBody(
     }
     return { body: { distance } };
   }
+  if (key === "homing") {
+    return { body: settings.homingMethod === "" ? {} : { method: Number(settings.homingMethod) } };
+  }
+  if (key === "pdo") return { body: settings.applyPdo ? { apply: true } : {} };
   return { body: {} };
+}
+
+const MOVES: Partial<Record<StepKey, string>> = {
+  stop_test:
+    "ServoDesk jogs it toward the farther end of travel, quick-stops it, then jogs it back and lets the keep-alive lapse.",
+  test_move: "ServoDesk jogs it for a second in each chosen mode, then makes a relative PP move.",
+  homing: "ServoDesk enables the drive and runs its homing until the drive reports home attained.",
+};
+
+/** The pdo step's choice: check the mapping as it is, or apply the recommended one first. */
+export function PdoRunInput({
+  settings,
+  onChange,
+  disabled,
+  mayConfigure,
+}: {
+  settings: RunSettings;
+  onChange: (settings: RunSettings) => void;
+  disabled: boolean;
+  mayConfigure: boolean;
+}): ReactNode {
+  return (
+    <div className="run-inputs">
+      <label className="inline">
+        <input
+          type="checkbox"
+          checked={settings.applyPdo && mayConfigure}
+          disabled={disabled || !mayConfigure}
+          onChange={(e) => onChange({ ...settings, applyPdo: e.target.checked })}
+        />{" "}
+        Apply the manuals&apos; recommended mapping for the record&apos;s modes first
+      </label>{" "}
+      <span className="muted small">
+        {mayConfigure
+          ? "(writes the PDOs; without it the step checks the mapping as it is)"
+          : "(writing PDOs needs the engineer role: the step checks the mapping as it is)"}
+      </span>
+    </div>
+  );
 }
 
 /** The moving steps' inputs, with the warning that the axis moves and who may stop it. */
@@ -54,14 +106,18 @@ export function RunInputs({
   return (
     <div className="run-inputs">
       <p className="warning" role="note" aria-label="The axis will move">
-        <strong>The axis will move.</strong>{" "}
-        {stepKey === "stop_test"
-          ? "ServoDesk jogs it toward the farther end of travel, quick-stops it, then jogs it back and lets the keep-alive lapse."
-          : "ServoDesk jogs it for a second in each chosen mode, then makes a relative PP move."}{" "}
-        Keep clear of the machine. Anyone can stop it with the quick stop on the{" "}
+        <strong>The axis will move.</strong> {MOVES[stepKey] ?? ""} Keep clear of the machine.
+        Anyone can stop it with the quick stop on the{" "}
         <Link to={nodeUrl(node, "drive")}>Drive page</Link> (or Quick stop all on the Network page).
       </p>
-      {stepKey === "stop_test" ? (
+      {stepKey === "homing" ? (
+        <HomingMethodInput
+          node={node}
+          value={settings.homingMethod}
+          disabled={disabled}
+          onChange={(homingMethod) => onChange({ ...settings, homingMethod })}
+        />
+      ) : stepKey === "stop_test" ? (
         <label className="inline">
           Speed{" "}
           <input

@@ -10,7 +10,7 @@ import { runStep, signOffStep } from "./commissionApi";
 import { EvidenceView } from "./EvidenceView";
 import { FiguresTable } from "./FiguresTable";
 import { RunError } from "./RunError";
-import { RunInputs, runBody, type RunSettings } from "./RunInputs";
+import { PdoRunInput, RunInputs, runBody, type RunBody, type RunSettings } from "./RunInputs";
 import { SkipForm } from "./SkipForm";
 import { StepChip } from "./StatusChip";
 import { AUTOMATED, lostLines, MANUAL_PAGE, MOVING, RUNNING_TEXT, whoWhen } from "./steps";
@@ -61,7 +61,7 @@ export function StepItem(props: StepItemProps): ReactNode {
   const manual = MANUAL_PAGE[step.key];
   const isRunning = running === step.key;
 
-  const run = useAction(async (body: { speed_rpm?: number; distance?: number }) => {
+  const run = useAction(async (body: RunBody) => {
     onRunning(step.key);
     try {
       onChanged(await runStep(recordId, step.key, body));
@@ -127,6 +127,14 @@ export function StepItem(props: StepItemProps): ReactNode {
           settings={settings}
           onChange={onSettings}
           disabled={busy}
+        />
+      )}
+      {automated && step.key === "pdo" && (
+        <PdoRunInput
+          settings={settings}
+          onChange={onSettings}
+          disabled={busy}
+          mayConfigure={configure.allowed}
         />
       )}
       {manual && (

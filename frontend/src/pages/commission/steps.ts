@@ -20,24 +20,16 @@ export const STEP_KEYS: readonly StepKey[] = [
   "store_verify",
 ];
 
-/** Steps with an automated part (`run`); pdo and homing are done on their pages. */
-export const AUTOMATED: ReadonlySet<StepKey> = new Set<StepKey>([
-  "identity",
-  "communication",
-  "parameters",
-  "limits",
-  "stop_test",
-  "test_move",
-  "store_verify",
-]);
+/** Steps with an automated part (`run`): all nine. */
+export const AUTOMATED: ReadonlySet<StepKey> = new Set<StepKey>(STEP_KEYS);
 
 /** Steps whose run moves the axis. */
-export const MOVING: ReadonlySet<StepKey> = new Set<StepKey>(["stop_test", "test_move"]);
+export const MOVING: ReadonlySet<StepKey> = new Set<StepKey>(["stop_test", "test_move", "homing"]);
 
-/** Where a manual step is done: the node tab's path and its label. */
+/** Where a step can also be done by hand (then signed off here): the node tab and its label. */
 export const MANUAL_PAGE: Partial<Record<StepKey, { tab: string; label: string }>> = {
-  pdo: { tab: "pdos", label: "Map the PDOs on the PDOs page" },
-  homing: { tab: "drive", label: "Home the axis on the Drive page" },
+  pdo: { tab: "pdos", label: "Or map the PDOs by hand on the PDOs page" },
+  homing: { tab: "drive", label: "Or home the axis with the wizard on the Drive page" },
 };
 
 /** Run defaults, as the server's (docs/api.md): stop test 200 rpm, test move 0.5 rev. */
@@ -62,6 +54,8 @@ export const RECORD_STATUS_TEXT: Record<RecordStatus, string> = {
 export const RUNNING_TEXT: Partial<Record<StepKey, string>> = {
   stop_test: "Running the stop test: a quick stop and a keep-alive loss stop, with captures…",
   test_move: "Running the test move: a jog per mode and a PP move, with a capture…",
+  pdo: "Reading the mapping and listening to every TPDO for a few of its periods…",
+  homing: "Homing: waiting for the drive to report home attained…",
   store_verify: "Storing, resetting the node, waiting for its boot-up and reading back…",
 };
 
