@@ -165,8 +165,8 @@ def test_check_and_report_are_not_record_ids(client: TestClient) -> None:
 
 
 def test_roles(tmp_path: Path) -> None:
-    """An operator makes a record, runs the reading steps and signs off; store_verify writes
-    to the drive, so it is the engineer's."""
+    """An operator makes a record, runs the reading steps and signs off; store_verify and
+    applying a PDO mapping write to the drive, so they are the engineer's."""
     tokens = "engineer=eng-secret-0123456789,operator=op-secret-0123456789"
     settings = Settings(simulated=True, data_dir=tmp_path, tokens=SecretStr(tokens))
     operator = {"authorization": "Bearer op-secret-0123456789"}
@@ -181,6 +181,12 @@ def test_roles(tmp_path: Path) -> None:
         refused = app.post(f"{base}/store_verify/run", headers=operator)
         assert refused.status_code == 403
         assert refused.json()["required"] == "engineer"
+        # the pdo step checks for an operator; applying a mapping writes: the engineer's
+        refused = app.post(f"{base}/pdo/run", json={"apply": True}, headers=operator)
+        assert refused.status_code == 403
+        assert refused.json()["required"] == "engineer"
+        assert "without apply" in refused.json()["message"]
+        assert ok(app.post(f"{base}/pdo/run", json={}, headers=operator))["by"] == "operator"
     assert required_role("POST", "/api/nodes/1/commissioning") is Role.OPERATOR
     assert required_role("POST", "/api/commissioning/4/steps/identity/run") is Role.OPERATOR
     assert required_role("PUT", "/api/commissioning/4/steps/pdo") is Role.OPERATOR

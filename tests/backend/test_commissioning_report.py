@@ -26,7 +26,7 @@ from markupsafe import Markup
 from servodesk.access.actor import Role
 from servodesk.access.policy import required_role
 from servodesk.app import create_app
-from servodesk.commissioning import report
+from servodesk.commissioning import report, report_tables
 from servodesk.commissioning.models import STEP_KEYS
 from servodesk.commissioning.report_plot import Series, capture_series, svg_plot
 from servodesk.commissioning.report_tables import capture_ids
@@ -238,3 +238,22 @@ def test_capture_ids_in_evidence() -> None:
     evidence = {"capture_id": 4, "runs": [{"capture": 5}, {"capture_ids": [4, 6]}], "x": True}
     assert capture_ids(evidence) == [4, 5, 6]
     assert STEP_KEYS[0] == "identity"
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "text"),
+    [
+        ("sent_at", 1_795_780_000.25, "2026-11-27 11:46:40 UTC"),  # any …_at time stamp is a date
+        ("stop_time_s", 0.1996, "0.1996"),  # a duration is not
+        ("modes", ["pp", "pv"], "pp, pv"),
+        ("missing", [], "—"),
+        (
+            "deceleration",
+            {"object": "6085h", "rpm_s": 3000.0, "read": {"605Ah": 2}},
+            "Object: 6085h; Rpm s: 3000; Read: (605Ah: 2)",
+        ),
+        ("vendor_id", 0x26C, "0x0000026C"),
+    ],
+)
+def test_evidence_cells_read_as_words(key: str, value: Any, text: str) -> None:
+    assert report_tables.cell(key, value).startswith(text)

@@ -76,11 +76,11 @@ async def run(
     mapping = await pdos.read(node)
     evidence["pdos"] = [pdo_row(p) for p in mapping if p.valid]
     reasons: list[str] = []
-    coverage: dict[str, Any] = {}
+    coverage: list[dict[str, Any]] = []
     for mode in modes:
         needs, source = mode_needs(facts.profile, mode, facts.od, facts.byte_granular)
         missing = rates.missing_objects(needs, mapping)
-        coverage[mode] = {"source": source, "missing": missing}
+        coverage.append({"mode": mode, "source": source, "missing": missing})
         if missing:
             reasons.append(f"{MODE_NAMES[mode]} needs {', '.join(missing)} in a valid PDO")
     evidence["coverage"] = coverage

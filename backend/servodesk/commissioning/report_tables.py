@@ -36,11 +36,14 @@ def when(stamp: float | None) -> str:
 
 
 def cell(key: str, value: Any, row: dict[str, Any] | None = None) -> str:
-    """One value as text: hex where the manuals print hex, dates for time stamps."""
+    """One value as text: hex where the manuals print hex, dates for time stamps (`at`,
+    `created`, any `…_at`), lists and nested objects as words, never as JSON."""
     if value is None:
         return "—"
     if isinstance(value, bool):
         return "yes" if value else "no"
+    if isinstance(value, int | float) and _is_time(key, value):
+        return when(float(value))
     if isinstance(value, int):
         if key == "index":
             return f"{value:04X}h"
@@ -52,14 +55,31 @@ def cell(key: str, value: Any, row: dict[str, Any] | None = None) -> str:
             return f"0x{value:08X}"
         return str(value)
     if isinstance(value, float):
-        return when(value) if key in TIME_KEYS else f"{value:.6g}"
+        return f"{value:.6g}"
     if isinstance(value, str):
         return value
+    if isinstance(value, list | tuple):
+        return ", ".join(cell(key, item) for item in value) or "—"
+    if isinstance(value, dict):
+        parts = [f"{_title(str(k))}: {_nested(str(k), v)}" for k, v in value.items()]
+        return "; ".join(parts) or "—"
     return json.dumps(value, ensure_ascii=False, default=str)
 
 
+def _nested(key: str, value: Any) -> str:
+    text = cell(key, value)
+    return f"({text})" if isinstance(value, dict) and value else text
+
+
+def _is_time(key: str, value: float) -> bool:
+    """A UNIX time stamp: by its key, and large enough not to be a duration."""
+    return (key in TIME_KEYS or key.endswith("_at")) and value > 1e9
+
+
 def _title(key: str) -> str:
-    return key.replace("_", " ").capitalize()
+    """ "stop_time_s" → "Stop time s"; "605Ah" stays as the manuals write it."""
+    words = key.replace("_", " ")
+    return words[:1].upper() + words[1:]
 
 
 def _is_rows(value: Any) -> bool:

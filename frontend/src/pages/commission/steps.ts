@@ -136,10 +136,10 @@ export function valueText(entry: { index?: unknown; value?: unknown; text?: unkn
   return plain(entry.value);
 }
 
-/** Any evidence value as one line of text; `key` names it (`…_at`: a UNIX time). */
+/** Any evidence value as one line of text; `key` names it (`at`, `…_at`: a UNIX time). */
 export function plain(value: unknown, key = ""): string {
   if (value === null || value === undefined) return "—";
-  if (key.endsWith("_at") && typeof value === "number" && value > 1e9) {
+  if ((key === "at" || key.endsWith("_at")) && typeof value === "number" && value > 1e9) {
     return new Date(value * 1000).toLocaleTimeString();
   }
   if (typeof value === "number") return formatNumber(value);
