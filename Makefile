@@ -54,6 +54,7 @@ sim: install
 lint: install
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
+	$(BIN)/lint-imports  # the layers and import rules in pyproject.toml [tool.importlinter]
 	npm run --silent lint
 	npm run --silent format:check
 
@@ -91,4 +92,5 @@ bench: install
 	$(BIN)/python bench/hostile_inputs.py
 
 clean:
-	rm -rf $(VENV) node_modules backend/servodesk/static .mypy_cache .pytest_cache .ruff_cache
+	rm -rf $(VENV) node_modules backend/servodesk/static .mypy_cache .pytest_cache .ruff_cache \
+		.import_linter_cache .grimp_cache

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from servodesk.pdo.model import Problem
+from servodesk.pdo_problems import Problem
 from servodesk.sdo_aborts import abort_meaning
 
 

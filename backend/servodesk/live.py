@@ -19,7 +19,7 @@ from typing import Any
 
 from servodesk.bus.connection import BusManager
 from servodesk.errors import ServodeskError
-from servodesk.events.bus import BusEvent, EventBus
+from servodesk.events.bus import BusEvent, EventBus, EventKind
 from servodesk.faults.models import Fault, TimelineEvent
 from servodesk.live_messages import (
     BusMessage,
@@ -31,7 +31,7 @@ from servodesk.live_messages import (
     TimelineMessage,
     dump,
 )
-from servodesk.models import BusStatus, LiveEvent
+from servodesk.models import BusStatus, LiveEvent, NodeEventKind
 from servodesk.motion.lease import Client
 from servodesk.motion.safety import MotionSafety
 from servodesk.motion.safety_models import JogInfo
@@ -44,6 +44,14 @@ BUS_PERIOD = 2.0  # s: bus status (counters) even when nothing changed
 DRIVE_PERIOD = 0.1  # s: a watched drive's state at ~10 Hz
 EVENT_BACKLOG = 100  # per client; older events are dropped for a client that does not read
 RECENT_EVENTS = 200  # kept by the server for pages that connect later (a reload loses none)
+# the kinds the channel sends as `event` (LiveEvent.kind): what the registry publishes
+NODE_EVENT_KINDS: dict[EventKind, NodeEventKind] = {
+    EventKind.BOOT_UP: "boot-up",
+    EventKind.NODE_LOST: "node-lost",
+    EventKind.NODE_BACK: "node-back",
+    EventKind.NMT: "nmt",
+    EventKind.BUS: "bus",
+}
 # timeline events per client, apart from the events above: an EMCY storm never pushes the
 # Network page's events (or the history) out; a page that misses some sees a gap in the ids
 TIMELINE_BACKLOG = 500
@@ -98,7 +106,7 @@ class LiveHub:
         self._pollers: dict[int, asyncio.Task[None]] = {}
         self._unsubscribe = [
             bus.add_listener(self._on_bus),
-            registry.add_event_listener(self._on_event),
+            registry.events.subscribe(self._on_event),
         ]
         safety.lease.add_listener(self._on_controller)
         safety.jogs.add_listener(self._on_jog_stopped)
@@ -179,7 +187,13 @@ class LiveHub:
         for client in self._clients:
             client.offer("bus", message)
 
-    def _on_event(self, event: LiveEvent) -> None:
+    def _on_event(self, item: BusEvent) -> None:
+        """The node and bus events, in the channel's `event` message (its wire form, LiveEvent);
+        the other kinds reach the page as timeline entries (`_on_timeline`)."""
+        kind = NODE_EVENT_KINDS.get(item.kind)
+        if kind is None:
+            return
+        event = LiveEvent(time=item.time, node=item.node, kind=kind, message=item.message)
         dumped = event.model_dump(mode="json")
         self._recent.append(dumped)
         message = dump(EventMessage(event=event))

@@ -361,10 +361,16 @@ class CompareResult(BaseModel):
     confirm: list[str] = Field(default_factory=list)
 
 
+NodeEventKind = Literal["boot-up", "node-lost", "node-back", "nmt", "bus"]
+
+
 class LiveEvent(BaseModel):
+    """The live channel's `event` message: a node or bus event (events.bus.BusEvent, which the
+    registry publishes) in its wire form."""
+
     time: float
     node: int | None = None
-    kind: Literal["boot-up", "node-lost", "node-back", "nmt", "bus"]
+    kind: NodeEventKind
     message: str
 
 

@@ -11,14 +11,13 @@ from servodesk.audit.log import Describe
 from servodesk.bus.connection import BusFactory, BusManager
 from servodesk.commissioning import CommissioningService
 from servodesk.events.bus import EventBus
-from servodesk.events.sources import PublishingSdoService, registry_events
-from servodesk.events.tool_writes import jog_stopped, pdo_applied
 from servodesk.faults.collector import FrameTap, quiet_short_emcy
 from servodesk.faults.service import FaultService
 from servodesk.live import LiveHub
 from servodesk.logs.recording import Recorder
 from servodesk.logs.service import LogService
 from servodesk.loop_watch import LoopWatch
+from servodesk.motion.publish import jog_stopped
 from servodesk.motion.safety import MotionSafety
 from servodesk.motion.service import MotionService
 from servodesk.network.sync import SyncService
@@ -27,12 +26,14 @@ from servodesk.od.parser import OdParser
 from servodesk.params.node_id import NodeIdService
 from servodesk.params.paramsets import ParamSetService
 from servodesk.params.service import ParamService
+from servodesk.pdo.publish import pdo_applied
 from servodesk.pdo.service import PdoService
 from servodesk.pdo.write_watch import SdoWriteWatch
 from servodesk.scope.service import ScopeService
 from servodesk.scope.store import CaptureStore
 from servodesk.scope.viewer_server import RerunServer
 from servodesk.sdo.jobs import JobManager
+from servodesk.sdo.publish import PublishingSdoService
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
 from servodesk.storage import Retention, Storage
@@ -115,11 +116,12 @@ def build_services(
     (the app passes the API's own, so tool-made entries read like a request's)."""
     bus = BusManager(settings, bus_factory=bus_factory)
     od_parser = OdParser()  # uploads and the profiles' dictionaries, in worker processes
-    registry = NodeRegistry(bus, settings, parser=od_parser)
+    events = EventBus()  # the one stream: storage, the timeline, the live channel subscribe
+    registry = NodeRegistry(bus, settings, parser=od_parser, events=events)
     jobs = JobManager(registry)
     registry.add_od_listener(jobs.dictionary_changed)
     sync = SyncService(bus)
-    events, storage, faults = _diagnostics(settings, bus, registry)
+    storage, faults = _diagnostics(settings, bus, registry)
     pdos = PdoService(
         registry,
         known_nodes=lambda: [info.node for info in registry.all()],
@@ -132,7 +134,7 @@ def build_services(
     # SDO write to a PDO parameter (SdoService on_write and the bus watch below; a DCF load
     # tells the service itself)
     registry.add_od_listener(pdos.forget)
-    registry.add_event_listener(pdos.on_event)
+    events.subscribe(pdos.on_event)
     bus.add_listener(pdos.on_bus)
     bus.add_frame_listener(pdos.sync_heard)  # SYNC from another producer counts as SYNC
     # a PDO parameter written by anyone (this tool or another master) drops the cached PDOs
@@ -149,7 +151,7 @@ def build_services(
     live.follow_diagnostics(events, storage.id_of, faults.add_listener, faults.all_active)
     viewer = RerunServer(settings.data_dir / "rerun")
     params = ParamService(registry, publish=events.publish)
-    registry.add_event_listener(params.on_node_event)
+    events.subscribe(params.on_node_event)
     usage = UsageMeter(
         settings.data_dir,
         logs_keep_mb=settings.logs_keep_mb,
@@ -215,18 +217,17 @@ def build_services(
 
 def _diagnostics(
     settings: Settings, bus: BusManager, registry: NodeRegistry
-) -> tuple[EventBus, Storage, FaultService]:
-    """The event bus, its timeline store and the fault service, wired (docs/architecture.md,
+) -> tuple[Storage, FaultService]:
+    """The event bus's timeline store and the fault service, wired (docs/architecture.md,
         "Faults and the timeline"). The live channel subscribes with `events.subscribe` after the
     store (LiveHub.follow_diagnostics), so it can tell each event's timeline id."""
-    events = EventBus()
+    events = registry.events
     retention = Retention(
         settings.events_max_rows, settings.events_max_days, settings.faults_max_rows
     )
     storage = Storage(settings.data_dir, retention, bus_of=bus.label)
     faults = FaultService(registry, events, storage, settings)
     events.subscribe(storage.add_event)
-    registry.add_event_listener(registry_events(events))
     bus.add_frame_listener(FrameTap(events, faults.on_emcy))
     quiet_short_emcy()  # canopen's own EMCY consumer chokes on 2-byte (MDi) EMCYs
-    return events, storage, faults
+    return storage, faults

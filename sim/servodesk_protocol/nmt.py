@@ -18,6 +18,10 @@ BROADCAST = 0  # node id 0: every node
 GUARD_TOGGLE = 0x80  # bit 7 of a node-guarding answer (MDi-S1-C CANopen manual table 2.11)
 STATE_MASK = 0x7F
 
+# error-control objects (CiA 301 §7.5.2.29–§7.5.2.30)
+CONSUMER_HEARTBEAT_TIME = 0x1016  # subs 1–n: bits 16–23 the producer's node id, 0–15 time in ms
+PRODUCER_HEARTBEAT_TIME = 0x1017  # ms between heartbeats; 0 = no heartbeat
+
 
 class NmtState(IntEnum):
     """NMT states as the state byte of an error-control frame encodes them."""

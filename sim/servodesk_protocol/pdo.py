@@ -33,6 +33,9 @@ COB_EXTENDED = cob_id.EXTENDED_BIT  # 29-bit identifier
 COB_ID_BITS = 0x1FFFFFFF & ~COB_NO_RTR  # the identifier part of a COB-ID value
 CAN_ID_MASK = cob_id.CAN_ID_MASK
 
+MAX_TRANSMISSION_TYPE = 0xFF  # sub 2 is UNSIGNED8
+MAX_SYNC_START = 240  # sub 6: SYNC start value 0 (unused) or 1–240 (CiA 301 §7.5.2.35)
+
 SYNC_ACYCLIC = 0  # synchronous, sent at the SYNC after an event
 SYNC_CYCLIC_MAX = 240  # 1–240: every n-th SYNC
 SYNC_RTR = 252  # sample at SYNC, send on RTR
@@ -133,16 +136,33 @@ def unpack(data: bytes, entries: Sequence[MapEntry]) -> list[tuple[MapEntry, byt
     return out
 
 
+# CiA 301 §7.3.5: the CAN ids no PDO may use, and what each range is kept for
+RESTRICTED_CAN_IDS: tuple[tuple[int, int, str], ...] = (
+    (0x000, 0x000, "NMT"),
+    (0x001, 0x07F, "reserved"),
+    (0x101, 0x180, "TIME and reserved"),
+    (0x581, 0x5FF, "SDO responses"),
+    (0x601, 0x67F, "SDO requests"),
+    (0x6E0, 0x6FF, "reserved"),
+    (0x701, 0x77F, "heartbeat / boot-up"),
+    (0x780, 0x7FF, "reserved, LSS"),
+)
+
+
 def restricted_can_id(can_id: int) -> bool:
-    """CiA 301 §7.3.5 restricted CAN ids (NMT, SYNC/EMCY/TIME, SDO, LSS, error control)."""
-    return (
-        can_id <= 0x07F
-        or 0x101 <= can_id <= 0x180
-        or 0x581 <= can_id <= 0x5FF
-        or 0x601 <= can_id <= 0x67F
-        or 0x6E0 <= can_id <= 0x6FF
-        or can_id >= 0x701
+    """CiA 301 §7.3.5 restricted CAN ids (NMT, SYNC/EMCY/TIME, SDO, LSS, error control); an id
+    outside 000h–7FFh counts as restricted too."""
+    return not 0 <= can_id <= CAN_ID_MASK or any(
+        low <= can_id <= high for low, high, _ in RESTRICTED_CAN_IDS
     )
+
+
+def restricted_use(can_id: int) -> str:
+    """Which service CiA 301 §7.3.5 keeps `can_id` for ("reserved" outside the table)."""
+    for low, high, service in RESTRICTED_CAN_IDS:
+        if low <= can_id <= high:
+            return service
+    return "reserved"
 
 
 def default_can_id(direction: Direction, number: int) -> int | None:

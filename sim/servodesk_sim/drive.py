@@ -15,7 +15,12 @@ import servodesk_data
 from servodesk_data import DriveData, FaultEntry
 from servodesk_protocol import cob_id
 from servodesk_protocol.emcy import EmcyFormat
-from servodesk_protocol.nmt import NmtCommand, NmtState
+from servodesk_protocol.nmt import (
+    CONSUMER_HEARTBEAT_TIME,
+    PRODUCER_HEARTBEAT_TIME,
+    NmtCommand,
+    NmtState,
+)
 from servodesk_protocol.sdo_abort import INVALID_VALUE
 from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.emcy import Fault, FaultManager
@@ -147,10 +152,14 @@ class SimDrive:
         store.add_write_hook(0x5FF0, lambda _sub, value: self._inject(value))  # SIM inject fault
         if store.has(SIM_FORGET_AT_STORE):  # refused before it is kept: only storable entries
             store.add_validator(SIM_FORGET_AT_STORE, self._forget_at_store)
-        if store.has(0x1016):  # Consumer heartbeat time
-            store.add_validator(0x1016, self._validate_consumers)
-            store.add_write_hook(0x1016, lambda _sub, _value: self._configure_consumers())
-        store.add_write_hook(0x1017, lambda _sub, _value: self.heartbeat.restart(self._now))
+        if store.has(CONSUMER_HEARTBEAT_TIME):
+            store.add_validator(CONSUMER_HEARTBEAT_TIME, self._validate_consumers)
+            store.add_write_hook(
+                CONSUMER_HEARTBEAT_TIME, lambda _sub, _value: self._configure_consumers()
+            )
+        store.add_write_hook(
+            PRODUCER_HEARTBEAT_TIME, lambda _sub, _value: self.heartbeat.restart(self._now)
+        )
         for index, sub in self.data.quirks.enumerated_objects:
             allowed = self._choices_of(index, sub)
             store.add_validator(index, self._enumerated_validator(sub, allowed))
@@ -190,8 +199,8 @@ class SimDrive:
             self.store.forget_at_next_store(value >> 8, value & 0xFF)
 
     def _consumer_entries(self) -> list[int]:
-        count = self.store.get(0x1016, 0)
-        return [self.store.get(0x1016, sub) for sub in range(1, count + 1)]
+        count = self.store.get(CONSUMER_HEARTBEAT_TIME, 0)
+        return [self.store.get(CONSUMER_HEARTBEAT_TIME, sub) for sub in range(1, count + 1)]
 
     def _validate_consumers(self, sub: int, value: Value) -> None:
         entries = self._consumer_entries()
@@ -335,7 +344,9 @@ class SimDrive:
         out: list[Frame] = []
         self._step_axis(now)
         state = self.nmt.state
-        beat = self.heartbeat.poll(now, self.store.get(0x1017), state, self._node_id)
+        beat = self.heartbeat.poll(
+            now, self.store.get(PRODUCER_HEARTBEAT_TIME), state, self._node_id
+        )
         if beat is not None:
             out.append(beat)
         for _node in self.consumer.poll(now):
@@ -356,7 +367,9 @@ class SimDrive:
     def _life_guarding_lost(self, now: float) -> bool:
         guard_ms = self.store.get(0x100C) if self.store.has(0x100C) else 0  # Guard time
         factor = self.store.get(0x100D) if self.store.has(0x100D) else 0  # Life time factor
-        return self.guarding.poll(now, guard_ms, factor, self.store.get(0x1017) != 0)
+        return self.guarding.poll(
+            now, guard_ms, factor, self.store.get(PRODUCER_HEARTBEAT_TIME) != 0
+        )
 
     def _step_axis(self, now: float) -> None:
         if self._last_step is None:

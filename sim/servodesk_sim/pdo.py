@@ -20,6 +20,7 @@ from servodesk_protocol.pdo import (
     COB_NO_RTR,
     EVENT_DRIVEN,
     EVENT_RTR,
+    MAX_SYNC_START,
     RPDO_COMM,
     RPDO_MAP,
     SUB_COB_ID,
@@ -160,7 +161,7 @@ class PdoEngine:
             self._check_cob_id(channel, number)
         elif sub == SUB_TRANSMISSION:
             check_transmission_type(number, channel.direction, rtr=self._rules.rtr_transmission)
-        elif sub == SUB_SYNC_START and number > SYNC_CYCLIC_MAX:
+        elif sub == SUB_SYNC_START and number > MAX_SYNC_START:
             raise SdoAbort(INVALID_VALUE, "SYNC start value above 240")  # CiA 301 §7.5.2.36
 
     def _check_map(self, channel: _Channel, sub: int, value: Value) -> None:

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from enum import Enum, IntEnum
 from typing import Protocol
 
+from servodesk_protocol.sdo import ABORT_COMMAND
 from servodesk_protocol.sdo_abort import (
     COMMAND_NOT_VALID,
     CRC_ERROR,
@@ -35,7 +36,6 @@ SIZE_INDICATED = 0x01
 CRC_SUPPORTED = 0x04
 LAST_SEGMENT = 0x01  # c bit of segmented transfer
 LAST_BLOCK_SEGMENT = 0x80  # c bit of block transfer
-ABORT = 0x80
 
 
 class Ccs(IntEnum):
@@ -100,7 +100,7 @@ def crc16(data: bytes) -> int:
 
 def abort_frame(index: int, subindex: int, code: int) -> bytes:
     """`80 idx_lo idx_hi sub` + abort code, little-endian (CiA 301 §7.2.4.3.17)."""
-    return bytes([ABORT]) + _address(index, subindex) + code.to_bytes(4, "little")
+    return bytes([ABORT_COMMAND]) + _address(index, subindex) + code.to_bytes(4, "little")
 
 
 def _address(index: int, subindex: int) -> bytes:
@@ -162,7 +162,7 @@ class SdoServer:
         transfer = self._transfer
         if transfer is not None and transfer.phase is _Phase.BLOCK_DOWNLOAD:
             # Inside a block every frame is a segment (byte 0 = c | seqno), except an abort.
-            if data[0] == ABORT:
+            if data[0] == ABORT_COMMAND:
                 self._transfer = None
                 return []
             return self._block_segment(transfer, data, now)

@@ -18,7 +18,8 @@ from dataclasses import dataclass, field
 import can
 
 from servodesk.bus.connection import BusFactory, BusManager
-from servodesk.models import BusConfig, BusState, LiveEvent
+from servodesk.events.bus import BusEvent
+from servodesk.models import BusConfig, BusState
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.settings import Settings
 from servodesk_sim.runner import SimBus, SimNode, run_drives
@@ -50,7 +51,7 @@ class Rig:
     sims: list[SimBus]
     bus: BusManager
     registry: NodeRegistry
-    events: list[LiveEvent] = field(default_factory=list)
+    events: list[BusEvent] = field(default_factory=list)
 
     @property
     def sim(self) -> SimBus:
@@ -63,7 +64,7 @@ class Rig:
         self.sims.append(sim)
         return sim
 
-    def events_of(self, kind: str, node: int | None = None) -> list[LiveEvent]:
+    def events_of(self, kind: str, node: int | None = None) -> list[BusEvent]:
         return [e for e in self.events if e.kind == kind and (node is None or e.node == node)]
 
 
@@ -82,7 +83,7 @@ async def sim_rig(
     manager = BusManager(settings, bus_factory=bus_factory)
     registry = NodeRegistry(manager, settings)
     rig = Rig(channel, drive_bus, sims, manager, registry)
-    registry.add_event_listener(rig.events.append)
+    registry.events.subscribe(rig.events.append)
     try:
         if connect:
             status = await manager.connect(BusConfig(interface="virtual", channel=channel))

@@ -7,7 +7,8 @@ from __future__ import annotations
 import pytest
 
 from servodesk.commissioning import pdo_rates as rates
-from servodesk.pdo.model import MappedObject, PdoConfig, PdoKind
+from servodesk.pdo.model import MappedObject, PdoConfig
+from servodesk.pdo_problems import PdoKind
 
 
 def tpdo(kind: int, *, timer: int = 0, inhibit: int = 0, valid: bool = True) -> PdoConfig:

@@ -8,7 +8,8 @@ from dataclasses import replace
 import pytest
 
 from servodesk.errors import ConfirmationRequiredError, InvalidValueError
-from servodesk.models import LiveEvent, NmtCommandName
+from servodesk.events.bus import EventKind, event
+from servodesk.models import NmtCommandName
 from servodesk.params.service import ParamService, resolve_value
 from servodesk.sdo.service import SdoService
 from servodesk_data import load
@@ -117,7 +118,7 @@ async def test_a_written_after_reset_parameter_is_pending_until_the_node_boots(
     assert (await service.get(1, "PA-106")).pending is True
     assert [p.name for p in await service.list(1) if p.pending] == ["PA-106"]
     assert (await service.get(2, "Node offset")).pending is False  # another node
-    service.on_node_event(LiveEvent(time=0.0, node=1, kind="boot-up", message="node 1 booted"))
+    service.on_node_event(event(EventKind.BOOT_UP, 1, "node 1 booted"))
     assert (await service.get(1, "PA-106")).pending is False
 
 

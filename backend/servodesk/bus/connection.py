@@ -23,14 +23,14 @@ from servodesk.bus.config_check import check_bus_config
 from servodesk.bus.counters import BusCounters
 from servodesk.bus.interfaces import REFUSED
 from servodesk.bus.link import Link, close_link, open_link
-from servodesk.bus.simulated import SIM_INTERFACE, SimulatedDrives, prepare_simulated_drives
 from servodesk.errors import BusNotConnectedError, BusOpenError, InvalidValueError
 from servodesk.models import BusConfig, BusState, BusStatus
 from servodesk.settings import Settings
 
 if TYPE_CHECKING:
-    # type only: the simulator is started in bus/simulated.py and nowhere else
-    from servodesk_sim.runner import SimBus
+    # types only: the simulator is started in bus/simulated.py and nowhere else, and that module
+    # is imported only when simulated drives are asked for (`_open_and_report`)
+    from servodesk.bus.simulated import SimBus, SimulatedDrives
 
 log = logging.getLogger(__name__)
 
@@ -259,7 +259,9 @@ class BusManager:
     def _effective_config(self) -> BusConfig | None:
         """What the tool's side of the bus is: the simulated channel in simulated mode."""
         if self._config is not None and self._config.simulated and self._sim is not None:
-            return BusConfig(interface=SIM_INTERFACE, channel=self._sim.channel, simulated=True)
+            return BusConfig(
+                interface=self._sim.interface, channel=self._sim.channel, simulated=True
+            )
         return self._config
 
     async def _open_and_report(
@@ -268,6 +270,11 @@ class BusManager:
         self._set_state(BusState.CONNECTING)
         try:
             if start_sim:
+                # Imported here, not with this module: bus/simulated.py brings the whole
+                # simulator (servodesk_sim and every drive model), which a bus on a real
+                # adapter never needs. Only a simulated configuration loads it.
+                from servodesk.bus.simulated import prepare_simulated_drives
+
                 self._sim = await asyncio.to_thread(prepare_simulated_drives)
             self._link = await self._open_link(raw)
             if start_sim and self._sim is not None:

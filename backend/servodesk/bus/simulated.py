@@ -1,7 +1,9 @@
 """The built-in simulated drives: three drives on a private python-can virtual channel.
 
-This is the only place in the backend that imports the simulator. The tool connects to the
-channel with its own bus instance, exactly as it would to a real adapter.
+This is the only place in the backend that imports the simulator (the import contract in
+pyproject.toml checks it), and BusManager imports this module only when it starts simulated
+drives, so a bus on a real adapter never loads the simulator. The tool connects to the channel
+with its own bus instance, exactly as it would to a real adapter.
 """
 
 from __future__ import annotations
@@ -13,6 +15,9 @@ import can
 
 from servodesk_sim.runner import SimBus, build_drives
 
+__all__ = ["SIM_DRIVES", "SIM_INTERFACE", "SimBus", "SimulatedDrives", "prepare_simulated_drives"]
+# SimBus is exported for BusManager.sim's type: the simulator is named here and nowhere else
+
 SIM_INTERFACE = "virtual"
 # node id, profile: one drive of each family the tool ships profiles for
 SIM_DRIVES: tuple[tuple[int, str], ...] = ((1, "mdi-s1c"), (2, "kinco"), (3, "cia402"))
@@ -23,6 +28,7 @@ class SimulatedDrives:
     channel: str
     sim: SimBus
     bus: can.BusABC  # the drives' own bus instance
+    interface: str = SIM_INTERFACE  # what the tool opens to join `channel`
 
     def start(self) -> None:
         """Power the drives on (blocking: they send their boot-up frames before this returns)."""

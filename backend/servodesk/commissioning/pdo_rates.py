@@ -10,7 +10,8 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from servodesk.pdo.model import MappedObject, PdoConfig, PdoKind
+from servodesk.pdo.model import MappedObject, PdoConfig
+from servodesk.pdo_problems import PdoKind
 
 RATE_TOLERANCE = 0.2  # a cyclic TPDO within ±20 % of its period counts as on time
 # the window a live check listens: three of the slowest period, within these bounds

@@ -18,10 +18,8 @@ import can
 from servodesk.events.bus import EventBus, EventKind, event
 from servodesk.sdo.service import where
 from servodesk.sdo_aborts import abort_meaning
-
-EMCY_BASE = 0x080
-SDO_TX_BASE = 0x580
-SDO_ABORT = 0x80
+from servodesk_protocol.cob_id import EMCY, MAX_NODE_ID, SDO_TX
+from servodesk_protocol.sdo import ABORT_COMMAND
 
 EmcyHandler = Callable[[int, bytes, float], None]  # (node, data, UNIX time) on the loop
 
@@ -65,10 +63,10 @@ class FrameTap(can.Listener):
         if msg.is_error_frame or msg.is_remote_frame or msg.is_extended_id:
             return
         can_id = msg.arbitration_id
-        if EMCY_BASE < can_id <= EMCY_BASE + 0x7F:
-            self._bus.hand_over(self._on_emcy, can_id - EMCY_BASE, bytes(msg.data), time.time())
-        elif SDO_TX_BASE < can_id <= SDO_TX_BASE + 0x7F and msg.data and msg.data[0] == SDO_ABORT:
-            self._bus.hand_over(sdo_abort, self._bus, can_id - SDO_TX_BASE, bytes(msg.data))
+        if EMCY < can_id <= EMCY + MAX_NODE_ID:
+            self._bus.hand_over(self._on_emcy, can_id - EMCY, bytes(msg.data), time.time())
+        elif SDO_TX < can_id <= SDO_TX + MAX_NODE_ID and msg.data and msg.data[0] == ABORT_COMMAND:
+            self._bus.hand_over(sdo_abort, self._bus, can_id - SDO_TX, bytes(msg.data))
 
     def stop(self) -> None:
         """Nothing to release: the tap outlives each connection's notifier."""

@@ -33,12 +33,11 @@ from servodesk.errors import ServodeskError
 from servodesk.motion.safety_models import HeartbeatProtection
 from servodesk.nodes.access import NodeAccess
 from servodesk.settings import Settings
+from servodesk_protocol.cob_id import HEARTBEAT
+from servodesk_protocol.nmt import CONSUMER_HEARTBEAT_TIME, NmtState, make_heartbeat
 
 log = logging.getLogger(__name__)
 
-CONSUMER = 0x1016  # Consumer heartbeat time: bits 16–23 node id, 0–15 time in ms
-HEARTBEAT_COB = 0x700
-OPERATIONAL = 0x05
 TICK = 0.05  # s: how often the loop says it is alive
 
 
@@ -64,7 +63,7 @@ class HeartbeatGuard:
         self._guarded: dict[int, _Guarded] = {}
         self._why_not: dict[int, str] = {}
         self._producer = GatedHeartbeat(
-            HEARTBEAT_COB + self._tool,
+            HEARTBEAT + self._tool,
             settings.tool_heartbeat_ms / 1000,
             settings.tool_heartbeat_liveness_ms / 1000,
             network,
@@ -111,7 +110,7 @@ class HeartbeatGuard:
                 # on the priority lane: a released drive must not wait behind a page's polls or
                 # an upload-all to stop watching a heartbeat that is about to end
                 await self._access.session(node).priority(
-                    lambda remote: remote.sdo.download(CONSUMER, sub, data),
+                    lambda remote: remote.sdo.download(CONSUMER_HEARTBEAT_TIME, sub, data),
                     what=f"release node {node}: restore 1016h:{sub:02X}h",
                 )
             except ServodeskError as error:
@@ -136,16 +135,16 @@ class HeartbeatGuard:
                 "change tool_node_id"
             )
         od = self._access.od(node)
-        if od.get(CONSUMER, 0) is None or od.get(CONSUMER, 1) is None:
+        if od.get(CONSUMER_HEARTBEAT_TIME, 0) is None or od.get(CONSUMER_HEARTBEAT_TIME, 1) is None:
             return "the drive has no heartbeat consumer (1016h): stop it from ServoDesk only"
         return None
 
     async def _configure(self, node: int) -> str | None:
         session = self._access.session(node)
-        count = int.from_bytes(await session.upload(CONSUMER, 0), "little")
+        count = int.from_bytes(await session.upload(CONSUMER_HEARTBEAT_TIME, 0), "little")
         chosen: tuple[int, int] | None = None
         for sub in range(1, count + 1):
-            value = int.from_bytes(await session.upload(CONSUMER, sub), "little")
+            value = int.from_bytes(await session.upload(CONSUMER_HEARTBEAT_TIME, sub), "little")
             watched, ms = (value >> 16) & 0xFF, value & 0xFFFF
             if watched == self._tool:
                 chosen = (sub, value)  # ours already (left by a previous run): reuse it
@@ -158,7 +157,7 @@ class HeartbeatGuard:
         if (previous >> 16) & 0xFF == self._tool:
             previous = 0  # a left-over of ours: released means unused
         value = (self._tool << 16) | self._consumer_ms
-        await session.download(CONSUMER, sub, value.to_bytes(4, "little"))
+        await session.download(CONSUMER_HEARTBEAT_TIME, sub, value.to_bytes(4, "little"))
         self._guarded[node] = _Guarded(subindex=sub, previous=previous)
         self._why_not.pop(node, None)
         return None
@@ -189,7 +188,9 @@ class GatedHeartbeat:
         network: Callable[[], canopen.Network],
     ) -> None:
         self._message = can.Message(
-            arbitration_id=cob_id, data=bytes([OPERATIONAL]), is_extended_id=False
+            arbitration_id=cob_id,
+            data=make_heartbeat(NmtState.OPERATIONAL),
+            is_extended_id=False,
         )
         self._period = period
         self._liveness = liveness

@@ -22,7 +22,8 @@ import can
 from servodesk.access.actor import current_actor
 from servodesk.bus.connection import BusManager
 from servodesk.errors import InvalidValueError, ServodeskError
-from servodesk.models import BusState, BusStatus, LiveEvent
+from servodesk.events.bus import BusEvent, EventKind
+from servodesk.models import BusState, BusStatus
 from servodesk.motion.clients import ClientIds
 from servodesk.motion.heartbeat import HeartbeatGuard
 from servodesk.motion.jog import JogWatchdog, ToolRecord
@@ -32,12 +33,14 @@ from servodesk.motion.schemas import DriveCommand, DriveState
 from servodesk.motion.service import MotionService
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.settings import Settings
+from servodesk_protocol.cob_id import EMCY, MAX_NODE_ID
+from servodesk_protocol.emcy import ERROR_RESET
 
 log = logging.getLogger(__name__)
 
 POWER_DOWN = frozenset({"shutdown", "disable_operation", "disable_voltage"})
-EMCY_BASE = 0x80
-ERROR_RESET = b"\x00\x00"  # EMCY "error reset / no error": not a reason to stop
+# the first two bytes of an EMCY "error reset / no error" (code 0000h): not a reason to stop
+_RESET_BYTES = ERROR_RESET.to_bytes(2, "little")
 
 
 class _EmcyWatch(can.Listener):
@@ -47,14 +50,19 @@ class _EmcyWatch(can.Listener):
         self._safety = safety
 
     def on_message_received(self, msg: can.Message) -> None:
-        node = msg.arbitration_id - EMCY_BASE
-        if msg.is_error_frame or msg.is_remote_frame or msg.is_extended_id or not 1 <= node <= 0x7F:
+        node = msg.arbitration_id - EMCY
+        if (
+            msg.is_error_frame
+            or msg.is_remote_frame
+            or msg.is_extended_id
+            or not 1 <= node <= MAX_NODE_ID
+        ):
             return
         loop = self._safety.loop
         if loop is None or node not in self._safety.jogs.running_nodes:
             return
         data = bytes(msg.data)
-        if data[:2] == ERROR_RESET:
+        if data[:2] == _RESET_BYTES:
             return
         loop.call_soon_threadsafe(self._safety.on_emcy, node, data)
 
@@ -93,7 +101,7 @@ class MotionSafety:
         self.loop: asyncio.AbstractEventLoop | None = None
         self._unsubscribe = [
             bus.add_listener(self._on_bus),
-            registry.add_event_listener(self._on_event),
+            registry.events.subscribe(self._on_event),
             bus.add_frame_listener(_EmcyWatch(self)),
         ]
 
@@ -365,12 +373,12 @@ class MotionSafety:
         except ServodeskError as error:
             log.warning("node %d: stop after reconnect failed: %s", node, error)
 
-    def _on_event(self, event: LiveEvent) -> None:
+    def _on_event(self, event: BusEvent) -> None:
         if event.node is None:
             return
-        if event.kind == "node-lost":
+        if event.kind is EventKind.NODE_LOST:
             self.jogs.stop_node(event.node, "heartbeat lost", by_tool=True)
-        elif event.kind == "boot-up":
+        elif event.kind is EventKind.BOOT_UP:
             self.jogs.stop_node(event.node, "the drive restarted", by_tool=True)
             if self.lease.holder(event.node) is not None:
                 # a reset reloads 1016h: set it again for the holder

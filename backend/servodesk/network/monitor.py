@@ -17,11 +17,11 @@ import logging
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Literal
 
 import can
 
-from servodesk.models import LiveEvent, NmtStateName
+from servodesk.events.bus import BusEvent, EventKind
+from servodesk.models import NmtStateName
 from servodesk.network.health import Evidence, Health, assess, reported_state
 from servodesk.network.nmt import BOOT_UP
 from servodesk.settings import Settings
@@ -34,7 +34,6 @@ TICK = 0.2  # s between health evaluations (the WebSocket sends node states at 5
 SIGNS_OF_LIFE = frozenset({cob_id.EMCY, *cob_id.TPDOS, cob_id.SDO_TX})
 
 Clock = Callable[[], float]
-EventKind = Literal["boot-up", "node-lost", "node-back", "nmt", "bus"]  # LiveEvent.kind
 
 
 class FrameWatch(can.Listener):
@@ -95,7 +94,7 @@ class NodeMonitor:
     def __init__(
         self,
         settings: Settings,
-        emit: Callable[[LiveEvent], None],
+        emit: Callable[[BusEvent], None],
         *,
         on_boot: Callable[[int], None] | None = None,
         clock: Clock = time.monotonic,
@@ -162,7 +161,7 @@ class NodeMonitor:
             command=previous.command if previous is not None else None,
         )
         if previous is not None and not previous.online:
-            self._event("node-back", node, f"node {node} answers again")
+            self._event(EventKind.NODE_BACK, node, f"node {node} answers again")
 
     def untrack(self, node: int) -> None:
         self._nodes.pop(node, None)
@@ -262,12 +261,16 @@ class NodeMonitor:
                 continue
             tracked.online = health.online
             if health.online:
-                self._event("node-back", node, f"node {node} is back")
+                self._event(EventKind.NODE_BACK, node, f"node {node} is back")
             elif health.lost_after_s is not None:
                 limit_ms = round(health.lost_after_s * 1000)
-                self._event("node-lost", node, f"node {node} lost: no heartbeat for {limit_ms} ms")
+                self._event(
+                    EventKind.NODE_LOST, node, f"node {node} lost: no heartbeat for {limit_ms} ms"
+                )
             else:
-                self._event("node-lost", node, f"node {node} lost: it stopped answering SDO")
+                self._event(
+                    EventKind.NODE_LOST, node, f"node {node} lost: it stopped answering SDO"
+                )
 
     # ------------------------------------------------------------------ boot-ups
 
@@ -306,9 +309,9 @@ class NodeMonitor:
                 waiter.future.set_result(None)
         known = node in self._nodes
         note = "" if known else " (not scanned yet)"
-        self._event("boot-up", node, f"node {node} booted{note}")
+        self._event(EventKind.BOOT_UP, node, f"node {node} booted{note}")
         if self._on_boot_hook is not None:
             self._on_boot_hook(node)  # known or not: the registry decides
 
     def _event(self, kind: EventKind, node: int | None, message: str) -> None:
-        self._emit(LiveEvent(time=self._wall(), node=node, kind=kind, message=message))
+        self._emit(BusEvent(self._wall(), kind, node, message))

@@ -34,16 +34,16 @@ from servodesk.errors import (
     ServodeskError,
     StateConflictError,
 )
+from servodesk.events.bus import EventBus, EventKind, event
 from servodesk.heap import keep_long_lived
 from servodesk.models import (
     BusState,
     BusStatus,
-    LiveEvent,
     NmtCommandName,
     NodeInfo,
     ScanResult,
 )
-from servodesk.network.monitor import EventKind, NodeMonitor
+from servodesk.network.monitor import NodeMonitor
 from servodesk.network.nmt import STATE_AFTER, send_broadcast, send_to_node
 from servodesk.network.scan import NODE_IDS, SweepListener, send_sweep
 from servodesk.nodes.entry import NodeEntry, OdSource, live_row
@@ -70,7 +70,6 @@ from servodesk_data import DriveData
 
 log = logging.getLogger(__name__)
 
-EventListener = Callable[[LiveEvent], None]
 OdListener = Callable[[int], None]  # (node) whose dictionary was replaced
 P = ParamSpec("P")
 MAX_HEARTBEAT_MS = 0xFFFF  # 1017h is UNSIGNED16
@@ -88,10 +87,17 @@ def _check_id(node: int) -> None:
 
 class NodeRegistry:
     def __init__(
-        self, bus: BusManager, settings: Settings, *, parser: OdParser | None = None
+        self,
+        bus: BusManager,
+        settings: Settings,
+        *,
+        parser: OdParser | None = None,
+        events: EventBus | None = None,
     ) -> None:
         """`parser` parses the profiles' dictionaries (the app's own; one of the registry's
-        when none is given)."""
+        when none is given). `events` is the app's event bus: boot-ups, nodes lost and back,
+        the NMT commands the tool sends and bus changes are published there, typed (a bus of
+        the registry's own when none is given)."""
         self._bus = bus
         self._settings = settings
         self._nodes: dict[int, NodeEntry] = {}
@@ -99,10 +105,10 @@ class NodeRegistry:
         self._own_parser = parser is None
         self._parser = parser or OdParser()
         self._dictionaries = ProfileModels(self._parser)
-        self._event_listeners: list[EventListener] = []
+        self.events = events or EventBus()
         self._od_listeners: list[OdListener] = []
         self._rediscovery = Rediscovery(self, settings)
-        self._monitor = NodeMonitor(settings, self._emit, on_boot=self._rediscovery.booted)
+        self._monitor = NodeMonitor(settings, self.events.publish, on_boot=self._rediscovery.booted)
         self._scan_lock = asyncio.Lock()
         self._node_locks: dict[int, asyncio.Lock] = {}
         self._bus_state: BusState | None = None
@@ -169,7 +175,7 @@ class NodeRegistry:
         entry.unbind()
         self._monitor.untrack(node)
         moved_note = f" (it answers as node {info.moved_to} now)" if info.moved_to else ""
-        self._event("node-lost", node, f"node {node} forgotten{moved_note}")
+        self._event(EventKind.NODE_LOST, node, f"node {node} forgotten{moved_note}")
 
     def live(self) -> list[dict[str, Any]]:
         """Node states for the WebSocket's 5 Hz "nodes" message."""
@@ -178,16 +184,6 @@ class NodeRegistry:
     def heard(self) -> list[int]:
         """Node ids whose boot-up or heartbeat was heard on this connection, scanned or not."""
         return sorted(self._monitor.heard())
-
-    def add_event_listener(self, fn: EventListener) -> Callable[[], None]:
-        """Call `fn(event)` on the event loop for every LiveEvent; returns its remover."""
-        self._event_listeners.append(fn)
-
-        def remove() -> None:
-            if fn in self._event_listeners:
-                self._event_listeners.remove(fn)
-
-        return remove
 
     def add_od_listener(self, fn: OdListener) -> Callable[[], None]:
         """Call `fn(node)` when a node's dictionary is replaced; returns its remover."""
@@ -333,7 +329,12 @@ class NodeRegistry:
         sent_at = self._monitor.now()  # before sending: a boot-up answering a reset is newer
         await self._send(send_to_node, remote, command)
         self._monitor.commanded(node, STATE_AFTER[command], at=sent_at)
-        self._event("nmt", node, f"NMT {command.value} sent to node {node}")
+        self._event(
+            EventKind.NMT,
+            node,
+            f"NMT {command.value} sent to node {node}",
+            {"tool": True, "command": command.value, "broadcast": False},
+        )
         return self.info(node)
 
     async def nmt_broadcast(self, command: NmtCommandName) -> None:
@@ -342,7 +343,12 @@ class NodeRegistry:
         await self._send(send_broadcast, network, command)
         for node in self._nodes:
             self._monitor.commanded(node, STATE_AFTER[command], at=sent_at)
-        self._event("nmt", None, f"NMT {command.value} sent to all nodes")
+        self._event(
+            EventKind.NMT,
+            None,
+            f"NMT {command.value} sent to all nodes",
+            {"tool": True, "command": command.value, "broadcast": True},
+        )
 
     async def heartbeat(self, node: int) -> int:
         """Read 1017h Producer heartbeat time (ms)."""
@@ -476,11 +482,11 @@ class NodeRegistry:
             return
         if status.state is BusState.CONNECTED:
             where = " ".join(str(part) for part in (status.interface, status.channel) if part)
-            self._event("bus", None, f"bus connected ({where})")
+            self._event(EventKind.BUS, None, f"bus connected ({where})")
         elif status.state is BusState.ERROR:
-            self._event("bus", None, f"bus error: {status.error}")
+            self._event(EventKind.BUS, None, f"bus error: {status.error}")
         elif previous is not None:
-            self._event("bus", None, "bus disconnected")
+            self._event(EventKind.BUS, None, "bus disconnected")
 
     async def settled(self) -> None:
         """Wait for the scan that follows a connect (if one is running)."""
@@ -539,13 +545,8 @@ class NodeRegistry:
         except can.CanError as error:
             raise BusNotConnectedError(f"the CAN adapter refused to send: {error}") from error
 
-    def _event(self, kind: EventKind, node: int | None, message: str) -> None:
-        self._emit(LiveEvent(time=time.time(), node=node, kind=kind, message=message))
-
-    def _emit(self, event: LiveEvent) -> None:
-        for fn in list(self._event_listeners):
-            try:
-                fn(event)
-            except Exception:
-                # One broken listener must not keep the event from the others.
-                log.exception("event listener failed")
+    def _event(
+        self, kind: EventKind, node: int | None, message: str, data: dict[str, Any] | None = None
+    ) -> None:
+        """Published on the loop: every subscriber sees it at once (events/bus.py)."""
+        self.events.publish(event(kind, node, message, data))

@@ -2,13 +2,10 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
-from typing import TYPE_CHECKING, Literal
-
-if TYPE_CHECKING:
-    from servodesk.od.model import ObjectDictionaryModel
+from typing import Literal, Protocol
 
 # info: read the way its author evidently meant, nothing lost (e.g. "$NodeID", upper-case RO)
 # warning: a value was repaired, guessed or left empty, or the file contradicts itself
@@ -113,7 +110,15 @@ def format_warning(w: LintWarning) -> str:
     return f"{head}{key}: {w.message} ({w.severity} {w.code})"
 
 
-def lint_report(model: ObjectDictionaryModel) -> str:
+class Linted(Protocol):
+    """What carries warnings: an ObjectDictionaryModel (od/model.py imports this module, so
+    this one names only what it reads; no import cycle, not even for types)."""
+
+    @property
+    def warnings(self) -> Sequence[LintWarning]: ...
+
+
+def lint_report(model: Linted) -> str:
     """One warning per line, in file order, for a CLI or a log."""
     return "\n".join(format_warning(w) for w in sort_warnings(model.warnings))
 

@@ -18,8 +18,9 @@ from servodesk.errors import (
     SdoAbortError,
     ServodeskError,
 )
+from servodesk.events.bus import BusEvent, EventKind
 from servodesk.events.tool_writes import Publish, tool_write, where
-from servodesk.models import LiveEvent, MessageResult, Param, ParamWriteResult
+from servodesk.models import MessageResult, Param, ParamWriteResult
 from servodesk.nodes.access import NodeAccess
 from servodesk.sdo import codec
 from servodesk.sdo.service import SdoService
@@ -93,9 +94,9 @@ class ParamService:
         # the drive reads back the new value, but still works with the old one
         self._pending: dict[int, set[str]] = {}
 
-    def on_node_event(self, event: LiveEvent) -> None:
+    def on_node_event(self, event: BusEvent) -> None:
         """A boot-up: the node now works with what it had stored; nothing is pending."""
-        if event.kind == "boot-up" and event.node is not None:
+        if event.kind is EventKind.BOOT_UP and event.node is not None:
             self._pending.pop(event.node, None)
 
     def catalogue(self, node: int) -> tuple[Parameter, ...]:

@@ -13,7 +13,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from itertools import groupby
 
-from servodesk.pdo.model import PdoConfig, PdoKind
+from servodesk.pdo.model import PdoConfig
+from servodesk.pdo_problems import PdoKind
 from servodesk_protocol.pdo import (
     EVENT_RTR,
     INHIBIT_UNIT_S,

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import canopen
 
@@ -23,12 +23,18 @@ from servodesk.pdo.model import PdoConfig
 from servodesk_protocol.cia402 import CONTROLWORD
 from servodesk_protocol.pdo import DUMMY_BITS
 
-if TYPE_CHECKING:  # the service's live check reads the routes: no import cycle
-    from servodesk.pdo.service import PdoService
-
 TARGET_TORQUE, TARGET_POSITION, TARGET_VELOCITY = 0x6071, 0x607A, 0x60FF
 COMMAND_OBJECTS = frozenset({CONTROLWORD, TARGET_VELOCITY, TARGET_TORQUE, TARGET_POSITION})
 ON_RECEIPT = (254, 255)  # event-driven RPDOs: the drive takes them as they arrive
+
+
+class PdoCache(Protocol):
+    """What the routes read of the PDO service (pdo/service.py, which imports this module
+    through its live check: named here by what it does, no import cycle even for types)."""
+
+    def known(self, node: int) -> Sequence[PdoConfig] | None: ...
+
+    def network(self) -> canopen.Network: ...
 
 
 @dataclass(frozen=True, slots=True)
@@ -97,7 +103,7 @@ class RpdoRoutes:
     """The command routes of every node, from the PDO service's cache (never read for them:
     a node whose PDOs were not read yet takes SDO)."""
 
-    def __init__(self, pdos: PdoService, *, operational: Callable[[int], bool]) -> None:
+    def __init__(self, pdos: PdoCache, *, operational: Callable[[int], bool]) -> None:
         self._pdos = pdos
         self._operational = operational
 

@@ -6,11 +6,9 @@ Pure data: the API schema (servodesk.pdo_models) mirrors it field for field.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
 
+from servodesk.pdo_problems import PdoKind
 from servodesk_protocol.pdo import Direction, MapEntry
-
-PdoKind = Literal["rpdo", "tpdo"]
 
 DIRECTION: dict[PdoKind, Direction] = {"rpdo": Direction.RECEIVE, "tpdo": Direction.TRANSMIT}
 
@@ -50,14 +48,3 @@ class PdoConfig:
     @property
     def entries(self) -> tuple[MapEntry, ...]:
         return tuple(obj.entry for obj in self.mapping)
-
-
-@dataclass(frozen=True, slots=True)
-class Problem:
-    """One reason a configuration cannot be applied, in words, with the object it concerns."""
-
-    kind: PdoKind
-    number: int
-    message: str
-    index: int | None = None
-    subindex: int | None = None

@@ -17,7 +17,8 @@ from canopen.sdo.exceptions import SdoAbortedError
 from servodesk.errors import SdoAbortError
 from servodesk.nodes.session import NodeSession, Transaction
 from servodesk.od import ObjectDictionaryModel
-from servodesk.pdo.model import DIRECTION, MappedObject, PdoConfig, PdoKind
+from servodesk.pdo.model import DIRECTION, MappedObject, PdoConfig
+from servodesk.pdo_problems import PdoKind
 from servodesk.sdo import codec
 from servodesk_data import DriveData
 from servodesk_protocol.pdo import (

@@ -17,8 +17,9 @@ from pathlib import Path
 import servodesk_data
 from servodesk.od import datatypes as dt
 from servodesk.od.model import ObjectDictionaryModel
-from servodesk.pdo.model import DIRECTION, MappedObject, PdoConfig, PdoKind
+from servodesk.pdo.model import DIRECTION, MappedObject, PdoConfig
 from servodesk.pdo.validate import READABLE, WRITABLE
+from servodesk.pdo_problems import PdoKind
 from servodesk_data import ObjectRef, parse_object_ref
 from servodesk_protocol.pdo import (
     CAN_ID_MASK,

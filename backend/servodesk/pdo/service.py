@@ -20,14 +20,15 @@ from typing import Literal
 import canopen
 
 from servodesk.errors import InvalidValueError, PdoInvalidError, ServodeskError
-from servodesk.models import BusState, BusStatus, LiveEvent, SyncConfig
+from servodesk.events.bus import BusEvent, EventKind
+from servodesk.models import BusState, BusStatus, SyncConfig
 from servodesk.nodes.access import NodeAccess
 from servodesk.pdo.apply import apply_pdos
 from servodesk.pdo.bus_load import DEFAULT_MASTER_PERIOD_MS, bus_load
 from servodesk.pdo.context import NodePdoFacts, node_facts
 from servodesk.pdo.export import canopen_snippet, dcf_fragment
 from servodesk.pdo.live_check import LiveChecks
-from servodesk.pdo.model import PdoConfig, Problem
+from servodesk.pdo.model import PdoConfig
 from servodesk.pdo.procedure import Procedure
 from servodesk.pdo.read import Runner, read_raw, to_config, with_names
 from servodesk.pdo.recommended import recommended
@@ -42,6 +43,7 @@ from servodesk.pdo_models import (
     PdoSync,
     PdoValidation,
 )
+from servodesk.pdo_problems import Problem
 from servodesk_protocol.pdo import MAP_OFFSET, RPDO_COMM, TPDO_MAP
 
 PDO_AREA = range(RPDO_COMM, TPDO_MAP + MAP_OFFSET)  # 1400h–1BFFh: communication and mapping
@@ -342,10 +344,12 @@ class PdoService:
         if index in PDO_AREA:
             self.forget(node)
 
-    def on_event(self, event: LiveEvent) -> None:
+    def on_event(self, event: BusEvent) -> None:
         """A boot-up or NMT command may have reset a node's PDOs to their stored values."""
-        if event.kind in ("boot-up", "nmt", "bus"):
-            self.forget(event.node if event.kind != "bus" else None)
+        if event.kind in (EventKind.BOOT_UP, EventKind.NMT):
+            self.forget(event.node)
+        elif event.kind is EventKind.BUS:
+            self.forget()
 
     def on_bus(self, status: BusStatus) -> None:
         """Captures belong to one connection: stop them when it ends or is renewed."""

@@ -14,7 +14,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
-from servodesk.pdo.model import PdoConfig, PdoKind, Problem
+from servodesk.pdo.model import PdoConfig
+from servodesk.pdo_problems import PdoKind, Problem
 from servodesk_protocol.pdo import SUB_TRANSMISSION, comm_index, is_synchronous, transmission_words
 
 SyncSource = Literal["external"]  # SYNC comes from the machine's controller (PLC)

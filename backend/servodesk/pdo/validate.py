@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 from servodesk.od import datatypes as dt
 from servodesk.od.model import ObjectDictionaryModel, OdSub
-from servodesk.pdo.model import MappedObject, PdoConfig, PdoKind, Problem
+from servodesk.pdo.model import MappedObject, PdoConfig
+from servodesk.pdo_problems import PdoKind, Problem
 from servodesk_protocol import cob_id
 from servodesk_protocol.pdo import (
     CAN_ID_MASK,
@@ -22,6 +23,8 @@ from servodesk_protocol.pdo import (
     MAX_EVENT_TIMER_MS,
     MAX_INHIBIT,
     MAX_PDO_BITS,
+    MAX_SYNC_START,
+    MAX_TRANSMISSION_TYPE,
     SUB_COB_ID,
     SUB_EVENT_TIMER,
     SUB_INHIBIT,
@@ -33,13 +36,11 @@ from servodesk_protocol.pdo import (
     default_can_id,
     map_index,
     restricted_can_id,
+    restricted_use,
 )
 
 WRITABLE = frozenset({"rw", "wo", "rww", "rwr"})  # an RPDO writes into the object
 READABLE = frozenset({"ro", "rw", "rwr", "rww", "const"})  # a TPDO reads it
-_MAX_TRANSMISSION = 0xFF
-_MAX_SYNC_START = 240  # CiA 301 §7.5.2.35: SYNC start value 0 (unused) or 1–240
-_SYNC_ID = 0x080  # default COB-ID of 1005h
 
 
 @dataclass(frozen=True)
@@ -188,7 +189,7 @@ def _check_dummy(pdo: PdoConfig, obj: MappedObject, ctx: PdoContext) -> list[Pro
 def _check_transmission(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
     t = pdo.transmission_type
     sub = (_comm(pdo), SUB_TRANSMISSION)
-    if not 0 <= t <= _MAX_TRANSMISSION:
+    if not 0 <= t <= MAX_TRANSMISSION_TYPE:
         return [_problem(pdo, f"transmission type {t} is outside 0–255", *sub)]
     if SYNC_CYCLIC_MAX < t < SYNC_RTR:
         return [_problem(pdo, f"transmission type {t} is reserved (use 0–240 or 252–255)", *sub)]
@@ -209,7 +210,7 @@ def _check_timers(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
     for value, limit, sub, what in (
         (pdo.inhibit_time_100us, MAX_INHIBIT, SUB_INHIBIT, "inhibit time"),
         (pdo.event_timer_ms, MAX_EVENT_TIMER_MS, SUB_EVENT_TIMER, "event timer"),
-        (pdo.sync_start, _MAX_SYNC_START, SUB_SYNC_START, "SYNC start value"),
+        (pdo.sync_start, MAX_SYNC_START, SUB_SYNC_START, "SYNC start value"),
     ):
         if not 0 <= value <= limit:
             problems.append(_problem(pdo, f"{what} {value} is outside 0–{limit}", comm, sub))
@@ -238,32 +239,15 @@ def _check_cob_id(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
         )
         return [_problem(pdo, text, *where)]
     if pdo.valid and restricted_can_id(can_id):
-        text = f"CAN id {can_id:X}h is reserved by CiA 301 ({_restricted_use(can_id)})"
+        text = f"CAN id {can_id:X}h is reserved by CiA 301 ({restricted_use(can_id)})"
         return [_problem(pdo, text, *where)]
     return []
-
-
-def _restricted_use(can_id: int) -> str:
-    """Which service CiA 301 §7.3.5 keeps `can_id` for."""
-    for low, high, service in (
-        (0x000, 0x000, "NMT"),
-        (0x001, 0x07F, "reserved"),
-        (0x101, 0x180, "TIME and reserved"),
-        (0x581, 0x5FF, "SDO responses"),
-        (0x601, 0x67F, "SDO requests"),
-        (0x6E0, 0x6FF, "reserved"),
-        (0x701, 0x77F, "heartbeat / boot-up"),
-        (0x780, 0x7FF, "reserved, LSS"),
-    ):
-        if low <= can_id <= high:
-            return service
-    return "reserved"
 
 
 def _check_collisions(pdos: Sequence[PdoConfig], ctx: PdoContext) -> list[Problem]:
     users: dict[int, str] = dict(ctx.other_ids)
     if ctx.sync_producing:
-        users.setdefault(_SYNC_ID, "SYNC")
+        users.setdefault(cob_id.SYNC, "SYNC")  # the default COB-ID of 1005h
     if 1 <= ctx.node <= cob_id.MAX_NODE_ID:
         for can_id, service in cob_id.node_services(ctx.node).items():
             users.setdefault(can_id, f"this node's {service}")

@@ -1,36 +1,13 @@
-"""Publishers that feed the event bus from what already exists:
-
-- `registry_events`: the registry's LiveEvents (boot-up, node lost/back, NMT, bus), as they are;
-  an NMT command the tool sent carries `data.command` and `data.tool` (events/tool_writes.py).
-- EMCYs and SDO aborts seen on the bus: `servodesk.faults.collector.FrameTap`.
-- `PublishingSdoService`: SdoService whose writes publish "tool-write" events (node, object,
-  value read back, or the failure).
-"""
+"""`PublishingSdoService`: the SdoService whose writes publish "tool-write" events (node, object,
+value read back, or the failure) on the event bus (events/tool_writes.py lists every kind)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any
-
 from servodesk.bounded import TEXT_LIMIT, shorten
-from servodesk.events.bus import BusEvent, EventBus, EventKind, event
-from servodesk.models import LiveEvent, SdoValue
+from servodesk.events.bus import EventBus, EventKind, event
+from servodesk.models import SdoValue
 from servodesk.nodes.access import NodeAccess
 from servodesk.sdo.service import SdoService, WriteListener, where
-
-
-def registry_events(bus: EventBus) -> Callable[[LiveEvent], None]:
-    """A registry event listener (`registry.add_event_listener`) that republishes on the bus."""
-
-    def listener(live: LiveEvent) -> None:
-        data: dict[str, Any] = {}
-        if live.kind == "nmt":  # "NMT reset-node sent to node 3" / "… sent to all nodes"
-            words = live.message.split()
-            command = words[1] if len(words) > 1 and words[0] == "NMT" else None
-            data = {"tool": True, "command": command, "broadcast": live.node is None}
-        bus.publish(BusEvent(live.time, EventKind(live.kind), live.node, live.message, data))
-
-    return listener
 
 
 class PublishingSdoService(SdoService):
