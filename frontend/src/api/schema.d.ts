@@ -3038,7 +3038,11 @@ export interface components {
             /** Since */
             since?: number | null;
         };
-        /** LiveEvent */
+        /**
+         * LiveEvent
+         * @description The live channel's `event` message: a node or bus event (events.bus.BusEvent, which the
+         *     registry publishes) in its wire form.
+         */
         LiveEvent: {
             /**
              * Kind
