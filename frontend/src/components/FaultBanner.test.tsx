@@ -3,8 +3,8 @@ import userEvent from "@testing-library/user-event";
 import { Route, Routes } from "react-router";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
-import { mdiAlarm4 } from "../pages/faults/fixtures";
 import { stubFetch } from "../test/fetchStub";
+import { mdiAlarm4 } from "../test/fixtures/faults";
 import { renderPage } from "../test/render";
 import { FaultBanner } from "./FaultBanner";
 

@@ -1,10 +1,10 @@
 import { useEffect, useMemo, type ReactNode } from "react";
 import { Link } from "react-router";
 
+import { activeFaults } from "../api/faultsApi";
+import { bannerText } from "../lib/faultText";
 import { useLive, useLiveStore } from "../live/context";
-import { nodeUrl } from "../nav/routes";
-import { activeFaults } from "../pages/faults/faultsApi";
-import { bannerText } from "../pages/faults/faultText";
+import { nodeUrl } from "../nav/paths";
 
 /** On every page while a node is in fault: what it is, and one click to that node's Faults tab.
  * The WebSocket's `fault` messages keep it current; one GET /api/faults/active on mount and

@@ -1,5 +1,8 @@
 import { useId, useRef, type ReactNode } from "react";
 
+/** The object-dictionary files the server reads: what a dictionary upload or check accepts. */
+export const OD_FILE_TYPES = ".eds,.dcf,.xdd,.xdc,.xpd";
+
 interface Props {
   /** Visible button text and the input's accessible name ("Load EDS…"). */
   label: string;

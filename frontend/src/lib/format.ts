@@ -1,4 +1,5 @@
 // Small display helpers shared by the pages.
+import type { NodeInfo } from "../api/types";
 
 /** 0x0000_02A0-style hex of an identity number; "—" when unknown. */
 export function hex(value: number | null | undefined, digits = 8): string {
@@ -51,4 +52,44 @@ export function formatBytes(bytes: number): string {
   if (bytes < 1024 * 1024) return `${(bytes / 1024).toFixed(0)} KiB`;
   if (bytes < 1024 ** 3) return `${(bytes / (1024 * 1024)).toFixed(1)} MiB`;
   return `${(bytes / 1024 ** 3).toFixed(1)} GiB`;
+}
+
+/** Local date and time of an epoch-seconds timestamp: "2026-11-25 09:09:03" (the Faults tab's
+ * own, in lib/faultText.ts, adds milliseconds). */
+export function formatDateTime(epochS: number): string {
+  const date = new Date(epochS * 1000);
+  const pad = (n: number): string => String(n).padStart(2, "0");
+  return (
+    `${date.getFullYear()}-${pad(date.getMonth() + 1)}-${pad(date.getDate())} ` +
+    `${pad(date.getHours())}:${pad(date.getMinutes())}:${pad(date.getSeconds())}`
+  );
+}
+
+/** A CAN identifier as the manuals print it: 0x181. */
+export function formatCobId(cobId: number): string {
+  return `0x${cobId.toString(16).toUpperCase().padStart(3, "0")}`;
+}
+
+/** One decimal below 10, none from 10 on (9.96 reads "10", not "10.0"). */
+function tenthsBelowTen(value: number): string {
+  const tenths = Math.round(value * 10) / 10;
+  return tenths < 10 ? tenths.toFixed(1) : tenths.toFixed(0);
+}
+
+/** A bus load: "4.2 %", "37 %". */
+export function formatPercent(value: number): string {
+  return `${tenthsBelowTen(value)} %`;
+}
+
+/** A frame rate: "—" unknown, "0/s", "2.5/s", "500/s". */
+export function formatRate(value: number | null | undefined): string {
+  if (value == null) return "—";
+  if (value === 0) return "0/s";
+  return `${tenthsBelowTen(value)}/s`;
+}
+
+/** "1 · MDi-S1-C · DVS_CANOPEN": id, profile, the drive's own name (1008h). */
+export function nodeTitle(node: number, info: NodeInfo | undefined): string {
+  if (!info) return `${node} · unknown node`;
+  return [String(node), info.profile_label, info.name].filter(Boolean).join(" · ");
 }

@@ -2,7 +2,7 @@ import { useEffect, useState, type ReactNode } from "react";
 
 import { useSessionControl } from "../session/context";
 
-import { clientName, CLIENT_ID } from "./clientId";
+import { clientName, CLIENT_ID } from "../api/clientId";
 import { LiveConnection, liveUrl } from "./connection";
 import { LiveStoreContext } from "./context";
 import { refreshNodes } from "./nodes";

@@ -1,6 +1,6 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 
-import { DRIVE } from "../pages/drive/fixtures";
+import { DRIVE } from "../test/fixtures/drive";
 import { LiveConnection, type SocketLike } from "./connection";
 import { parseMessage } from "./messages";
 import { LiveStore } from "./store";

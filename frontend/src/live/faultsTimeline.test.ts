@@ -1,7 +1,7 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 
-import { mdiAlarm4 } from "../pages/faults/fixtures";
-import type { TimelineEvent } from "../pages/logs/types";
+import type { TimelineEvent } from "../api/timeline";
+import { mdiAlarm4 } from "../test/fixtures/faults";
 import { LiveConnection, type SocketLike } from "./connection";
 import { parseMessage } from "./messages";
 import { LiveStore } from "./store";

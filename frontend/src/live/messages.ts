@@ -1,10 +1,10 @@
 // Messages on the live WebSocket /api/ws (docs/api.md, "WebSocket"). They are not part of the
 // OpenAPI schema, so they are described here and checked on arrival: a malformed message is
 // dropped instead of corrupting the store.
+import type { ControllerInfo, DriveState, JogInfo } from "../api/drive";
+import type { Fault } from "../api/faults";
+import type { TimelineEvent } from "../api/timeline";
 import type { BusStatus, NmtStateName } from "../api/types";
-import type { ControllerInfo, DriveState, JogInfo } from "../pages/drive/types";
-import type { Fault } from "../pages/faults/types";
-import type { TimelineEvent } from "../pages/logs/types";
 
 export interface LiveNode {
   node: number;

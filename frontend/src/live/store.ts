@@ -1,10 +1,10 @@
 // The live store: bus status, node states and recent events from the WebSocket, plus the node
 // list from REST. It lives outside React state; components read slices of it through
 // useSyncExternalStore, so a 5 Hz node update re-renders only what shows node states.
+import type { ControllerInfo, DriveState, JogInfo } from "../api/drive";
+import type { Fault } from "../api/faults";
+import type { TimelineEvent } from "../api/timeline";
 import type { BusStatus, NodeInfo } from "../api/types";
-import type { ControllerInfo, DriveState, JogInfo } from "../pages/drive/types";
-import type { Fault } from "../pages/faults/types";
-import type { TimelineEvent } from "../pages/logs/types";
 import type { ClientMessage, LiveEvent, LiveNode, ServerMessage } from "./messages";
 
 export const EVENT_LIMIT = 200;

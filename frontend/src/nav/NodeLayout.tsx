@@ -2,9 +2,10 @@ import type { ComponentType, ReactNode } from "react";
 import { NavLink, Outlet, useParams } from "react-router";
 
 import { NmtBadge } from "../components/NmtDot";
+import { nodeTitle } from "../lib/format";
 import { useLive } from "../live/context";
-import { NODE_TABS, nodeUrl } from "./routes";
-import { nodeTitle } from "./Sidebar";
+import { nodeUrl } from "./paths";
+import { NODE_TABS } from "./routes";
 
 export function parseNodeId(text: string | undefined): number | null {
   if (!text || !/^\d{1,3}$/.test(text)) return null;

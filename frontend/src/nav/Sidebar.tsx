@@ -3,16 +3,12 @@ import { NavLink, useLocation } from "react-router";
 
 import type { NodeInfo } from "../api/types";
 import { NmtDot } from "../components/NmtDot";
+import { nodeTitle } from "../lib/format";
 import { useLive } from "../live/context";
 import type { LinkStatus } from "../live/store";
 import { SessionBadge } from "../session/SessionBadge";
-import { NODE_TABS, TOP_PAGES, nodeUrl, type TopPage } from "./routes";
-
-/** "1 · MDi-S1-C · DVS_CANOPEN": id, profile, the drive's own name (1008h). */
-export function nodeTitle(node: number, info: NodeInfo | undefined): string {
-  if (!info) return `${node} · unknown node`;
-  return [String(node), info.profile_label, info.name].filter(Boolean).join(" · ");
-}
+import { nodeUrl } from "./paths";
+import { NODE_TABS, TOP_PAGES, type TopPage } from "./routes";
 
 function TopLink({ page }: { page: TopPage }): ReactNode {
   return (

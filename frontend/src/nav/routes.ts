@@ -1,5 +1,7 @@
 // The app's pages as data: the sidebar, the router and the node tab bar are all built from
 // these arrays, so a new page (Motion, PDO, Faults per node; a top-level Scope) is one entry.
+// The top of the import graph: it imports every page, so nothing below imports it; a page links
+// to another through nav/paths.ts (.dependency-cruiser.cjs holds the layers).
 import type { ComponentType } from "react";
 
 import { AuditPage } from "../pages/audit/AuditPage";
@@ -13,6 +15,7 @@ import { ParamsPage } from "../pages/params/ParamsPage";
 import { PdoPage } from "../pages/pdo/PdoPage";
 import { ScopePage } from "../pages/scope/ScopePage";
 import { ToolsPage } from "../pages/tools/ToolsPage";
+import { FIRST_NODE_TAB } from "./paths";
 
 export interface TopPage {
   /** Absolute URL path. */
@@ -39,14 +42,10 @@ export const TOP_PAGES: readonly TopPage[] = [
 ];
 
 export const NODE_TABS: readonly NodeTab[] = [
-  { path: "parameters", label: "Parameters", Component: ParamsPage },
+  { path: FIRST_NODE_TAB, label: "Parameters", Component: ParamsPage },
   { path: "od", label: "Object dictionary", Component: OdPage },
   { path: "pdos", label: "PDOs", Component: PdoPage },
   { path: "drive", label: "Drive", Component: DrivePage },
   { path: "faults", label: "Faults", Component: FaultsPage },
   { path: "commission", label: "Commission", Component: CommissionPage },
 ];
-
-export function nodeUrl(node: number, tab: string = NODE_TABS[0]?.path ?? ""): string {
-  return `/nodes/${node}/${tab}`;
-}

@@ -3,9 +3,14 @@ import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
 import { json, stubFetch } from "../../test/fetchStub";
+import {
+  identityDone,
+  record,
+  stopTestDone,
+  storeVerifyLost,
+} from "../../test/fixtures/commission";
 import { renderPage } from "../../test/render";
 import { CommissionPage } from "./CommissionPage";
-import { identityDone, record, stopTestDone, storeVerifyLost } from "./fixtures";
 import type { CommissioningRecord, CommissioningStep } from "./types";
 
 afterEach(() => {

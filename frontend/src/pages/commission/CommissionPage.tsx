@@ -1,9 +1,9 @@
 import { useCallback, useState, type ReactNode } from "react";
 
+import { getRecord, listRecords } from "../../api/commissionApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useApi } from "../../lib/useApi";
-import { getRecord, listRecords } from "./commissionApi";
 import { RecordHeader } from "./RecordHeader";
 import { DEFAULT_RUN_SETTINGS, type RunSettings } from "./RunInputs";
 import { StartForm } from "./StartForm";

@@ -1,7 +1,7 @@
 import type { ReactNode } from "react";
 
+import { homingMethods } from "../../api/driveApi";
 import { useApi } from "../../lib/useApi";
-import { homingMethods } from "../drive/driveApi";
 
 /** The homing step's method: the drive's own (6098h) unless one of its methods is chosen. */
 export function HomingMethodInput({

@@ -1,10 +1,10 @@
 import type { ReactNode } from "react";
 
+import { reportUrl } from "../../api/commissionApi";
+import { RecordChip, RECORD_STATUS_TEXT } from "../../components/StatusChip";
 import { hex } from "../../lib/format";
 import { useMay } from "../../session/context";
-import { reportUrl } from "./commissionApi";
-import { RecordChip } from "./StatusChip";
-import { progress, RECORD_STATUS_TEXT } from "./steps";
+import { progress } from "./steps";
 import type { CommissioningRecord } from "./types";
 
 function created(record: CommissioningRecord): string {

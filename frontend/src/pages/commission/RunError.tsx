@@ -1,10 +1,10 @@
 import type { ReactNode } from "react";
 import { Link } from "react-router";
 
+import { HeldByOtherError } from "../../api/driveApi";
 import type { ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
-import { nodeUrl } from "../../nav/routes";
-import { HeldByOtherError } from "../drive/driveApi";
+import { nodeUrl } from "../../nav/paths";
 
 /** A refused or failed run in the server's words; a held axis names its holder. */
 export function RunError({ node, error }: { node: number; error: ApiError | null }): ReactNode {

@@ -1,9 +1,9 @@
 import type { ReactNode } from "react";
 import { Link } from "react-router";
 
-import { nodeUrl } from "../../nav/routes";
-import { DEFAULT_DISTANCE_REV, DEFAULT_SPEED_RPM, MAX_DISTANCE_REV } from "./steps";
+import { nodeUrl } from "../../nav/paths";
 import { HomingMethodInput } from "./HomingMethodInput";
+import { DEFAULT_DISTANCE_REV, DEFAULT_SPEED_RPM, MAX_DISTANCE_REV } from "./steps";
 import type { StepKey, StepRun } from "./types";
 
 export interface RunSettings {

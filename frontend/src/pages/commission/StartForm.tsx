@@ -1,11 +1,11 @@
 import { useState, type SubmitEvent, type ReactNode } from "react";
 
+import { createRecord } from "../../api/commissionApi";
+import { getDrive } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
-import { getDrive } from "../drive/driveApi";
-import { createRecord } from "./commissionApi";
 import type { CommissioningRecord } from "./types";
 
 const MODE_NAMES: Record<string, string> = {

@@ -1,18 +1,18 @@
 import { useState, type ReactNode } from "react";
 import { Link } from "react-router";
 
+import { runStep, signOffStep } from "../../api/commissionApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { StepChip } from "../../components/StatusChip";
 import { useAction } from "../../lib/useApi";
-import { nodeUrl } from "../../nav/routes";
+import { nodeUrl } from "../../nav/paths";
 import { useMay } from "../../session/context";
-import { runStep, signOffStep } from "./commissionApi";
 import { EvidenceView } from "./EvidenceView";
 import { FiguresTable } from "./FiguresTable";
 import { RunError } from "./RunError";
 import { PdoRunInput, RunInputs, runBody, type RunBody, type RunSettings } from "./RunInputs";
 import { SkipForm } from "./SkipForm";
-import { StepChip } from "./StatusChip";
 import { AUTOMATED, lostLines, MANUAL_PAGE, MOVING, RUNNING_TEXT, whoWhen } from "./steps";
 import type { CommissioningStep, StepKey } from "./types";
 

@@ -1,12 +1,6 @@
 // What the page knows about the nine steps: which the server runs, which move the axis, where
 // a manual one is done, and how figures and evidence read (pure functions, table-tested).
-import type {
-  CommissioningRecord,
-  CommissioningStep,
-  RecordStatus,
-  StepKey,
-  StepStatus,
-} from "./types";
+import type { CommissioningRecord, CommissioningStep, StepKey } from "./types";
 
 export const STEP_KEYS: readonly StepKey[] = [
   "identity",
@@ -36,19 +30,6 @@ export const MANUAL_PAGE: Partial<Record<StepKey, { tab: string; label: string }
 export const DEFAULT_SPEED_RPM = 200;
 export const DEFAULT_DISTANCE_REV = 0.5;
 export const MAX_DISTANCE_REV = 100;
-
-export const STEP_STATUS_TEXT: Record<StepStatus, string> = {
-  to_do: "To do",
-  done: "Done",
-  failed: "Failed",
-  skipped: "Skipped",
-};
-
-export const RECORD_STATUS_TEXT: Record<RecordStatus, string> = {
-  in_progress: "In progress",
-  done: "Done",
-  failed: "Failed",
-};
 
 /** While it runs: what the user waits for. */
 export const RUNNING_TEXT: Partial<Record<StepKey, string>> = {

@@ -1,9 +1,9 @@
 import type { ReactNode } from "react";
 
+import { takeControl } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
-import { takeControl } from "./driveApi";
 import type { ControllerInfo } from "./types";
 
 /** "Who holds control": this tab, another one (take over), or nobody; and whether the drive

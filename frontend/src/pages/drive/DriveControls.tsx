@@ -1,17 +1,17 @@
 import { useState, type ReactNode } from "react";
 
-import type { ApiError } from "../../api/errors";
-import { ErrorText } from "../../components/ErrorText";
-import { Spinner } from "../../components/Spinner";
-import { asApiError } from "../../api/errors";
-import { useMay } from "../../session/context";
 import {
   driveAction,
   driveCommand,
   EnableBlockedError,
   HeldByOtherError,
   type DriveAction,
-} from "./driveApi";
+} from "../../api/driveApi";
+import type { ApiError } from "../../api/errors";
+import { asApiError } from "../../api/errors";
+import { ErrorText } from "../../components/ErrorText";
+import { Spinner } from "../../components/Spinner";
+import { useMay } from "../../session/context";
 import { COMMANDS, STATE_LABELS, transitionsFor, type CommandInfo } from "./stateMachine";
 import type { DriveState } from "./types";
 import { WhyBlocked } from "./WhyBlocked";

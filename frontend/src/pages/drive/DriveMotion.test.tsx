@@ -7,9 +7,9 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 
 import { LiveStore } from "../../live/store";
 import { json, stubFetch, type Handler } from "../../test/fetchStub";
+import { CONTROLLER, DRIVE, ENABLED, METHODS } from "../../test/fixtures/drive";
 import { renderPage } from "../../test/render";
 import { DrivePage } from "./DrivePage";
-import { CONTROLLER, DRIVE, ENABLED, METHODS } from "./fixtures";
 import { limitsInsideSwitches, moveText, travelRows } from "./motionWords";
 import type { DriveState } from "./types";
 

@@ -2,12 +2,12 @@ import { fireEvent, screen, waitFor, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
-import { CLIENT_ID } from "../../live/clientId";
+import { CLIENT_ID } from "../../api/clientId";
 import { LiveStore } from "../../live/store";
 import { json, stubFetch, type Handler } from "../../test/fetchStub";
+import { CONTROLLER, DRIVE, ENABLED, METHODS } from "../../test/fixtures/drive";
 import { renderPage } from "../../test/render";
 import { DrivePage } from "./DrivePage";
-import { CONTROLLER, DRIVE, ENABLED, METHODS } from "./fixtures";
 import type { DriveState } from "./types";
 
 afterEach(() => {

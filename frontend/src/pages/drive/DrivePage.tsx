@@ -1,17 +1,17 @@
 import { useState, type ReactNode } from "react";
 
+import type { HeldByOtherError } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
+import { QuickStopButton } from "../../components/QuickStopButton";
 import { Spinner } from "../../components/Spinner";
 import { useLive } from "../../live/context";
 import { ControllerBar } from "./ControllerBar";
 import { DriveControls } from "./DriveControls";
 import { DriveValues } from "./DriveValues";
-import type { HeldByOtherError } from "./driveApi";
 import { HomingWizard } from "./HomingWizard";
 import { JogPanel } from "./JogPanel";
 import { LimitsCard } from "./LimitsCard";
 import { manualFor } from "./manuals";
-import { QuickStopButton } from "./QuickStopButton";
 import { StateDiagram } from "./StateDiagram";
 import { STATE_LABELS } from "./stateMachine";
 import { StatusLamps } from "./StatusLamps";

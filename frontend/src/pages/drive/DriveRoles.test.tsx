@@ -4,9 +4,9 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 
 import { LiveStore } from "../../live/store";
 import { stubFetch } from "../../test/fetchStub";
+import { CONTROLLER, DRIVE, METHODS } from "../../test/fixtures/drive";
 import { renderPage, sessionAs } from "../../test/render";
 import { DrivePage } from "./DrivePage";
-import { CONTROLLER, DRIVE, METHODS } from "./fixtures";
 
 afterEach(() => {
   vi.unstubAllGlobals();

@@ -1,10 +1,10 @@
 import { useMemo, useState, type ReactNode } from "react";
 
+import { jogKeepalive, startJog, stopJog, type JogRamp } from "../../api/driveApi";
 import { useLive, useLiveStore } from "../../live/context";
 import { useMay } from "../../session/context";
 import { HoldButton } from "./HoldButton";
 import { KEEPALIVE_TIMEOUT_MS, type HoldSnapshot, type HoldTransport } from "./holdToRun";
-import { jogKeepalive, startJog, stopJog, type JogRamp } from "./driveApi";
 import { jogStatus } from "./jogStatus";
 import { NumberField } from "./NumberField";
 import type { DriveState, JogMode } from "./types";

@@ -1,11 +1,11 @@
 import { useEffect, useRef, useState, type ReactNode } from "react";
 
+import { home, homingMethods } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
 import { useLive } from "../../live/context";
 import { useMay } from "../../session/context";
-import { home, homingMethods } from "./driveApi";
 import { HomingDiagram } from "./HomingDiagram";
 import { HomingTimeline } from "./HomingTimeline";
 import { manualFor } from "./manuals";

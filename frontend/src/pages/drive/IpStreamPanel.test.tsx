@@ -3,8 +3,8 @@ import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
 import { json, stubFetch } from "../../test/fetchStub";
+import { ENABLED } from "../../test/fixtures/drive";
 import { renderPage } from "../../test/render";
-import { ENABLED } from "./fixtures";
 import { IpStreamPanel } from "./IpStreamPanel";
 import type { IpStreamResult } from "./types";
 

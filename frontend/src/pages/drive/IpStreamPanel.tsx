@@ -1,11 +1,11 @@
 import { useState, type ReactNode } from "react";
 
+import { ipStream } from "../../api/driveApi";
 import type { ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
-import { ipStream } from "./driveApi";
 import type { DriveState, IpStreamResult, IpTrajectory } from "./types";
 import { checkRange, formatInc, formatMs, formatRev } from "./units";
 

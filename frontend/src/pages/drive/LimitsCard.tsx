@@ -1,9 +1,9 @@
 import { useState, type ReactNode } from "react";
 
+import { putLimits } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
-import { putLimits } from "./driveApi";
 import { limitsInsideSwitches, rangeText, travelRows } from "./motionWords";
 import type { DriveState, MotionLimits } from "./types";
 import { checkRange, formatPct, formatRpm } from "./units";

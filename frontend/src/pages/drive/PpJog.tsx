@@ -1,9 +1,9 @@
 import { useState, type ReactNode } from "react";
 
+import { move, moveQueue } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
-import { move, moveQueue } from "./driveApi";
 import { moveText } from "./motionWords";
 import type { DriveState, MoveRequest } from "./types";
 import { checkRange, formatRev } from "./units";

@@ -1,10 +1,10 @@
 import type { ReactNode } from "react";
 
 import { api, call } from "../../api/client";
+import type { EnableBlockedError } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
-import type { EnableBlockedError } from "./driveApi";
 
 const NMT_CODES: ReadonlySet<string> = new Set(["nmt_stopped", "nmt_not_operational"]);
 

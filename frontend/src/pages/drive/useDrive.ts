@@ -4,9 +4,9 @@
 // before it was answered does not undo it.
 import { useCallback, useEffect, useRef, useState } from "react";
 
+import { getController, getDrive } from "../../api/driveApi";
 import { asApiError, type ApiError } from "../../api/errors";
 import { useLive, useLiveStore } from "../../live/context";
-import { getController, getDrive } from "./driveApi";
 import type { ControllerInfo, DriveState } from "./types";
 
 export const POLL_MS = 200;

@@ -2,15 +2,15 @@ import { useState, type ReactNode } from "react";
 
 import { Link } from "react-router";
 
+import { HeldByOtherError } from "../../api/driveApi";
+import { errorCode, resetFault } from "../../api/faultsApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { errorCodeParts, faultCode, faultName } from "../../lib/faultText";
 import { useAction, useApi } from "../../lib/useApi";
-import { nodeUrl } from "../../nav/routes";
+import { nodeUrl } from "../../nav/paths";
 import { useMay } from "../../session/context";
-import { HeldByOtherError } from "../drive/driveApi";
-import { errorCode, resetFault } from "./faultsApi";
 import { FaultDetails } from "./FaultDetails";
-import { errorCodeParts, faultCode, faultName } from "./faultText";
 import type { Fault } from "./types";
 
 function ErrorCodeValue({ hex, words }: { hex: string; words: string | null }): ReactNode {

@@ -1,13 +1,13 @@
 import { useState, type ReactNode } from "react";
 
 import type { ApiError } from "../../api/errors";
+import { clearDeviceHistory, deviceHistory } from "../../api/faultsApi";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { errorRegisterText, faultCode, faultName, hasNoObject } from "../../lib/faultText";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
-import { clearDeviceHistory, deviceHistory } from "./faultsApi";
-import { errorRegisterText, faultCode, faultName, hasNoObject } from "./faultText";
 import type { DeviceHistoryEntry } from "./types";
 
 function HistoryTable({ entries }: { entries: readonly DeviceHistoryEntry[] }): ReactNode {

@@ -7,7 +7,7 @@ import {
   formatDateTime,
   sourceLabel,
   stateChange,
-} from "./faultText";
+} from "../../lib/faultText";
 import type { Fault } from "./types";
 
 /** One fault in words: names, source layer, what to check, error register, raw bytes. */

@@ -1,6 +1,5 @@
 import { useState, type ReactNode } from "react";
 
-import { FaultDetails } from "./FaultDetails";
 import {
   errorRegisterText,
   faultCode,
@@ -8,7 +7,8 @@ import {
   formatDateTime,
   newestFirst,
   stateChange,
-} from "./faultText";
+} from "../../lib/faultText";
+import { FaultDetails } from "./FaultDetails";
 import type { Fault } from "./types";
 
 /** Faults as a table, newest first; a row opens its details below. */

@@ -3,8 +3,8 @@ import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
 import { json, stubFetch } from "../../test/fetchStub";
+import { cia402Fault, mdiAlarm4 } from "../../test/fixtures/faults";
 import { renderPage } from "../../test/render";
-import { cia402Fault, mdiAlarm4 } from "./fixtures";
 import { FaultsPage } from "./FaultsPage";
 import type { NodeFaults } from "./types";
 

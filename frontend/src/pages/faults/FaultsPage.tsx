@@ -1,12 +1,12 @@
 import { useState, type ReactNode } from "react";
 
+import { nodeFaults } from "../../api/faultsApi";
 import { ErrorText } from "../../components/ErrorText";
 import { useApi } from "../../lib/useApi";
+import { usePoll } from "../../lib/usePoll";
 import { ActiveFaultCard } from "./ActiveFaultCard";
 import { DeviceHistoryCard } from "./DeviceHistoryCard";
 import { FaultHistoryCard } from "./FaultHistoryTable";
-import { nodeFaults } from "./faultsApi";
-import { usePoll } from "./usePoll";
 
 export const FAULT_POLL_MS = 2000;
 

@@ -1,14 +1,3 @@
-// Short names for the fault and timeline schemas (generated from the backend's OpenAPI).
-import type { components } from "../../api/schema";
-
-type Schemas = components["schemas"];
-
-/** One decoded EMCY: the drive's own alarm table first, then CiA 402, CiA 301, the class. */
-export type Fault = Schemas["Fault"];
-export type NodeFaults = Schemas["NodeFaults"];
-export type ActiveFaults = Schemas["ActiveFaults"];
-export type FaultResetResult = Schemas["FaultResetResult"];
-/** 1003h decoded, newest first, with 603Fh. */
-export type DeviceHistory = Schemas["DeviceHistory"];
-export type DeviceHistoryEntry = Schemas["DeviceHistoryEntry"];
-export type DeviceHistoryCleared = Schemas["DeviceHistoryCleared"];
+// The Faults tab's types are the fault API's, in api/faults.ts (live/ and the fault banner use
+// them too); re-exported so the tab's modules import them from beside them.
+export type * from "../../api/faults";

@@ -4,10 +4,9 @@ import { DataUsageLine } from "../../components/DataUsage";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
-import { formatBytes } from "../../lib/format";
+import { formatBytes, formatDateTime } from "../../lib/format";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
-import { formatDateTime } from "../scope/model";
 import { deleteLog, keptLogs } from "./logsApi";
 import type { KeptLog } from "./types";
 

@@ -1,9 +1,9 @@
 import { useState, type ReactNode } from "react";
 
 import { ErrorText } from "../../components/ErrorText";
+import { EventList } from "../../components/EventList";
 import { Spinner } from "../../components/Spinner";
 import { useApi } from "../../lib/useApi";
-import { EventList } from "./EventList";
 import { logEvents } from "./logsApi";
 import { FIRST_PAGE, currentStart, logClock, pageBack, pageForward, pageLabel } from "./logText";
 import type { DecodedLog, LogEventPage } from "./types";

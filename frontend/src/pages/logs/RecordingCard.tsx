@@ -3,8 +3,8 @@ import { useState, type ReactNode } from "react";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useAction, useApi } from "../../lib/useApi";
+import { usePoll } from "../../lib/usePoll";
 import { useMay } from "../../session/context";
-import { usePoll } from "../faults/usePoll";
 import {
   recordingStatus,
   saveBlob,

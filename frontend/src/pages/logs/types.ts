@@ -1,5 +1,5 @@
-// Short names for the log, timeline and recording schemas, and the log totals read from the
-// free-form `stats` object.
+// Short names for the log and recording schemas, and the log totals read from the free-form
+// `stats` object. The live timeline's are in api/timeline.ts.
 import type { components } from "../../api/schema";
 
 type Schemas = components["schemas"];
@@ -11,10 +11,6 @@ export type LogEventPage = Schemas["LogEventPage"];
 export type DecodedLog = Schemas["DecodedLog"];
 /** A decoded log kept on the server (GET /api/logs). */
 export type KeptLog = Schemas["KeptLogInfo"];
-/** One event of the live bus's timeline. */
-export type TimelineEvent = Schemas["TimelineEvent"];
-export type TimelinePage = Schemas["EventPage"];
-export type EventKind = Schemas["EventKind"];
 export type RecordingFormat = Schemas["RecordingFormat"];
 export type RecordingInfo = Schemas["RecordingInfo"];
 export type ExportFormat = Exclude<Schemas["ExportFormat"], "text">;

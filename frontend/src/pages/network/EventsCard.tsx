@@ -1,7 +1,7 @@
 import type { ReactNode } from "react";
 
-import { Timeline } from "../logs/Timeline";
 import { BootUpNote } from "./BootUpNote";
+import { Timeline } from "./Timeline";
 
 /** Boot-ups, lost/back nodes, NMT, EMCYs, SDO aborts, CiA 402 states and the tool's writes, as
  * the server stored them (GET /api/events), newest first. */

@@ -4,8 +4,8 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 
 import type { NodeInfo } from "../../api/types";
 import { stubFetch } from "../../test/fetchStub";
+import { mdiAlarm4 } from "../../test/fixtures/faults";
 import { renderPage } from "../../test/render";
-import { mdiAlarm4 } from "../faults/fixtures";
 import { NetworkPage } from "./NetworkPage";
 
 afterEach(() => {

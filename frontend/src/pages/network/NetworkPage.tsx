@@ -4,9 +4,9 @@ import { api, call } from "../../api/client";
 import type { ScanResult } from "../../api/types";
 import { useAction } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
-import { useLatestRecords } from "../commission/latestRecords";
 import { BusCard } from "./BusCard";
 import { EventsCard } from "./EventsCard";
+import { useLatestRecords } from "./latestRecords";
 import { NodesCard } from "./NodesCard";
 
 /** The bus, the nodes on it and what happened recently. */

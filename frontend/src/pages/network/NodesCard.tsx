@@ -6,17 +6,17 @@ import { toApiError, type ApiError } from "../../api/errors";
 import type { NmtCommandName, NodeInfo, ScanResult } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { NmtBadge, NmtDot } from "../../components/NmtDot";
+import { QuickStopAllButton, QuickStopButton } from "../../components/QuickStopButton";
 import { Spinner } from "../../components/Spinner";
 import { formatAge, hex } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
 import { refreshNodes } from "../../live/nodes";
-import { nodeUrl } from "../../nav/routes";
+import { nodeUrl } from "../../nav/paths";
 import { useMay } from "../../session/context";
-import { CommissionChip } from "../commission/CommissionChip";
-import type { LatestRecord } from "../commission/latestRecords";
-import { QuickStopAllButton, QuickStopButton } from "../drive/QuickStopButton";
+import { CommissionChip } from "./CommissionChip";
 import { HeartbeatEditor } from "./HeartbeatEditor";
+import type { LatestRecord } from "./latestRecords";
 import { NMT_COMMANDS, NmtMenu } from "./NmtMenu";
 
 // Live cells subscribe to their own node, so the table itself does not re-render at 5 Hz.

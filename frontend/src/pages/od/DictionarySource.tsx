@@ -3,14 +3,13 @@ import { useState, type ReactNode } from "react";
 import { api, call, uploadBody } from "../../api/client";
 import type { LintWarning, OdTree } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
-import { FilePicker } from "../../components/FilePicker";
+import { FilePicker, OD_FILE_TYPES } from "../../components/FilePicker";
 import { LintTable } from "../../components/LintTable";
 import { Spinner } from "../../components/Spinner";
 import { shortPath } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
 import { useMay } from "../../session/context";
-import { OD_FILE_TYPES } from "../tools/EdsCheckPanel";
 
 interface Props {
   node: number;

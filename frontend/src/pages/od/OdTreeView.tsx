@@ -1,7 +1,7 @@
 import { memo, type ReactNode } from "react";
 
 import type { OdEntry, OdObject } from "../../api/types";
-import type { FilteredObject } from "./odFilter";
+import type { FilteredObject } from "../../lib/odFilter";
 import { valueKey, type ValueMap } from "./values";
 
 export interface Selection {

@@ -9,7 +9,7 @@ import { Spinner } from "../../components/Spinner";
 import { useAction } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
 import { refreshNodes } from "../../live/nodes";
-import { nodeUrl } from "../../nav/routes";
+import { nodeUrl } from "../../nav/paths";
 import { useMay } from "../../session/context";
 
 type NodeIdOptions = components["schemas"]["NodeIdOptions"];

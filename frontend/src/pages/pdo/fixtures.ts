@@ -1,68 +1,7 @@
 // Canned answers for the PDO page tests: node 1, an MDi-S1-C (byte-granular), PP mapping.
-import type { NodeInfo, OdEntry, OdTree } from "../../api/types";
 import type { BusLoad, Pdo, PdoRules } from "./types";
 
-export const INFO: NodeInfo = {
-  node: 1,
-  name: "DVS_CANOPEN",
-  vendor_id: 0x445653,
-  product_code: 1,
-  profile: "mdi-s1c",
-  profile_label: "MDi-S1-C",
-  nmt_state: "pre-operational",
-  online: true,
-  heartbeat_age_ms: 40,
-  od_source: "profile",
-  od_filename: "mdi-s1c/drive.eds",
-  od_warnings: 0,
-};
-
-function sub(
-  index: number,
-  name: string,
-  type: string,
-  access: string,
-  unit = "",
-  subindex = 0,
-): OdEntry {
-  return {
-    index,
-    subindex,
-    name,
-    data_type: 0,
-    data_type_name: type,
-    access,
-    pdo_mappable: true,
-    default: null,
-    low: null,
-    high: null,
-    unit,
-    description: "",
-  };
-}
-
-const ENTRIES = [
-  sub(0x6040, "Controlword", "UNSIGNED16", "rw"),
-  sub(0x6041, "Statusword", "UNSIGNED16", "ro"),
-  sub(0x6060, "Modes of operation", "INTEGER8", "rw"),
-  sub(0x6064, "Position actual value", "INTEGER32", "ro", "inc"),
-  sub(0x607a, "Target position", "INTEGER32", "rw", "inc"),
-  sub(0x606c, "Velocity actual value", "INTEGER32", "ro", "inc/s"),
-  sub(0x2100, "Digital input bit", "BOOLEAN", "rw"),
-];
-
-export const TREE: OdTree = {
-  source: "profile",
-  filename: "mdi-s1c/drive.eds",
-  warnings: [],
-  objects: ENTRIES.map((e) => ({
-    index: e.index,
-    index_hex: e.index.toString(16).toUpperCase(),
-    name: e.name,
-    object_type: "var",
-    subs: [e],
-  })),
-};
+export { INFO, TREE } from "../../test/fixtures/node"; // shared with the Scope page's tests
 
 function pdo(over: Partial<Pdo> & Pick<Pdo, "kind" | "number">): Pdo {
   return {

@@ -1,8 +1,12 @@
 // Pure PDO helpers: the byte layout of a frame, what fits, transmission types in words and
 // what a draft changes against the device. No I/O; table-tested in model.test.ts.
 import { integerType } from "../../lib/dataTypes";
-import { odAddress } from "../../lib/format";
+import { formatCobId, formatPercent, formatRate, odAddress } from "../../lib/format";
 import type { MappedObject, Pdo, PdoKind, PdoRules, Problem } from "./types";
+
+// In lib/format.ts (the Scope page and components/LoadBar.tsx use them too); re-exported here
+// for this page's callers.
+export { formatCobId, formatPercent, formatRate };
 
 export const MAX_BITS = 64; // one classic CAN frame
 export const MAX_ENTRIES = 8; // mapping sub 0 range 0–8
@@ -35,10 +39,6 @@ export function pdoLabel(pdo: { kind: PdoKind; number: number }): string {
 export function pdoObjects(pdo: { kind: PdoKind; number: number }): string {
   const comm = commIndex(pdo);
   return `${odAddress(comm)} / ${odAddress(comm + 0x200)}`;
-}
-
-export function formatCobId(cobId: number): string {
-  return `0x${cobId.toString(16).toUpperCase().padStart(3, "0")}`;
 }
 
 /** A CAN identifier as typed: "0x181", "181h" or "181" (hex, as the manuals print it). */
@@ -351,19 +351,3 @@ export const MODES: readonly ModeChoice[] = [
   { code: "hm", name: "Homing", value: 6 },
   { code: "ip", name: "Interpolated position", value: 7 },
 ];
-
-/** One decimal below 10, none from 10 on (9.96 reads "10", not "10.0"). */
-function shortNumber(value: number): string {
-  const tenths = Math.round(value * 10) / 10;
-  return tenths < 10 ? tenths.toFixed(1) : tenths.toFixed(0);
-}
-
-export function formatPercent(value: number): string {
-  return `${shortNumber(value)} %`;
-}
-
-export function formatRate(value: number | null | undefined): string {
-  if (value == null) return "—";
-  if (value === 0) return "0/s";
-  return `${shortNumber(value)}/s`;
-}

@@ -2,9 +2,9 @@ import { Fragment, useId, type ReactNode } from "react";
 
 import type { ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
+import { LoadBar } from "../../components/LoadBar";
 import { Spinner } from "../../components/Spinner";
 import { formatBitrate, odAddress } from "../../lib/format";
-import { LoadBar } from "../pdo/BusLoadView";
 import { signalKey, sourceText } from "./model";
 import type { ScopePlan } from "./types";
 

@@ -3,26 +3,26 @@ import { useEffect, useMemo, useRef, useState, type ReactNode } from "react";
 import { asApiError, type ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
-import { useLive } from "../../live/context";
 import { useAction, useApi } from "../../lib/useApi";
+import { usePoll } from "../../lib/usePoll";
+import { useLive } from "../../live/context";
 import { useMay } from "../../session/context";
-import { usePoll } from "../faults/usePoll";
 import { CaptureCard } from "./CaptureCard";
 import { CaptureList } from "./CaptureList";
 import { CaptureSettings } from "./CaptureSettings";
-import { buildRequest, isActive, startReason } from "./model";
-import { PlanView } from "./PlanView";
-import { getCapture, listCaptures, startCapture, stopOrDeleteCapture } from "./scopeApi";
 import { loadForm, saveForm } from "./formStore";
 import { asRequest, hasWord, loadLanes, saveLanes } from "./lanes";
 import { LaneSettings } from "./LaneSettings";
 import { MeasurePanel } from "./MeasurePanel";
+import { buildRequest, isActive, startReason } from "./model";
+import { PlanView } from "./PlanView";
+import "./scope.css";
+import { getCapture, listCaptures, startCapture, stopOrDeleteCapture } from "./scopeApi";
 import { SignalPicker } from "./SignalPicker";
 import { EMPTY_HISTORY, pushHistory, type History } from "./sparkline";
 import type { Capture } from "./types";
 import { usePlan } from "./usePlan";
 import { ViewerPanel, type OpenedCapture } from "./ViewerPanel";
-import "./scope.css";
 
 const POLL_MS = 250; // the active capture, ~4 per second
 const SERIES_WAIT_S = 5; // normal mode: how long to look for the re-armed capture

@@ -3,9 +3,8 @@ import { useDeferredValue, useId, useMemo, useState, type ReactNode } from "reac
 import type { NodeInfo } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
-import { odAddress } from "../../lib/format";
+import { nodeTitle, odAddress } from "../../lib/format";
 import { useApi } from "../../lib/useApi";
-import { nodeTitle } from "../../nav/Sidebar";
 import {
   MAX_SIGNALS,
   QUICK_PICKS,

@@ -1,7 +1,7 @@
 // Canned answers for the Scope page tests: node 1 (MDi-S1-C), position and velocity in TPDO2,
 // a vendor object polled by SDO.
 import type { NodeInfo } from "../../api/types";
-import { INFO, TREE } from "../pdo/fixtures";
+import { INFO, TREE } from "../../test/fixtures/node";
 import type { BusLoad, Capture, CaptureSignal, ScopePlan, ScopeViewer } from "./types";
 
 export { INFO, TREE };

@@ -2,11 +2,8 @@
 // capture request built from what the user typed (with the reason when it cannot be sent), a
 // signal's source in words, a trigger in words, values with their units.
 import type { OdEntry, OdObject } from "../../api/types";
-import { formatBytes, odAddress } from "../../lib/format";
-
-export { formatBytes }; // the capture list's sizes; kept here for its callers
-import { filterOd, parseOdQuery } from "../od/odFilter";
-import { formatCobId } from "../pdo/model";
+import { formatBytes, formatCobId, formatDateTime, odAddress } from "../../lib/format";
+import { filterOd, parseOdQuery } from "../../lib/odFilter";
 import type {
   Capture,
   CaptureRequest,
@@ -17,6 +14,8 @@ import type {
   TriggerMode,
   TriggerRequest,
 } from "./types";
+
+export { formatBytes, formatDateTime }; // the capture list's sizes and times, for its callers
 
 export const MAX_SIGNALS = 32;
 export const MIN_SYNC_PERIOD_US = 500;
@@ -257,16 +256,6 @@ export function shortNumber(value: number): string {
   if (value !== 0 && (magnitude >= 1e12 || magnitude < 1e-4)) return value.toExponential(3);
   if (magnitude >= 1e4) return value.toLocaleString("en-US", { maximumFractionDigits: 0 });
   return value.toLocaleString("en-US", { maximumSignificantDigits: 5 });
-}
-
-/** Local date and time of an epoch-seconds timestamp: "2026-11-25 09:09:03". */
-export function formatDateTime(epochS: number): string {
-  const date = new Date(epochS * 1000);
-  const pad = (n: number): string => String(n).padStart(2, "0");
-  return (
-    `${date.getFullYear()}-${pad(date.getMonth() + 1)}-${pad(date.getDate())} ` +
-    `${pad(date.getHours())}:${pad(date.getMinutes())}:${pad(date.getSeconds())}`
-  );
 }
 
 const EDGES: Record<Edge, string> = { rising: "rising", falling: "falling", either: "either edge" };

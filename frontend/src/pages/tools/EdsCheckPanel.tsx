@@ -3,13 +3,11 @@ import { useState, type ReactNode } from "react";
 import { api, call, uploadBody } from "../../api/client";
 import type { OdCheckResult } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
-import { FilePicker } from "../../components/FilePicker";
+import { FilePicker, OD_FILE_TYPES } from "../../components/FilePicker";
 import { LintTable } from "../../components/LintTable";
 import { Spinner } from "../../components/Spinner";
 import { hex } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
-
-export const OD_FILE_TYPES = ".eds,.dcf,.xdd,.xdc,.xpd";
 
 function Summary({ result }: { result: OdCheckResult }): ReactNode {
   const counts = { error: 0, warning: 0, info: 0 };

@@ -2,8 +2,8 @@ import { screen } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
-import { stubFetch } from "../../test/fetchStub";
-import { renderPage } from "../../test/render";
+import { stubFetch } from "../test/fetchStub";
+import { renderPage } from "../test/render";
 import { QuickStopAllButton, quickStopSummary } from "./QuickStopButton";
 
 afterEach(() => {

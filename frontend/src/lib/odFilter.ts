@@ -2,7 +2,7 @@
 // "6041", "0x6041", "6041h", "1018:2", "2006:0A" (sub-index in hex, like the API), or part of a
 // name ("statusword"). A bare hex-looking word such as "60" or "add" could be either, so it
 // matches index prefixes and names alike.
-import type { OdEntry, OdObject } from "../../api/types";
+import type { OdEntry, OdObject } from "../api/types";
 
 export type OdQuery =
   | { kind: "all" }

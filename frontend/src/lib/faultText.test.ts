@@ -1,5 +1,6 @@
 import { describe, expect, it } from "vitest";
 
+import type { Fault } from "../api/faults";
 import {
   bannerText,
   checkParts,
@@ -13,7 +14,6 @@ import {
   sourceLabel,
   stateChange,
 } from "./faultText";
-import type { Fault } from "./types";
 
 function fault(overrides: Partial<Fault> = {}): Fault {
   return {

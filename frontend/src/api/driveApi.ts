@@ -1,10 +1,10 @@
-// The motion routes, one function each, through the generated client. Every call carries this
+// The motion routes, one function each, through the generated client (the Drive tab's, and
+// those the Commission and Faults tabs and the Network page share). Every call carries this
 // tab's X-Client-Id, so the server's safety layer knows who commands the drive. Two refusals
 // come back as their own errors because the page answers them in words: a blocked enable (the
 // reasons) and a node another tab controls (who holds it).
-import { api } from "../../api/client";
-import { ApiError, asApiError, toApiError } from "../../api/errors";
-import { clientHeaders, clientName } from "../../live/clientId";
+import { api } from "./client";
+import { clientHeaders, clientName } from "./clientId";
 import type {
   ControllerHolder,
   ControllerInfo,
@@ -20,7 +20,8 @@ import type {
   MotionLimits,
   MoveRequest,
   QuickStopResult,
-} from "./types";
+} from "./drive";
+import { ApiError, asApiError, toApiError } from "./errors";
 
 export class EnableBlockedError extends ApiError {
   readonly reasons: EnableReason[];

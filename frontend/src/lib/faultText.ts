@@ -1,5 +1,5 @@
 // Faults in words for the banner, the Faults tab and the history table. Pure, table-tested.
-import type { Fault } from "./types";
+import type { Fault } from "../api/faults";
 
 /** CiA 301 error register 1001h, bit 0 first. */
 const ERROR_REGISTER_BITS: readonly string[] = [

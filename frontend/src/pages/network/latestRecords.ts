@@ -1,9 +1,9 @@
 // The Network page's view of commissioning: each node's latest record and its status.
 import { useEffect } from "react";
 
+import type { CommissioningRecord, RecordStatus } from "../../api/commission";
+import { listRecords } from "../../api/commissionApi";
 import { useApi } from "../../lib/useApi";
-import { listRecords } from "./commissionApi";
-import type { CommissioningRecord, RecordStatus } from "./types";
 
 export interface LatestRecord {
   id: number;

@@ -1,15 +1,16 @@
-// The commissioning routes (docs/api.md, "Commissioning"), one function each. A step run that
-// finds the axis held by another client comes back as HeldByOtherError, which names the holder.
-import { api, call } from "../../api/client";
-import { ApiError, asApiError } from "../../api/errors";
-import { motionError } from "../drive/driveApi";
+// The commissioning routes (docs/api.md, "Commissioning"), one function each: the Commission
+// tab's, and the record list the Network page's node list reads. A step run that finds the axis
+// held by another client comes back as HeldByOtherError, which names the holder.
+import { api, call } from "./client";
 import type {
   CommissioningRecord,
   CommissioningStep,
   ReportFormat,
   StepKey,
   StepRun,
-} from "./types";
+} from "./commission";
+import { motionError } from "./driveApi";
+import { ApiError, asApiError } from "./errors";
 
 /** The node's records, newest first; without a node, every node's. */
 export function listRecords(

@@ -2,13 +2,14 @@ import { useCallback, useEffect, useRef, useState, type ReactNode } from "react"
 
 import { api, call } from "../../api/client";
 import { asApiError, type ApiError } from "../../api/errors";
+import type { EventKind, TimelinePage } from "../../api/timeline";
 import { ErrorText } from "../../components/ErrorText";
+import { EventList } from "../../components/EventList";
 import { Spinner } from "../../components/Spinner";
 import { formatClock } from "../../lib/format";
-import { useLive, useLiveStore } from "../../live/context";
 import { useApi } from "../../lib/useApi";
-import { usePoll } from "../faults/usePoll";
-import { EventList } from "./EventList";
+import { usePoll } from "../../lib/usePoll";
+import { useLive, useLiveStore } from "../../live/context";
 import {
   EMPTY_TIMELINE,
   KIND_LABELS,
@@ -22,7 +23,6 @@ import {
   type Timeline as TimelineList,
   type TimelineFilter,
 } from "./timelineState";
-import type { EventKind, TimelinePage } from "./types";
 
 /** Safety refresh (`since` the synced id) besides the WebSocket's `timeline` events. */
 export const TIMELINE_REFRESH_MS = 15_000;

@@ -1,9 +1,9 @@
 import { useState, type ReactNode } from "react";
 
-import { ErrorText } from "../../components/ErrorText";
-import { useAction } from "../../lib/useApi";
-import { driveAction, quickStopAll } from "./driveApi";
-import type { DriveState, QuickStopResult } from "./types";
+import type { DriveState, QuickStopResult } from "../api/drive";
+import { driveAction, quickStopAll } from "../api/driveApi";
+import { useAction } from "../lib/useApi";
+import { ErrorText } from "./ErrorText";
 
 /** One click, always enabled, open to every client whoever holds the drive: the drive brakes
  * on its quick-stop ramp (605Ah) and stays in Quick stop active. */

@@ -1,7 +1,7 @@
 // The live timeline's list: newest first, fed by the WebSocket's `timeline` events, caught up
 // with `since` the newest id after a gap, and paged back for older ones (`before` the oldest).
 // Pure, so the merging is table-tested.
-import type { EventKind, TimelineEvent, TimelinePage } from "./types";
+import type { EventKind, TimelineEvent, TimelinePage } from "../../api/timeline";
 
 export const TIMELINE_PAGE = 50;
 /** Keep the list bounded however long the page stays open. */

@@ -3,10 +3,10 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 
 import type { NodeInfo } from "../../api/types";
 import { stubFetch } from "../../test/fetchStub";
+import { record } from "../../test/fixtures/commission";
 import { renderPage } from "../../test/render";
-import { NetworkPage } from "../network/NetworkPage";
-import { record } from "./fixtures";
 import { latestByNode } from "./latestRecords";
+import { NetworkPage } from "./NetworkPage";
 
 afterEach(() => {
   vi.unstubAllGlobals();

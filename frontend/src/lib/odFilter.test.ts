@@ -1,6 +1,6 @@
 import { describe, expect, it } from "vitest";
 
-import type { OdEntry, OdObject } from "../../api/types";
+import type { OdEntry, OdObject } from "../api/types";
 import { countEntries, filterOd, parseOdQuery } from "./odFilter";
 
 function entry(index: number, subindex: number, name: string): OdEntry {

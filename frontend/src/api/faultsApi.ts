@@ -1,16 +1,17 @@
-// The fault routes, one function each. Errors come back as ApiError (ErrorText shows them).
-import { api, call, odPath } from "../../api/client";
-import { asApiError } from "../../api/errors";
-import { clientHeaders } from "../../live/clientId";
-import { motionError } from "../drive/driveApi";
-import type { SdoValue } from "../../api/types";
+// The fault routes, one function each (the Faults tab's, and the active faults the fault banner
+// reads). Errors come back as ApiError (ErrorText shows them).
+import { api, call, odPath } from "./client";
+import { clientHeaders } from "./clientId";
+import { motionError } from "./driveApi";
+import { asApiError } from "./errors";
 import type {
   ActiveFaults,
   DeviceHistory,
   DeviceHistoryCleared,
   FaultResetResult,
   NodeFaults,
-} from "./types";
+} from "./faults";
+import type { SdoValue } from "./types";
 
 const path = (node: number): { path: { node: number } } => ({ path: { node } });
 

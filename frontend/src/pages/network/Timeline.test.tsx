@@ -2,10 +2,10 @@ import { act, screen } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
+import type { TimelineEvent } from "../../api/timeline";
 import { stubFetch } from "../../test/fetchStub";
 import { renderPage } from "../../test/render";
 import { Timeline } from "./Timeline";
-import type { TimelineEvent } from "./types";
 
 afterEach(() => {
   vi.unstubAllGlobals();

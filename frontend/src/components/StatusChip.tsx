@@ -1,7 +1,21 @@
+// Commissioning statuses in words and as badges: the Commission tab's steps and record, and
+// each node's latest record on the Network page.
 import type { ReactNode } from "react";
 
-import { RECORD_STATUS_TEXT, STEP_STATUS_TEXT } from "./steps";
-import type { RecordStatus, StepStatus } from "./types";
+import type { RecordStatus, StepStatus } from "../api/commission";
+
+const STEP_STATUS_TEXT: Record<StepStatus, string> = {
+  to_do: "To do",
+  done: "Done",
+  failed: "Failed",
+  skipped: "Skipped",
+};
+
+export const RECORD_STATUS_TEXT: Record<RecordStatus, string> = {
+  in_progress: "In progress",
+  done: "Done",
+  failed: "Failed",
+};
 
 /** A step's status: to do / done / failed / skipped. */
 export function StepChip({ status }: { status: StepStatus }): ReactNode {

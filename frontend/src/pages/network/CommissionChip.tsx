@@ -1,9 +1,9 @@
 import type { ReactNode } from "react";
 import { Link } from "react-router";
 
-import { nodeUrl } from "../../nav/routes";
+import { RecordChip } from "../../components/StatusChip";
+import { nodeUrl } from "../../nav/paths";
 import type { LatestRecord } from "./latestRecords";
-import { RecordChip } from "./StatusChip";
 
 /** A node's latest commissioning record in the node list: its status, linking to the flow. */
 export function CommissionChip({

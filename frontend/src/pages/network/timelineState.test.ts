@@ -1,5 +1,6 @@
 import { describe, expect, it } from "vitest";
 
+import type { TimelineEvent } from "../../api/timeline";
 import {
   EMPTY_TIMELINE,
   TIMELINE_MAX,
@@ -10,7 +11,6 @@ import {
   matchesFilter,
   timelineQuery,
 } from "./timelineState";
-import type { TimelineEvent } from "./types";
 
 const ev = (id: number): TimelineEvent => ({
   id,
