@@ -105,7 +105,7 @@ WINDOW_SAMPLES = 10**12  # per signal: the capture never ends by itself here
 
 @dataclass
 class Scope:
-    """A planned capture (as ScopeService._prepare makes it) and the frames its drives send."""
+    """A planned capture (as ScopePlanner.prepare makes it) and the frames its drives send."""
 
     signals: list[CaptureSignal]
     infos: dict[Key, SignalInfo]

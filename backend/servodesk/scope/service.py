@@ -1,5 +1,5 @@
-"""The scope service: plan a capture, set the bus up for it (SYNC, TPDOs, NMT), record it, put
-everything back, keep the captures and export them.
+"""The scope service: plan a capture (planner.py), set the bus up for it and put it back
+(bus_setup.py), record it, keep the captures and export them.
 
 One capture series runs at a time. Its setup (the TPDOs the scope mapped, the SYNC period, the
 nodes it started) is made once and undone when the series ends; in `normal` trigger mode the
@@ -12,26 +12,21 @@ import asyncio
 import logging
 import time
 import uuid
-from collections.abc import Awaitable, Callable, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from servodesk.bus.connection import BusManager
 from servodesk.errors import InvalidValueError, ServodeskError, StateConflictError
 from servodesk.events.bus import EventBus
-from servodesk.models import NmtCommandName, NmtStateName, SyncConfig
-from servodesk.motion.units import DriveUnits
 from servodesk.network.sync import SyncService
 from servodesk.nodes.access import NodeAccess
-from servodesk.pdo.model import PdoConfig
-from servodesk.pdo.procedure import Procedure
 from servodesk.pdo.service import PdoService
-from servodesk.pdo_models import BusLoadResult
 from servodesk.scope import export as exports
 from servodesk.scope import retention
-from servodesk.scope.checks import SilentSignalsError, check_request, overload, trigger_nodes
+from servodesk.scope.bus_setup import BusSetup
+from servodesk.scope.checks import SilentSignalsError, overload
 from servodesk.scope.frames import FrameSink
-from servodesk.scope.plan import NodePlan, plan_node
+from servodesk.scope.planner import MAX_LOAD_PERCENT, ScopePlanner, Setup
 from servodesk.scope.recording import CaptureRecording
 from servodesk.scope.run import (
     FLUSH_S,
@@ -41,46 +36,24 @@ from servodesk.scope.run import (
     poll_sdo,
 )
 from servodesk.scope.samples import SamplesWriter
-from servodesk.scope.setup import Key, build_core, capture_signals, lookup, wanted
-from servodesk.scope.signals import SignalInfo
+from servodesk.scope.setup import build_core
 from servodesk.scope.store import CaptureStore
-from servodesk.scope.units import drive_units
 from servodesk.scope.viewer_server import RerunServer
 from servodesk.scope_models import (
     ACTIVE_STATES,
     Capture,
     CaptureRequest,
-    CaptureSignal,
     CaptureState,
     ExportFormat,
     ExportLayout,
     ScopePlan,
 )
 from servodesk.storage.usage import UsageMeter
-from servodesk_protocol.cia402 import STATUSWORD
 
 log = logging.getLogger(__name__)
 
-MAX_LOAD_PERCENT = 100.0
 ROOM_CHECK_S = 1.0  # how often a recording capture checks its size and the disk's free space
 TEARDOWN_WAIT_S = 10.0  # a new capture waits this long for the last one's setup to be undone
-
-
-@dataclass
-class Setup:
-    """What a capture series changed on the bus, to be undone when it ends."""
-
-    request: CaptureRequest
-    signals: list[CaptureSignal]
-    infos: dict[Key, SignalInfo]
-    plans: dict[int, NodePlan]
-    bus_load_percent: float
-    notes: list[str]
-    sync_before: SyncConfig | None = None  # None: the scope did not touch SYNC
-    applied: list[int] = field(default_factory=list)  # nodes whose scope TPDOs are written
-    started: dict[int, NmtStateName] = field(default_factory=dict)  # node -> state before
-    series: int | None = None
-    kept: list[int] = field(default_factory=list)  # captures of the series, oldest first
 
 
 class ScopeService:
@@ -106,6 +79,8 @@ class ScopeService:
         self.events = events
         self.store = store
         self.viewer = viewer
+        self.planner = ScopePlanner(access, pdos, known_nodes)
+        self.bus_setup = BusSetup(access, pdos, sync)
         self._lock = asyncio.Lock()
         self._setup: Setup | None = None
         self._run: CaptureRun | None = None
@@ -120,82 +95,7 @@ class ScopeService:
     # ------------------------------------------------------------------ planning
 
     async def plan(self, request: CaptureRequest) -> ScopePlan:
-        setup = await self._prepare(request)
-        problems = []
-        if setup.bus_load_percent > MAX_LOAD_PERCENT:
-            problems.append(overload(setup.bus_load_percent, request.sync_period_us))
-        load = await self._bus_load(setup)
-        return ScopePlan(
-            ok=not problems,
-            signals=setup.signals,
-            bus_load=load,
-            problems=problems,
-            notes=setup.notes,
-        )
-
-    async def _prepare(self, request: CaptureRequest) -> Setup:
-        """Resolve the signals, plan their TPDOs and compute the bus load (reads only)."""
-        check_request(request)
-        nodes = sorted({s.node for s in request.signals} | trigger_nodes(request))
-        has_statusword = {}
-        for node in nodes:
-            self.access.info(node)  # NodeNotFoundError for a node not on the bus
-            has_statusword[node] = self.access.od(node).get(STATUSWORD, 0) is not None
-        need = wanted(request, has_statusword)
-        infos: dict[Key, SignalInfo] = {}
-        for node in sorted({key[0] for key in need.keys}):
-            units = await self._units(node)
-            od = self.access.od(node)
-            for key in need.keys:
-                if key[0] == node:
-                    infos[key] = lookup(key, od, units)
-        plans: dict[int, NodePlan] = {}
-        notes: list[str] = []
-        for node in sorted({key[0] for key in need.keys}):
-            facts = self.pdos.facts(node)
-            current = await self.pdos.cached(node)  # kept true by every PDO change
-            plan = plan_node(
-                node,
-                [infos[key] for key in need.keys if key[0] == node],
-                current,
-                byte_granular=facts.byte_granular,
-                fixed_cob_ids=facts.fixed_cob_ids,
-                taken_ids=await self.pdos.taken_ids(node),
-                id_change_needs_reset=facts.procedure is Procedure.OUTSIDE_OPERATIONAL,
-            )
-            plans[node] = plan
-            notes.extend(f"node {node}: {note}" for note in plan.notes)
-        signals = capture_signals(need.keys, plans, need.added)
-        setup = Setup(request, signals, infos, plans, 0.0, notes)
-        setup.bus_load_percent = (await self._bus_load(setup)).percent
-        return setup
-
-    async def _bus_load(self, setup: Setup) -> BusLoadResult:
-        """The bus during the capture: every node's TPDOs (the scope's included) and SYNC at
-        the capture's period. RPDOs are left out: ServoDesk sends none while capturing, and
-        another master's traffic is not known here."""
-        replace: dict[int, list[PdoConfig]] = {}
-        for node in sorted(set(self.known_nodes()) | set(setup.plans)):
-            try:
-                current = await self.pdos.cached(node)
-            except ServodeskError:
-                continue  # a node that cannot be read now is not counted (said below)
-            plan = setup.plans.get(node)
-            taken = {pdo.number for pdo in plan.scope_pdos} if plan else set()
-            kept = [p for p in current if p.kind == "tpdo" and p.number not in taken]
-            replace[node] = kept + list(plan.scope_pdos if plan else ())
-        load = await self.pdos.bus_load(
-            MAX_LOAD_PERCENT, replace=replace, sync_period_us=setup.request.sync_period_us
-        )
-        load.notes.insert(
-            0,
-            "RPDOs are not counted: ServoDesk sends none during a capture (another master's"
-            " would add to this)",
-        )
-        return load
-
-    async def _units(self, node: int) -> DriveUnits:
-        return await drive_units(self.access, node)
+        return await self.planner.plan(request)
 
     # ------------------------------------------------------------------ starting and stopping
 
@@ -212,17 +112,17 @@ class ScopeService:
                     f"capture {busy} is still armed or running: stop it"
                     f" (DELETE /api/scope/captures/{busy}) before starting another",
                 )
-            setup = await self._prepare(request)
+            setup = await self.planner.prepare(request)
             if setup.bus_load_percent > MAX_LOAD_PERCENT:
                 raise InvalidValueError(overload(setup.bus_load_percent, request.sync_period_us))
             # the record first: while the bus is set up it is listed as `arming`
             capture = await self._create(setup)
             self._arming = capture.id
             try:
-                await self._configure(setup)
+                await self.bus_setup.configure(setup)
                 run = await self._begin(setup, capture)
             except BaseException:
-                await self._undo(setup)
+                await self.bus_setup.undo(setup)
                 await self._forget_capture(capture.id)  # nothing was recorded
                 raise
             finally:
@@ -230,65 +130,6 @@ class ScopeService:
             self._setup = setup
             self._series_task = asyncio.create_task(self._series(setup, run))
             return run.capture.model_copy(deep=True)
-
-    async def _configure(self, setup: Setup) -> None:
-        """SYNC at the capture's period, the scope's TPDOs written, the nodes Operational."""
-        request = setup.request
-        current = self.sync.get()
-        if not current.producing or current.period_us != request.sync_period_us:
-            setup.sync_before = current
-            await self.sync.set(request.sync_period_us)
-            if current.producing:
-                setup.notes.append(
-                    f"SYNC period changed from {current.period_us} µs to"
-                    f" {request.sync_period_us} µs for the capture (restored afterwards)"
-                )
-        for node, plan in setup.plans.items():
-            if plan.scope_pdos:
-                await self.pdos.apply(node, list(plan.scope_pdos), actor="scope")
-                setup.applied.append(node)
-        if request.start_nodes:
-            for node in setup.applied:  # TPDOs flow only in Operational
-                state = self.access.info(node).nmt_state
-                if state is NmtStateName.OPERATIONAL:
-                    continue
-                await self.access.nmt(node, NmtCommandName.START)
-                if state is NmtStateName.UNKNOWN:
-                    # it sends no heartbeat: put back nothing, its state before is not known
-                    setup.notes.append(
-                        f"node {node} (NMT state unknown: no heartbeat) started for the capture"
-                        " and left Operational"
-                    )
-                    continue
-                setup.started[node] = state
-                setup.notes.append(f"node {node} put into Operational for the capture")
-
-    async def _undo(self, setup: Setup) -> None:
-        """Put back what `_configure` changed; each step is tried even when another fails."""
-        for node, state in setup.started.items():
-            back = (
-                NmtCommandName.STOP
-                if state is NmtStateName.STOPPED
-                else NmtCommandName.PRE_OPERATIONAL
-            )
-            await self._attempt(f"node {node}: NMT back", self.access.nmt(node, back))
-        for node in setup.applied:
-            restore = list(setup.plans[node].restore_pdos)
-            await self._attempt(
-                f"node {node}: TPDOs back", self.pdos.apply(node, restore, actor="scope")
-            )
-        setup.applied.clear()
-        setup.started.clear()
-        before = setup.sync_before
-        if before is not None:
-            period = before.period_us if before.producing else None
-            await self._attempt("SYNC back", self.sync.set(period))
-
-    async def _attempt(self, what: str, step: Awaitable[object]) -> None:
-        try:
-            await step
-        except ServodeskError as error:
-            log.warning("scope: %s failed: %s", what, error)
 
     async def _create(self, setup: Setup, series: int | None = None) -> Capture:
         """The capture's record, `arming` until its trigger can fire (run.py `refresh`)."""
@@ -384,7 +225,7 @@ class ScopeService:
                 run = await self._begin(setup, await self._create(setup, setup.series))
         finally:
             self._run = None
-            await self._undo(setup)
+            await self.bus_setup.undo(setup)
             self._setup = None
 
     async def _record(self, run: CaptureRun) -> None:
