@@ -62,7 +62,10 @@ class TimelineMessage(_Sent):
 
 class FaultMessage(_Sent):
     """A node's active fault changed: a new EMCY, an error-reset EMCY or a fault reset (null:
-    no active fault). Sent for every node with an active fault when a page connects."""
+    no active fault). Sent again once the EMCYs behind it are in the node's fault history
+    (stored with the state read after them), whether or not one is still active: a page that
+    lists the history reads it then. Sent for every node with an active fault when a page
+    connects."""
 
     type: Literal["fault"] = "fault"
     node: int

@@ -4,15 +4,19 @@ the Network page's `event`/`history` messages are unchanged."""
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 from fastapi.testclient import TestClient
 from starlette.testclient import WebSocketTestSession
 
 from servodesk.live_messages import ServerMessage
+from tests.backend.fault_rig import faulty_app, sdo_response
 
 SIM_INJECT = "/api/nodes/1/sdo/5FF0/0"  # the simulated drive's fault injection
 MDI_ALARM = 4
+EMCY = 0x080
+FOLLOWING_ERROR = bytes([0x11, 0x86, 0x21, 0, 0, 0, 0, 0])  # CiA 402 8611h, 1001h 21h
 
 
 class Socket:
@@ -93,3 +97,27 @@ def test_timeline_ids_follow_each_other_and_network_events_still_arrive(
         assert network["event"]["kind"] == "nmt"
         nmt = ws.receive(lambda m: m["type"] == "timeline" and m["event"]["kind"] == "nmt")
         assert nmt["event"]["data"] == {"tool": True, "command": "start", "broadcast": False}
+
+
+def test_a_fault_message_follows_the_history_even_when_the_fault_is_gone(
+    tmp_path: Path,
+) -> None:
+    """The Faults page reads the history when a `fault` message says it changed (it does not
+    poll). An EMCY is stored only after its 6041h read: when an error-reset EMCY clears it
+    before that answer, a `fault` message (still none active) follows the store all the same."""
+    with faulty_app(tmp_path, sdo_timeout=1.0) as app:
+        app.eventually(lambda: app.services.registry.known(3), what="node 3 identified")
+        with app.client.websocket_connect("/api/ws") as raw:
+            ws = Socket(raw)
+            app.rig.drop("rx", sdo_response(3))  # the 6041h read after the EMCY times out
+            app.inject(EMCY + 3, FOLLOWING_ERROR)
+            app.inject(EMCY + 3, bytes(8))  # error reset, before the state is read
+            ws.receive(lambda m: m["type"] == "fault" and m["node"] == 3 and m["fault"] is None)
+            assert app.client.get("/api/nodes/3/faults").json()["total"] == 0  # not stored yet
+
+            stored = ws.receive(lambda m: m["type"] == "fault" and m["node"] == 3, limit=60)
+            assert stored["fault"] is None  # nothing active: the message is for the history
+            faults = app.client.get("/api/nodes/3/faults").json()
+            assert (faults["active"], faults["total"]) == (None, 1)
+            assert faults["history"][0]["code_hex"] == "0x8611"
+            assert faults["history"][0]["state_after"] is None  # the read got no answer

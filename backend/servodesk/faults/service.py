@@ -84,7 +84,9 @@ class FaultService:
 
     def add_listener(self, fn: ActiveListener) -> Callable[[], None]:
         """Call `fn(node, fault)` on the loop whenever a node's active fault changes (a new
-        EMCY, an error-reset EMCY, a fault reset); returns its remover."""
+        EMCY, an error-reset EMCY, a fault reset) and when its EMCYs are stored in the history
+        with the state read after them (its active fault then may be unchanged, or none);
+        returns its remover."""
         self._listeners.append(fn)
 
         def remove() -> None:
@@ -174,8 +176,9 @@ class FaultService:
                 for fault in faults:
                     fault["state_after"] = _label(state)
                     self._storage.add_fault(fault)
-                if self._active.get(node) in faults:  # the banner shows the state it left
-                    self._notify(node)
+                # the banner shows the state it left; a page listing the history reads it now,
+                # even when the fault is no longer active (cleared before its 6041h answer)
+                self._notify(node)
         finally:
             self._readers.pop(node, None)
 

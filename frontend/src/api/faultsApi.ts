@@ -15,15 +15,22 @@ import type { SdoValue } from "./types";
 
 const path = (node: number): { path: { node: number } } => ({ path: { node } });
 
-/** The node's faults on the connected bus; `allBuses`: also those stored from other buses
- * (another server sharing the data directory, a bus connected before). */
+/** Fault history entries per page of GET /api/nodes/{node}/faults (the server's default). */
+export const FAULT_HISTORY_PAGE = 100;
+
+/** The node's faults on the connected bus, the newest `limit` of its history; `allBuses`: also
+ * those stored from other buses (another server sharing the data directory, a bus connected
+ * before). */
 export function nodeFaults(
   node: number,
   signal?: AbortSignal,
-  allBuses = false,
+  { allBuses = false, limit = FAULT_HISTORY_PAGE }: { allBuses?: boolean; limit?: number } = {},
 ): Promise<NodeFaults> {
-  const params = { path: { node }, query: allBuses ? { all_buses: true } : {} };
-  return call(api.GET("/api/nodes/{node}/faults", { params, signal }));
+  const query = {
+    ...(allBuses ? { all_buses: true } : {}),
+    ...(limit === FAULT_HISTORY_PAGE ? {} : { limit }),
+  };
+  return call(api.GET("/api/nodes/{node}/faults", { params: { path: { node }, query }, signal }));
 }
 
 export function activeFaults(signal?: AbortSignal): Promise<ActiveFaults> {

@@ -100,4 +100,38 @@ describe("timeline and fault messages", () => {
     store.setActiveFaults([], store.faultVersion());
     expect(store.getSnapshot().faults).toEqual({});
   });
+
+  it("takes one node's fault from REST unless a fault message for it came after the request", () => {
+    const store = new LiveStore();
+    const version = store.faultVersion();
+    store.apply({ type: "fault", node: 1, fault: null }); // reset while the request ran
+    store.setNodeFault(1, mdiAlarm4(), version);
+    store.setNodeFault(2, { ...mdiAlarm4(), node: 2 }, version); // no message for node 2
+    expect(Object.keys(store.getSnapshot().faults)).toEqual(["2"]);
+
+    // the same fault again keeps its object: nothing re-renders
+    const before = store.getSnapshot();
+    store.setNodeFault(2, { ...mdiAlarm4(), node: 2 }, store.faultVersion());
+    expect(store.getSnapshot()).toBe(before);
+    store.setNodeFault(2, null, store.faultVersion());
+    expect(store.getSnapshot().faults).toEqual({});
+  });
+
+  it("tells fault listeners of every fault message, also one that changes nothing", () => {
+    const store = new LiveStore();
+    const seen: [number, number | null][] = [];
+    const unsubscribe = store.subscribeFaults((node, fault) =>
+      seen.push([node, fault?.code ?? null]),
+    );
+    store.apply({ type: "fault", node: 1, fault: mdiAlarm4() });
+    store.apply({ type: "fault", node: 1, fault: null });
+    store.apply({ type: "fault", node: 1, fault: null }); // the history changed: sent again
+    unsubscribe();
+    store.apply({ type: "fault", node: 2, fault: null });
+    expect(seen).toEqual([
+      [1, 4],
+      [1, null],
+      [1, null],
+    ]);
+  });
 });

@@ -48,6 +48,8 @@ export interface LiveSnapshot {
 
 type Listener = () => void;
 type TimelineListener = (event: TimelineEvent) => void;
+/** A `fault` message: the node's active fault now (null: none). */
+type FaultListener = (node: number, fault: Fault | null) => void;
 
 /** Sends a message on the live socket; false when it is not open. */
 export type Sender = (message: ClientMessage) => boolean;
@@ -76,6 +78,10 @@ function sameNode(a: LiveNode, b: LiveNode): boolean {
   );
 }
 
+function sameFault(a: Fault, b: Fault): boolean {
+  return JSON.stringify(a) === JSON.stringify(b);
+}
+
 function sameIds(a: readonly number[], b: readonly number[]): boolean {
   return a.length === b.length && a.every((id, i) => id === b[i]);
 }
@@ -85,6 +91,7 @@ export class LiveStore {
   private readonly listeners = new Set<Listener>();
   private sender: Sender | null = null;
   private readonly timelineListeners = new Set<TimelineListener>();
+  private readonly faultListeners = new Set<FaultListener>();
   /** Counts `fault` messages; faultTouched holds the count at each node's latest one. */
   private faultSeq = 0;
   private readonly faultTouched = new Map<number, number>();
@@ -128,6 +135,7 @@ export class LiveStore {
         }
         if (message.fault) faults[message.node] = message.fault;
         this.update({ faults });
+        for (const listener of this.faultListeners) listener(message.node, message.fault);
         return;
       }
       case "drive_state": {
@@ -159,6 +167,14 @@ export class LiveStore {
     return () => this.timelineListeners.delete(listener);
   }
 
+  /** Called with every `fault` message as it arrives, also one that changes nothing in
+   * `faults`: the server sends one when a node's EMCYs are stored in its history (the Faults
+   * page reads the history then). Returns the unsubscribe. */
+  subscribeFaults(listener: FaultListener): () => void {
+    this.faultListeners.add(listener);
+    return () => this.faultListeners.delete(listener);
+  }
+
   /** Where the `fault` messages are now: pass it to setActiveFaults with a REST answer. */
   faultVersion(): number {
     return this.faultSeq;
@@ -177,6 +193,21 @@ export class LiveStore {
       if (seq > version && kept) next[node] = kept;
     }
     this.update({ faults: next });
+  }
+
+  /** One node's active fault from a REST answer requested at `version` (GET
+   * /api/nodes/{node}/faults, a fault reset's answer): ignored when a `fault` message for the
+   * node came after the request; the same fault keeps its object (nothing re-renders). */
+  setNodeFault(node: number, fault: Fault | null, version: number): void {
+    if ((this.faultTouched.get(node) ?? 0) > version) return;
+    const current = this.snapshot.faults[node];
+    if (fault === null ? current === undefined : current && sameFault(current, fault)) return;
+    const faults: Record<number, Fault> = {};
+    for (const kept of Object.values(this.snapshot.faults)) {
+      if (kept.node !== node) faults[kept.node] = kept;
+    }
+    if (fault) faults[node] = fault;
+    this.update({ faults });
   }
 
   /** The connection hands in how to reach the server (null while it has none). */

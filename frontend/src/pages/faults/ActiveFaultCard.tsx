@@ -7,7 +7,9 @@ import { errorCode, resetFault } from "../../api/faultsApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { errorCodeParts, faultCode, faultName } from "../../lib/faultText";
+import { useThrottled } from "../../lib/useThrottled";
 import { useAction, useApi } from "../../lib/useApi";
+import { useLiveStore } from "../../live/context";
 import { nodeUrl } from "../../nav/paths";
 import { useMay } from "../../session/context";
 import { FaultDetails } from "./FaultDetails";
@@ -22,7 +24,11 @@ function ErrorCodeValue({ hex, words }: { hex: string; words: string | null }): 
   );
 }
 
-/** 603Fh as the drive reports it now, tied to the active fault when the codes agree. */
+/** 603Fh is read again at most this often while the active fault keeps changing (a storm). */
+export const ERROR_CODE_READ_MS = 1000;
+
+/** 603Fh as the drive reports it now, tied to the active fault when the codes agree. The live
+ * channel does not carry it: it is read by SDO when the active fault's code changes. */
 function ErrorCodeLine({
   node,
   active,
@@ -30,8 +36,8 @@ function ErrorCodeLine({
   node: number;
   active: Fault | null | undefined;
 }): ReactNode {
-  // read again whenever the active fault changes
-  const version = active ? `${active.code}-${active.time}` : String(active);
+  // read again when the active fault's code changes (not for each EMCY of the same fault)
+  const version = useThrottled(active ? String(active.code) : String(active), ERROR_CODE_READ_MS);
   const code = useApi((signal) => errorCode(node, signal), `603f-${node}-${version}`);
   return (
     <p className="small error-code-line">
@@ -47,23 +53,24 @@ function ErrorCodeLine({
   );
 }
 
-/** The fault the node is in now, in words, with the reset and what it did. */
+/** The fault the node is in now, in words, with the reset and what it did. A reset's answer
+ * goes to the live store (unless the channel told newer), where `active` comes from. */
 export function ActiveFaultCard({
   node,
   active,
-  onReset,
 }: {
   node: number;
   active: Fault | null | undefined;
-  onReset: () => void;
 }): ReactNode {
+  const store = useLiveStore();
   const [result, setResult] = useState<string | null>(null);
   const operate = useMay("operate");
   const reset = useAction(async () => {
     setResult(null);
+    const version = store.faultVersion();
     const answer = await resetFault(node);
+    store.setNodeFault(node, answer.active, version);
     setResult(answer.ok ? answer.message : `Not reset: ${answer.message}`);
-    onReset();
   });
   return (
     <section

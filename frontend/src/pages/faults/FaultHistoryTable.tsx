@@ -1,5 +1,7 @@
 import { useState, type ReactNode } from "react";
 
+import { Spinner } from "../../components/Spinner";
+
 import {
   errorRegisterText,
   faultCode,
@@ -85,17 +87,23 @@ export function historyCount(total: number, shown: number): string {
 }
 
 /** Every EMCY ServoDesk received from the node on this bus (resets included), newest first;
- * with `allBuses`, also those stored from other buses, each naming its bus. */
+ * with `allBuses`, also those stored from other buses, each naming its bus; "Older…" loads
+ * more when fewer are shown than stored. */
 export function FaultHistoryCard({
   history,
   total,
   allBuses = false,
   onAllBuses,
+  onOlder,
+  loading = false,
 }: {
   history: readonly Fault[];
   total: number;
   allBuses?: boolean;
   onAllBuses?: (all: boolean) => void;
+  onOlder?: () => void;
+  /** A read of the list is under way (the list shown is the previous one). */
+  loading?: boolean;
 }): ReactNode {
   return (
     <section className="card" aria-labelledby="fault-history-heading">
@@ -124,6 +132,14 @@ export function FaultHistoryCard({
         </p>
       ) : (
         <FaultTable faults={history} caption="Fault history" buses={allBuses} />
+      )}
+      {onOlder && (
+        <p className="inline small">
+          <button type="button" disabled={loading} onClick={onOlder}>
+            Older…
+          </button>
+          {loading && <Spinner label="Reading the fault history" />}
+        </p>
       )}
     </section>
   );

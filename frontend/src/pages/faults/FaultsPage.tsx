@@ -1,32 +1,44 @@
-import { useState, type ReactNode } from "react";
+import type { ReactNode } from "react";
 
-import { nodeFaults } from "../../api/faultsApi";
 import { ErrorText } from "../../components/ErrorText";
-import { useApi } from "../../lib/useApi";
-import { usePoll } from "../../lib/usePoll";
+import { useLive } from "../../live/context";
 import { ActiveFaultCard } from "./ActiveFaultCard";
 import { DeviceHistoryCard } from "./DeviceHistoryCard";
 import { FaultHistoryCard } from "./FaultHistoryTable";
+import { useActiveFault, useFaultHistory } from "./useFaultHistory";
 
-export const FAULT_POLL_MS = 2000;
-
-/** The node's active fault in words with the reset, every EMCY seen, and the drive's 1003h. */
-export function FaultsPage({ node }: { node: number }): ReactNode {
-  const [allBuses, setAllBuses] = useState(false);
-  const faults = useApi(
-    (signal) => nodeFaults(node, signal, allBuses),
-    `faults-${node}-${String(allBuses)}`,
+/** While the live channel is down the page cannot follow the drive: it says so (and reads the
+ * faults again once the channel is back). Not during the first connection of a page load. */
+function LinkDownNote(): ReactNode {
+  const down = useLive(
+    (s) => s.link.state === "closed" || (s.link.state === "connecting" && s.link.attempt > 0),
   );
-  usePoll(faults.reload, FAULT_POLL_MS);
+  if (!down) return null;
+  return (
+    <p className="note link-down-note" role="status">
+      Live updates paused: the connection to the server is lost. The active fault and the history
+      may be out of date; they are read again when it is back.
+    </p>
+  );
+}
+
+/** The node's active fault in words with the reset, every EMCY seen, and the drive's 1003h. The
+ * active fault is the live channel's (as in the banner); the history is read when it changes. */
+export function FaultsPage({ node }: { node: number }): ReactNode {
+  const faults = useFaultHistory(node);
+  const active = useActiveFault(node, faults.data !== undefined);
   return (
     <div className="faults-page">
+      <LinkDownNote />
       <ErrorText error={faults.data ? null : faults.error} onRetry={faults.reload} />
-      <ActiveFaultCard node={node} active={faults.data?.active} onReset={faults.reload} />
+      <ActiveFaultCard node={node} active={active} />
       <FaultHistoryCard
         history={faults.data?.history ?? []}
         total={faults.data?.total ?? 0}
-        allBuses={allBuses}
-        onAllBuses={setAllBuses}
+        allBuses={faults.allBuses}
+        onAllBuses={faults.setAllBuses}
+        onOlder={faults.hasOlder ? faults.older : undefined}
+        loading={faults.loading && faults.data !== undefined}
       />
       <DeviceHistoryCard node={node} />
     </div>
