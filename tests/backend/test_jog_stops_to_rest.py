@@ -66,7 +66,7 @@ async def test_a_released_torque_jog_comes_to_rest_and_says_stopping_until_then(
         await rig.motion.enable(node)
         # a quick stop ramp of 2000 rpm/s, as many machines have (the simulation's default
         # stands the axis within milliseconds: no "stopping" to see)
-        gentle = rig.motion._units(node).rpm_s_to_acceleration(2000)
+        gentle = rig.motion.units(node).rpm_s_to_acceleration(2000)
         await rig.write(node, QUICK_STOP_DECELERATION, 0, gentle)
         await rig.widen_switches(node)  # a slow host holds longer: the travel is checked below
         cap = rig.motion.limits(node).max_velocity_rpm  # only the drive's own limit
@@ -108,7 +108,7 @@ async def test_a_stop_on_lost_control_never_brakes_on_the_client_s_slow_ramp() -
         assert stopped.stop_reason.startswith("keep-alive missed")
         assert len(seen) < 100, f"still moving after {len(seen)} readings"
         ramp = await rig.read(node, PROFILE_ACCELERATION, signed=False)
-        one_rpm_s = rig.motion._units(node).rpm_s_to_acceleration(1.0)
+        one_rpm_s = rig.motion.units(node).rpm_s_to_acceleration(1.0)
         assert ramp > 100 * one_rpm_s, "the stop ramp is still the client's"
 
 

@@ -13,13 +13,14 @@ them once is not asked again) and 607Dh Software position limit where the dictio
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import replace
 
 from servodesk.motion import drive_io as io
-from servodesk.motion.core import MotionCore
-from servodesk.motion.drive_io import Snapshot
+from servodesk.motion.core import DriveIo
 from servodesk.motion.errors import LimitError
+from servodesk.motion.rated import default_limits, pt_speed_limit, speed_object, speed_ref
 from servodesk.motion.schemas import DriveLimits, MotionLimits
 
 LIMITS_REFRESH_S = 1.0  # the drive's own limits are at most this old while the state is read
@@ -28,17 +29,23 @@ LIMITS_REFRESH_POLLED_S = 2.0
 SIM_PREFIX = "SIM "  # how the shipped dictionaries name the simulator-only objects
 
 
-class LimitOps(MotionCore):
+class Limits:
+    """The limits in force on each axis (kept in its Axis), the drive's own read again while
+    its state is read, and the checks every command passes before anything is sent."""
+
+    def __init__(self, drive: DriveIo) -> None:
+        self._drive = drive
+
     # ------------------------------------------------------------------ the API
 
     def limits(self, node: int) -> MotionLimits:
-        self._registry.info(node)  # NodeNotFoundError for an unknown node
-        return self._axis(node).limits
+        self._drive.registry.info(node)  # NodeNotFoundError for an unknown node
+        return self._drive.axis(node).limits
 
     def set_limits(self, node: int, limits: MotionLimits) -> MotionLimits:
         """Server-side limits for every later command of this node (never above the drive's
         own overspeed object and 6072h; if the drive's own later go below them, those rule)."""
-        drive = self._default_limits(node, self._axis(node).statics)
+        drive = self._default_limits(node, self._drive.axis(node).statics)
         if limits.max_velocity_rpm > drive.max_velocity_rpm:
             raise LimitError(
                 node,
@@ -54,32 +61,41 @@ class LimitOps(MotionCore):
         low, high = limits.min_position_rev, limits.max_position_rev
         if low is not None and high is not None and low >= high:
             raise LimitError(node, f"travel limits {low} … {high} rev are empty")
-        self._axis(node).chosen_limits = limits
+        self._drive.axis(node).chosen_limits = limits
         self._follow_drive(node)
-        return self._axis(node).limits
+        return self._drive.axis(node).limits
+
+    def pt_speed_limit(self, node: int) -> tuple[float | None, str]:
+        """What caps the speed in profile torque: (rpm or None when unknown, the object)."""
+        return pt_speed_limit(self._drive.registry, node, self._drive.axis(node).statics)
+
+    def travel(self, node: int) -> tuple[float | None, float | None]:
+        """ServoDesk's own travel limits (rev) of the node, as set with PUT …/drive/limits."""
+        limits = self._drive.axis(node).limits
+        return limits.min_position_rev, limits.max_position_rev
 
     # ------------------------------------------------------------------ reading
 
-    async def _refresh_statics(self, node: int) -> None:
-        """All the rarely changing objects (first contact, every enable); in place of
-        MotionCore's, so the simulator's switch objects are not asked of a drive without them."""
-        data = self._registry.profile_data(node)
-        speed_ref = data.quirks.max_speed_object if data else (0x6080, 0)  # Max motor speed
+    async def refresh_statics(self, node: int) -> None:
+        """All the rarely changing objects (first contact, every enable), the simulator's
+        switch objects only of a drive that has them."""
+        ref = speed_ref(self._drive.registry, node)
         switches = self._asks_switches(node)
-        statics = await self._run(
+        statics = await self._drive.run(
             node,
-            lambda r: io.read_statics(r, speed_ref, switches=switches),
+            lambda r: io.read_statics(r, ref, switches=switches),
             "read drive facts",
         )
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         axis.statics = statics
         axis.limits_read_at = time.monotonic()
         self._follow_drive(node)
 
-    async def _snapshot(self, node: int, *, sdo_budget: int | None = None) -> Snapshot:
+    async def before_reading(self, node: int, sdo_budget: int | None) -> int | None:
         """The drive's own limits are read again every LIMITS_REFRESH_S while the state is
-        read: all at once, or one object per polled reading (within its SDO budget)."""
-        axis = self._axis(node)
+        read: all at once, or one object per polled reading (within its SDO budget); the
+        reading's SDO budget left (Readings.snapshot)."""
+        axis = self._drive.axis(node)
         every = LIMITS_REFRESH_S if sdo_budget is None else LIMITS_REFRESH_POLLED_S
         stale = time.monotonic() - axis.limits_read_at > every
         if axis.statics is not None and stale:
@@ -88,28 +104,29 @@ class LimitOps(MotionCore):
             else:
                 await self._refresh_one_limit(node)
                 sdo_budget = max(sdo_budget - 1, 1)
-        return await super()._snapshot(node, sdo_budget=sdo_budget)
+        return sdo_budget
 
     def _limit_objects(self, node: int) -> io.Objects:
-        data = self._registry.profile_data(node)
-        speed_ref = data.quirks.max_speed_object if data else (0x6080, 0)  # Max motor speed
-        return io.limit_objects(speed_ref, switches=self._asks_switches(node))
+        ref = speed_ref(self._drive.registry, node)
+        return io.limit_objects(ref, switches=self._asks_switches(node))
 
     async def _refresh_limits(self, node: int) -> None:
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         objects = self._limit_objects(node)
-        values = await self._run(node, lambda r: io.read_objects(r, objects), "read drive limits")
+        values = await self._drive.run(
+            node, lambda r: io.read_objects(r, objects), "read drive limits"
+        )
         axis.limits_read_at = time.monotonic()
         self._apply_limits(node, io.limits_of(values))
 
     async def _refresh_one_limit(self, node: int) -> None:
         """The next of the limit objects in turn; a round done counts as a full refresh."""
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         objects = self._limit_objects(node)
         names = list(objects)
         name = names[axis.limit_turn % len(names)]
         index, sub, signed = objects[name]
-        value = await self._run(
+        value = await self._drive.run(
             node,
             lambda r: io.read(r, index, sub, signed=signed),
             "read a drive limit",
@@ -123,7 +140,7 @@ class LimitOps(MotionCore):
         self._apply_limits(node, io.limits_of({n: values.get(n) for n in objects}))
 
     def _apply_limits(self, node: int, read: io.Limits) -> None:
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         if axis.statics is not None:
             axis.statics = replace(
                 axis.statics,
@@ -136,16 +153,16 @@ class LimitOps(MotionCore):
     def _asks_switches(self, node: int) -> bool:
         """The simulator's switch objects are asked for only while the drive answers them and
         its dictionary names them the simulator's (a real drive has no 5FF1h/5FF2h)."""
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         travel = axis.statics.travel if axis.statics else None
         if axis.statics is not None and (travel is None or travel.switches is None):
             axis.sim_switches = False  # asked once and refused (or not in the dictionary)
-        entry = self._registry.od(node).get(io.SIM_NEGATIVE_SWITCH, 0)
+        entry = self._drive.registry.od(node).get(io.SIM_NEGATIVE_SWITCH, 0)
         return axis.sim_switches and entry is not None and entry.name.startswith(SIM_PREFIX)
 
     def _follow_drive(self, node: int) -> None:
         """The limits in force: the user's choice under the drive's own as last read."""
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         drive = self._default_limits(node, axis.statics)
         chosen = axis.chosen_limits
         axis.limits = (
@@ -165,8 +182,36 @@ class LimitOps(MotionCore):
             torque_source="6072h Max torque",
         )
 
+    def _default_limits(self, node: int, statics: io.Statics | None) -> MotionLimits:
+        return default_limits(self._drive.registry, self._drive.settings, node, statics)
+
     def _speed_source(self, node: int) -> str:
-        _, _, named = self._speed_object(node)
-        capped = self._settings.motion_max_velocity_rpm
+        _, _, named = speed_object(self._drive.registry, node)
+        capped = self._drive.settings.motion_max_velocity_rpm
         tail = f", capped at {capped:g} rpm by ServoDesk's settings" if capped else ""
         return f"{named}{tail}"
+
+    # ------------------------------------------------------------------ checks
+
+    def check_velocity(self, node: int, rpm: float) -> None:
+        limit = self._drive.axis(node).limits.max_velocity_rpm
+        if not math.isfinite(rpm) or abs(rpm) > limit:
+            raise LimitError(node, f"{rpm:g} rpm is beyond the speed limit of {limit:g} rpm")
+
+    def check_jog(self, node: int, mode: str, value: float) -> None:
+        if mode == "pv":
+            self.check_velocity(node, value)
+            return
+        limit = self._drive.axis(node).limits.max_torque_pct
+        if not math.isfinite(value) or abs(value) > limit:
+            raise LimitError(node, f"{value:g} % is beyond the torque limit of {limit:g} %")
+
+    def check_travel(self, node: int, target_rev: float) -> None:
+        limits = self._drive.axis(node).limits
+        low, high = limits.min_position_rev, limits.max_position_rev
+        if (low is not None and target_rev < low) or (high is not None and target_rev > high):
+            raise LimitError(
+                node,
+                f"target {target_rev:.4f} rev is outside the travel limits "
+                f"{low if low is not None else '−∞'} … {high if high is not None else '+∞'} rev",
+            )

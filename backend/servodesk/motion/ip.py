@@ -24,32 +24,25 @@ from __future__ import annotations
 
 import asyncio
 import math
-import time
 from collections import deque
-from collections.abc import Callable
-from dataclasses import dataclass, field
 
 import canopen
 
 from servodesk.audit import Outcome, current_entry
-from servodesk.bus.cyclic import precise_wakeups
 from servodesk.errors import InvalidValueError
 from servodesk.motion import drive_io as io
-from servodesk.motion.core import state_of
+from servodesk.motion.core import DriveIo, state_of
+from servodesk.motion.drive_limits import Limits
 from servodesk.motion.errors import LimitError
-from servodesk.motion.ip_timing import SyncClock, SyncTiming, SyncUnsafeError, probe
-from servodesk.motion.moves import MoveOps
+from servodesk.motion.ip_stream import Stream
+from servodesk.motion.ip_timing import SyncTiming, SyncUnsafeError, probe
+from servodesk.motion.readings import Readings
 from servodesk.motion.schemas import EnableReason, IpStreamResult
 from servodesk.motion.trajectory import Trajectory, peak_velocity, setpoints, sync_jitter
 from servodesk.network.sync import SyncService
-from servodesk.nodes.access import NodeAccess
-from servodesk.pdo.commands import IP_DATA, RpdoRoute
-from servodesk.settings import Settings
+from servodesk.pdo.commands import IP_DATA, RpdoRoutes
 from servodesk_protocol.cia402 import (
     CONTROLWORD,
-    STATUSWORD,
-    SW_FAULT,
-    SW_MODE_BIT12,
     Cia402State,
     OperationMode,
     make_enable_operation,
@@ -60,122 +53,24 @@ LAG_SAMPLE_S = 0.01  # read 6064h about this often (each read takes bus time)
 SETTLE_PERIODS = 25  # SYNCs holding the end point before interpolation is switched off
 IP_EXPONENT_MS = -3  # 60C2h:02: the period in 10^-3 s
 SYNC_LOST = frozenset({62, 0x6011, 0x8700})  # MDi alarm 62, Kinco 6011h, CiA 402 8700h
-# SDO initiate download, expedited, 4 bytes, 60C1h:01 Interpolation data record (CiA 301)
-EXPEDITED_4 = bytes([0x23, 0xC1, 0x60, 0x01])
 
 
-@dataclass
-class _Stream:
-    """What the worker-thread chunks share: the plan, the clock, the measurements."""
+class IpStreams:
+    """IP streams, at most one per node: planned, checked, fed chunk by chunk, judged."""
 
-    points: list[int]
-    period: float
-    clock: SyncClock = field(default_factory=lambda: SyncClock(0.0, 0.0))  # set by _feed
-    sent: int = 0
-    syncs: list[float] = field(default_factory=list)
-    lags: list[int] = field(default_factory=list)  # |planned − actual| in user units
-    cancelled: bool = False
-    stalled: bool = False  # more than 3 periods without SYNC: the drive has dropped out
-    stall_gap: float = 0.0  # the interval that stalled it (no SYNC was sent at its end)
-    unconfirmed: int = 0  # set-point writes sent whose confirmation was not read yet
-    active: bool = False  # the drive shows interpolation active (statusword bit 12)
-    not_started: bool = False  # … and did not within the transition timeout
-    started_at: float = 0.0
-    _timeout: float = 0.0
-    # the RPDO 60C1h:01 goes in (None: expedited SDO), the values of its other objects, and
-    # how many SYNCs ahead a set-point is sent (2 where the drive takes the RPDO at a SYNC)
-    rpdo: RpdoRoute | None = None
-    rpdo_values: dict[int, int] = field(default_factory=dict)
-    lead: int = 1
-
-    def begin(self, remote: canopen.RemoteNode, controlword: int, timeout: float) -> None:
-        """Switch interpolation on and start the SYNC clock in one step on the worker: the drive
-        counts SYNC lost from here, so the first SYNC must follow within a period, whatever
-        the event loop or the host is doing meanwhile (bit 12 is checked while streaming)."""
-        precise_wakeups()  # this worker thread now keeps the stream's SYNC deadlines
-        io.write_controlword(remote, controlword)
-        io.write(remote, io.IP_DATA, 1, self.points[0], io.I32)
-        self.rpdo_values[CONTROLWORD] = controlword
-        for k in range(1, self.lead):  # taken at a SYNC: the next point is sent before SYNC 0
-            if k < len(self.points):
-                self._send_point(remote, self.points[k])
-        self.started_at = time.perf_counter()
-        self._timeout = timeout
-        self.clock = SyncClock(self.started_at + self.period, self.period)
-
-    def chunk(self, remote: canopen.RemoteNode, count: int, sample_every: int) -> None:
-        """Send the next `count` SYNCs, each at its absolute deadline, and after each the
-        set-point for the next one. Blocking; on the node's worker thread, the only user of
-        its SDO client, so the set-point writes can be pipelined: sent without waiting, their
-        confirmations collected before any other transfer (and at the chunk's end)."""
-        network = remote.network
-        end = min(self.sent + count, len(self.points))
-        try:
-            while self.sent < end and not self.cancelled:
-                k = self.sent
-                now = self.clock.wait(k)
-                if self.syncs and now - self.syncs[-1] > 3 * self.period:
-                    self.stalled = True  # the drives count SYNC lost after 3 periods
-                    self.stall_gap = now - self.syncs[-1]
-                    return
-                network.sync.transmit()  # the drive takes point k, written after SYNC k - 1
-                self.syncs.append(now)
-                self.sent += 1
-                if k + self.lead < len(self.points):
-                    self._send_point(remote, self.points[k + self.lead])
-                if k % sample_every == 0 and k > 0:
-                    self._confirm(remote)
-                    if not self.active and not self._check_active(remote, now):
-                        return
-                    actual = io.read(remote, io.POSITION_ACTUAL, signed=True)
-                    if actual is not None:  # at SYNC k the axis should be at point k - 1
-                        self.lags.append(abs(actual - self.points[k - 1]))
-        finally:
-            self._confirm(remote)
-
-    def _check_active(self, remote: canopen.RemoteNode, now: float) -> bool:
-        """Whether to go on: bit 12 seen, or still within the transition timeout."""
-        word = io.read(remote, STATUSWORD, signed=False)
-        self.active = word is not None and bool(word & SW_MODE_BIT12)
-        faulted = word is not None and bool(word & SW_FAULT)
-        if not self.active and (faulted or now - self.started_at > self._timeout):
-            self.not_started = self.cancelled = True  # the drive's objects will say why
-        return not self.not_started
-
-    def _send_point(self, remote: canopen.RemoteNode, value: int) -> None:
-        """60C1h:01 in the RPDO, else by an expedited SDO download, not waiting for the
-        confirmation."""
-        if self.rpdo is not None:
-            self.rpdo_values[IP_DATA] = value
-            self.send_rpdo(remote)
-            return
-        remote.sdo.send_request(EXPEDITED_4 + value.to_bytes(4, "little", signed=True))
-        self.unconfirmed += 1
-
-    def send_rpdo(self, remote: canopen.RemoteNode) -> None:
-        data = self.rpdo.payload(self.rpdo_values) if self.rpdo is not None else None
-        if self.rpdo is not None and data is not None:
-            remote.network.send_message(self.rpdo.cob_id, data)
-
-    def _confirm(self, remote: canopen.RemoteNode) -> None:
-        """Collect the confirmations of the pipelined writes (an abort raises)."""
-        while self.unconfirmed:
-            self.unconfirmed -= 1
-            remote.sdo.read_response()  # SdoAbortedError / SdoCommunicationError
-
-
-class IpOps(MoveOps):
     def __init__(
         self,
-        registry: NodeAccess,
-        settings: Settings,
+        drive: DriveIo,
+        readings: Readings,
+        limits: Limits,
         *,
         sync: SyncService | None = None,
-        on_statusword: Callable[[int, int], None] | None = None,
+        routes: RpdoRoutes | None = None,
     ) -> None:
-        super().__init__(registry, settings, on_statusword=on_statusword)
-        self._sync = sync
-        self._streams: dict[int, _Stream] = {}
+        self._drive, self._readings, self._limits = drive, readings, limits
+        self._sync = sync  # the tool's SYNC producer, paused while a stream runs
+        self._routes = routes  # the RPDO that carries 60C1h:01, where there is one
+        self._streams: dict[int, Stream] = {}
 
     async def ip_stream(
         self,
@@ -198,13 +93,13 @@ class IpOps(MoveOps):
         fault."""
         if not 1 <= period_ms <= 20:
             raise InvalidValueError("the interpolation period must be 1–20 ms (60C2h)")
-        if not 0 < duration_s <= self._settings.motion_ip_max_duration:
+        if not 0 < duration_s <= self._drive.settings.motion_ip_max_duration:
             raise InvalidValueError(
-                f"the stream lasts 0–{self._settings.motion_ip_max_duration:g} s, "
+                f"the stream lasts 0–{self._drive.settings.motion_ip_max_duration:g} s, "
                 f"not {duration_s:g}"
             )
-        units = self._units(node)
-        axis = self._axis(node)
+        units = self._drive.units(node)
+        axis = self._drive.axis(node)
         peak_rpm = peak_velocity(trajectory, duration_s, distance_rev) * 60
         if peak_rpm > axis.limits.max_velocity_rpm:
             raise LimitError(
@@ -218,29 +113,29 @@ class IpOps(MoveOps):
             raise SyncUnsafeError(node, timing)
         axis.cancel_queue()
         axis.move = None
-        await self._require_enabled(node)
+        await self._readings.require_enabled(node)
         snap = axis.last
         start = snap.position if snap and snap.position is not None else 0
         for end_rev in (units.user_to_rev(start), units.user_to_rev(start) + distance_rev):
-            self._check_travel(node, end_rev)
+            self._limits.check_travel(node, end_rev)
         period = period_ms / 1000
         plan = setpoints(trajectory, start, units.rev_to_user(distance_rev), duration_s, period)
         plan += [plan[-1]] * SETTLE_PERIODS
         # the period first: a drive may take 60C2h when it enters IP mode (the simulated ones
         # do), and one still on an earlier period counts SYNC lost by that one
-        await self._write(node, io.IP_PERIOD, 1, period_ms, io.U8)
-        await self._write(node, io.IP_PERIOD, 2, IP_EXPONENT_MS, io.I8)
-        await self._set_mode(node, OperationMode.INTERPOLATED_POSITION)
-        await self._write(node, io.IP_DATA, 1, start, io.I32)
+        await self._drive.write(node, io.IP_PERIOD, 1, period_ms, io.U8)
+        await self._drive.write(node, io.IP_PERIOD, 2, IP_EXPONENT_MS, io.I8)
+        await self._readings.set_mode(node, OperationMode.INTERPOLATED_POSITION)
+        await self._drive.write(node, io.IP_DATA, 1, start, io.I32)
         paused = await self._pause_sync()
-        stream = _Stream(plan, period)
+        stream = Stream(plan, period)
         self._route_stream(node, stream)
         self._streams[node] = stream
         try:
             word = make_enable_operation(new_setpoint=True)
-            await self._feed(node, stream, word, self._transition_timeout(node))
+            await self._feed(node, stream, word, self._readings.transition_timeout(node))
             if stream.not_started:
-                raise await self._blocked(
+                raise await self._readings.blocked(
                     node,
                     extra=[
                         EnableReason(
@@ -258,7 +153,7 @@ class IpOps(MoveOps):
             entry.report(Outcome("failed", None, "ip_stream_failed", result.message))
         return result
 
-    async def _feed(self, node: int, stream: _Stream, controlword: int, timeout: float) -> None:
+    async def _feed(self, node: int, stream: Stream, controlword: int, timeout: float) -> None:
         """The chunks, two queued at a time so the worker never waits for the event loop
         between them; a priority stop still runs between two chunks. The first chunk switches
         interpolation on (`controlword`) just before its first SYNC."""
@@ -278,7 +173,7 @@ class IpOps(MoveOps):
                 step = first if index == 0 else lambda r: stream.chunk(r, per_chunk, sample_every)
                 # in the normal lane: a stream keeps its next chunk queued, and commands must
                 # not starve the node's other requests (nodes/session.py)
-                call = self._run(node, step, "IP", command=False)
+                call = self._drive.run(node, step, "IP", command=False)
                 inflight.append(asyncio.ensure_future(call))
                 if len(inflight) > 1:
                     await inflight.popleft()
@@ -289,7 +184,7 @@ class IpOps(MoveOps):
             for pending in inflight:
                 pending.cancel()
 
-    def _route_stream(self, node: int, stream: _Stream) -> None:
+    def _route_stream(self, node: int, stream: Stream) -> None:
         """Set-points in the RPDO that maps 60C1h:01 where the drive has one (its other objects
         known: the stream's controlword, 6060h = 7), else by SDO."""
         found = self._routes.ip_route(node) if self._routes is not None else None
@@ -299,11 +194,11 @@ class IpOps(MoveOps):
         stream.lead = 2 if synchronous else 1
         stream.rpdo_values = {0x6060: int(OperationMode.INTERPOLATED_POSITION), IP_DATA: 0}
 
-    async def _end_stream(self, node: int, paused: int | None, stream: _Stream) -> None:
+    async def _end_stream(self, node: int, paused: int | None, stream: Stream) -> None:
         try:
-            state = state_of(await self._statusword(node))
+            state = state_of(await self._drive.statusword(node))
             if state is Cia402State.OPERATION_ENABLED:
-                await self._controlword(node, make_enable_operation())  # interpolation off
+                await self._drive.controlword(node, make_enable_operation())  # interpolation off
             if stream.rpdo is not None:
                 await self._settle_rpdo(node, stream)
         finally:
@@ -316,12 +211,12 @@ class IpOps(MoveOps):
         trajectory: Trajectory,
         period_ms: int,
         duration_s: float,
-        stream: _Stream,
+        stream: Stream,
         plan: list[int],
         timing: SyncTiming,
     ) -> IpStreamResult:
-        units = self._units(node)
-        state = await self.state(node)
+        units = self._drive.units(node)
+        state = await self._readings.state(node)
         actual = units.inc_to_user(state.position_inc)
         final_error = units.user_to_inc(abs(actual - plan[-1]))
         jitter, longest = sync_jitter(stream.syncs, stream.period)
@@ -370,7 +265,7 @@ class IpOps(MoveOps):
             state=state,
         )
 
-    async def _settle_rpdo(self, node: int, stream: _Stream) -> None:
+    async def _settle_rpdo(self, node: int, stream: Stream) -> None:
         """The drive holds the stream's last RPDO until the next SYNC, which would apply its
         controlword (interpolation on) after the stream ended or a stop: send it once more with
         the controlword the drive holds now, before any SYNC (the tool's is still paused)."""
@@ -381,7 +276,7 @@ class IpOps(MoveOps):
                 stream.rpdo_values[CONTROLWORD] = word
                 stream.send_rpdo(remote)
 
-        await self._registry.session(node).priority(settle, what=f"settle node {node}'s RPDO")
+        await self._drive.registry.session(node).priority(settle, what=f"settle node {node}'s RPDO")
 
     def stream_points_sent(self, node: int) -> int | None:
         """How many set-points the running stream of `node` has sent; None when none runs."""

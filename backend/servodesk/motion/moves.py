@@ -1,36 +1,31 @@
-"""Moving the axis: PP set-points with the new-set-point handshake and a queue, PV and PT jogs,
-homing. Every command is checked against the node's limits before anything is sent."""
+"""Moving the axis: PP set-points with the new-set-point handshake and a queue, PV and PT jogs.
+Every command is checked against the node's limits before anything is sent (Limits)."""
 
 from __future__ import annotations
 
 import asyncio
 import logging
-import math
 from typing import Literal
 
-from servodesk.errors import InvalidValueError, ServodeskError
+from servodesk.errors import ServodeskError
 from servodesk.motion import drive_io as io
-from servodesk.motion.core import state_of
-from servodesk.motion.drive_limits import LimitOps
-from servodesk.motion.errors import EnableBlockedError, LimitError, MotionBusyError
-from servodesk.motion.homing import methods_for
+from servodesk.motion.core import DriveIo
+from servodesk.motion.drive_limits import Limits
+from servodesk.motion.errors import MotionBusyError
 from servodesk.motion.jog import JogRamp
+from servodesk.motion.readings import Readings
 from servodesk.motion.schemas import (
     DriveState,
     EnableReason,
-    HomeRequest,
-    HomingMethodInfo,
     MoveProgress,
     MoveQueueRequest,
     MoveRequest,
 )
-from servodesk.motion.words import MODE_VALUES
 from servodesk_protocol.cia402 import (
     CONTROLWORD,
     CW_HALT,
     MODES_OF_OPERATION,
     SW_MODE_BIT12,
-    Cia402State,
     OperationMode,
     make_enable_operation,
 )
@@ -40,34 +35,39 @@ M = OperationMode
 DEFAULT_TORQUE_SLOPE = 100.0  # % rated torque per second: 6087h = 1, the drive's finest step
 
 
-class MoveOps(LimitOps):
+class Moves:
+    """Set-points: PP moves (one, or a queue fed as each target is reached) and PV/PT jogs."""
+
+    def __init__(self, drive: DriveIo, readings: Readings, limits: Limits) -> None:
+        self._drive, self._readings, self._limits = drive, readings, limits
+
     # ------------------------------------------------------------------ profile position
 
     async def move(self, node: int, request: MoveRequest) -> DriveState:
         """One PP set-point (absolute or relative) with 6081h/6083h/6084h. A queued sequence
         running on the axis is dropped."""
-        self._axis(node).cancel_queue()
+        self._drive.axis(node).cancel_queue()
         await self._pp_setpoint(node, request)
-        return await self.state(node)
+        return await self._readings.state(node)
 
     async def move_queue(self, node: int, request: MoveQueueRequest) -> DriveState:
         """A sequence of set-points: the first is sent now, each next one once the axis has
         reached the previous target (the way every profile takes it, MDi included)."""
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         axis.cancel_queue()
         for step in request.moves:  # all checked before the first frame
-            self._check_velocity(node, step.velocity_rpm)
+            self._limits.check_velocity(node, step.velocity_rpm)
         await self._pp_setpoint(node, request.moves[0])
         axis.queued = list(request.moves[1:])
         if axis.queued:
             axis.queue_task = asyncio.create_task(self._run_queue(node))
-        return await self.state(node)
+        return await self._readings.state(node)
 
     async def _run_queue(self, node: int) -> None:
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         try:
             while axis.queued:
-                reached = await self._wait_reached(node, self._settings.motion_move_timeout)
+                reached = await self._wait_reached(node, self._drive.settings.motion_move_timeout)
                 if not reached:
                     log.warning(
                         "node %d: queued move did not reach its target; queue dropped", node
@@ -85,16 +85,16 @@ class MoveOps(LimitOps):
                 axis.queue_task = None
 
     async def _wait_reached(self, node: int, timeout: float) -> bool:
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         loop = asyncio.get_running_loop()
         deadline = loop.time() + timeout
         while loop.time() < deadline:
-            state = await self.state(node)
+            state = await self._readings.state(node)
             if state.move is None or state.move.phase in ("error", "interrupted"):
                 return False
             if state.move.phase == "reached":
                 return True
-            await asyncio.sleep(self._settings.motion_poll_interval)
+            await asyncio.sleep(self._drive.settings.motion_poll_interval)
         return axis.move is not None and axis.move.phase == "reached"
 
     async def _pp_setpoint(self, node: int, request: MoveRequest) -> None:
@@ -102,46 +102,46 @@ class MoveOps(LimitOps):
         acknowledges with statusword bit 12; bit 4 back to 0. Bit 12 still 1 means the drive
         cannot take a new set-point yet (MDi: until the running move ended; others: while
         their one-set-point buffer is full), so that is waited for first."""
-        axis = self._axis(node)
-        units = self._units(node)
-        self._check_velocity(node, request.velocity_rpm)
-        await self._require_enabled(node)
+        axis = self._drive.axis(node)
+        units = self._drive.units(node)
+        self._limits.check_velocity(node, request.velocity_rpm)
+        await self._readings.require_enabled(node)
         snap = axis.last
         current = snap.position if snap and snap.position is not None else 0
         base = axis.target_user if axis.target_user is not None else current
         delta = units.rev_to_user(request.position_rev)
         target = base + delta if request.relative else delta
-        self._check_travel(node, units.user_to_rev(target))
-        await self._set_mode(node, M.PROFILE_POSITION)
+        self._limits.check_travel(node, units.user_to_rev(target))
+        await self._readings.set_mode(node, M.PROFILE_POSITION)
         accel = units.rpm_s_to_acceleration(
-            request.acceleration_rpm_s or self._settings.motion_default_acceleration_rpm_s
+            request.acceleration_rpm_s or self._drive.settings.motion_default_acceleration_rpm_s
         )
         immediately = request.immediately and self._immediate_supported(node)
         # absolute target written even for relative requests: the drive's "last target" after
         # an enable is not known to the tool, so relative moves are made absolute here
-        await self._write(node, io.TARGET_POSITION, 0, target, io.I32)
-        await self._write(
+        await self._drive.write(node, io.TARGET_POSITION, 0, target, io.I32)
+        await self._drive.write(
             node, io.PROFILE_VELOCITY, 0, units.rpm_to_velocity(request.velocity_rpm), io.U32
         )
-        await self._write(node, io.PROFILE_ACCELERATION, 0, accel, io.U32)
-        await self._write(node, io.PROFILE_DECELERATION, 0, accel, io.U32)
+        await self._drive.write(node, io.PROFILE_ACCELERATION, 0, accel, io.U32)
+        await self._drive.write(node, io.PROFILE_DECELERATION, 0, accel, io.U32)
         idle = make_enable_operation(change_immediately=immediately)
-        await self._controlword(node, idle)  # bit 4 = 0 so the next write is an edge
+        await self._drive.controlword(node, idle)  # bit 4 = 0 so the next write is an edge
         if not immediately:
-            free, _ = await self._wait(
-                node, lambda w: not w & SW_MODE_BIT12, self._settings.motion_move_timeout
+            free, _ = await self._readings.wait(
+                node, lambda w: not w & SW_MODE_BIT12, self._drive.settings.motion_move_timeout
             )
             if not free:
                 raise MotionBusyError(node, "the drive still holds the previous set-point (bit 12)")
-        await self._controlword(
+        await self._drive.controlword(
             node, make_enable_operation(new_setpoint=True, change_immediately=immediately)
         )
-        acked, _ = await self._wait(
-            node, lambda w: bool(w & SW_MODE_BIT12), self._settings.motion_setpoint_timeout
+        acked, _ = await self._readings.wait(
+            node, lambda w: bool(w & SW_MODE_BIT12), self._drive.settings.motion_setpoint_timeout
         )
-        await self._controlword(node, idle)
+        await self._drive.controlword(node, idle)
         if not acked:
-            raise await self._blocked(
+            raise await self._readings.blocked(
                 node,
                 extra=[
                     EnableReason(
@@ -175,12 +175,12 @@ class MoveOps(LimitOps):
         safe: first while the drive cannot follow it yet (halted, or in another mode), else
         after the ramp. From a known enabled state (a TPDO's statusword) that puts the
         set-point on the bus within 3 exchanges; nothing is read to answer."""
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         axis.cancel_queue()
-        self._check_jog(node, mode, value)
+        self._limits.check_jog(node, mode, value)
         ramp = self.jog_ramp(node, mode, acceleration_rpm_s, torque_slope_pct_s)
-        await self._require_enabled(node)
-        units = self._units(node)
+        await self._readings.require_enabled(node)
+        units = self._drive.units(node)
         axis.move = None
         if mode == "pv":
             wanted = M.PROFILE_VELOCITY
@@ -199,19 +199,19 @@ class MoveOps(LimitOps):
         # takes the ramp first, so the set-point never runs on an old one)
         held = (shown is not None and not in_mode) or bool(axis.sent.get(CONTROLWORD, 0) & CW_HALT)
         for index, v, kind in [setpoint, *changed] if held else [*changed, setpoint]:
-            await self._write(node, index, 0, v, kind)
+            await self._drive.write(node, index, 0, v, kind)
         if not in_mode:
-            await self._set_mode(node, wanted)
+            await self._readings.set_mode(node, wanted)
         if axis.sent.get(CONTROLWORD) != make_enable_operation():
-            await self._controlword(node, make_enable_operation())  # halt off
+            await self._drive.controlword(node, make_enable_operation())  # halt off
         axis.jog = mode
 
     def _mode_shown(self, node: int) -> int | None:
         """6061h as known without asking: a TPDO carrying it, else the mode ServoDesk set (and
         saw shown) with no stop or other write since; None when unknown."""
-        given, _ = self._carried(node)
+        given, _ = self._drive.carried(node)
         shown = given.get("mode_display")
-        return shown if shown is not None else self._axis(node).sent.get(MODES_OF_OPERATION)
+        return shown if shown is not None else self._drive.axis(node).sent.get(MODES_OF_OPERATION)
 
     def jog_ramp(
         self,
@@ -224,9 +224,9 @@ class MoveOps(LimitOps):
         drive applies: its max speed object (MDi PA-103 2006h:08, else 6080h Max motor speed),
         as read from the drive, else its dictionary's default."""
         if mode == "pv":
-            accel = acceleration_rpm_s or self._settings.motion_default_acceleration_rpm_s
+            accel = acceleration_rpm_s or self._drive.settings.motion_default_acceleration_rpm_s
             return JogRamp(acceleration_rpm_s=accel)
-        rpm, source = self.pt_speed_limit(node)
+        rpm, source = self._limits.pt_speed_limit(node)
         return JogRamp(
             torque_slope_pct_s=torque_slope_pct_s or DEFAULT_TORQUE_SLOPE,
             velocity_limit_rpm=rpm,
@@ -235,116 +235,18 @@ class MoveOps(LimitOps):
 
     async def jog_update(self, node: int, value: float) -> None:
         """A new speed (rpm) or torque (%) for the running jog; limits checked first."""
-        axis = self._axis(node)
+        axis = self._drive.axis(node)
         if axis.jog is None:
             raise MotionBusyError(node, "no jog is running: start one first")
-        self._check_jog(node, axis.jog, value)
-        units = self._units(node)
+        self._limits.check_jog(node, axis.jog, value)
+        units = self._drive.units(node)
         if axis.jog == "pv":
-            await self._write(node, io.TARGET_VELOCITY, 0, units.rpm_to_velocity(value), io.I32)
+            await self._drive.write(
+                node, io.TARGET_VELOCITY, 0, units.rpm_to_velocity(value), io.I32
+            )
         else:
-            await self._write(node, io.TARGET_TORQUE, 0, units.pct_to_torque(value), io.I16)
-
-    # ------------------------------------------------------------------ homing
-
-    def homing_methods(self, node: int) -> list[HomingMethodInfo]:
-        data = self._registry.profile_data(node)
-        return methods_for(data.quirks.homing_methods if data else None)
-
-    async def home(self, node: int, request: HomeRequest) -> DriveState:
-        """Homing (6060h = 6) with 6098h, speeds 6099h:01/02, acceleration 609Ah and offset
-        607Ch; started by bit 4 0 → 1 (Kinco servo CANopen manual §5.4.6: Fh then 1Fh).
-        Progress shows in state().homing from statusword bits 10/12/13."""
-        listed = {info.method for info in self.homing_methods(node)}
-        if request.method not in listed:
-            raise InvalidValueError(
-                f"node {node} supports homing methods {sorted(listed)}, not {request.method}"
-            )
-        for rpm in (request.fast_rpm, request.slow_rpm):
-            if rpm is not None:
-                self._check_velocity(node, rpm)
-        axis = self._axis(node)
-        axis.cancel_queue()
-        axis.jog = None
-        axis.move = None
-        await self._require_enabled(node)
-        units = self._units(node)
-        await self._set_mode(node, M.HOMING)
-        await self._write(node, io.HOMING_METHOD, 0, request.method, io.I8)
-        if request.fast_rpm is not None:
-            await self._write(
-                node, io.HOMING_SPEEDS, 1, units.rpm_to_velocity(request.fast_rpm), io.U32
-            )
-        if request.slow_rpm is not None:
-            await self._write(
-                node, io.HOMING_SPEEDS, 2, units.rpm_to_velocity(request.slow_rpm), io.U32
-            )
-        if request.acceleration_rpm_s is not None:
-            accel = units.rpm_s_to_acceleration(request.acceleration_rpm_s)
-            await self._write(node, io.HOMING_ACCELERATION, 0, accel, io.U32)
-        if request.offset_inc is not None:
-            await self._write(
-                node, io.HOME_OFFSET, 0, units.inc_to_user(request.offset_inc), io.I32
-            )
-        await self._controlword(node, make_enable_operation())
-        await self._controlword(node, make_enable_operation(new_setpoint=True))
-        axis.homing_method = request.method
-        axis.homing = None  # a new run: the last one's end is no longer shown
-        axis.homed = False
-        axis.target_user = None
-        return await self.state(node)
-
-    # ------------------------------------------------------------------ checks
-
-    def _mode_value(self, node: int, mode: str) -> OperationMode:
-        value = MODE_VALUES.get(mode)
-        if value is None:
-            raise InvalidValueError(f"unknown operating mode {mode!r}")
-        return OperationMode(value)
+            await self._drive.write(node, io.TARGET_TORQUE, 0, units.pct_to_torque(value), io.I16)
 
     def _immediate_supported(self, node: int) -> bool:
-        data = self._registry.profile_data(node)
+        data = self._drive.registry.profile_data(node)
         return data is None or data.quirks.pp_immediate_setpoint  # MDi: only non-immediate
-
-    async def _require_enabled(self, node: int) -> None:
-        """Operation enabled, as a TPDO's statusword shows it, else as 6041h read now."""
-        given, _ = self._carried(node)
-        statusword = given.get("statusword")
-        if statusword is None:
-            statusword = await self._statusword(node)
-        if state_of(statusword) is not Cia402State.OPERATION_ENABLED:
-            raise await self._blocked(
-                node,
-                extra=[
-                    EnableReason(
-                        code="not_enabled",
-                        message="the drive is not in Operation enabled: enable it first",
-                    )
-                ],
-            )
-
-    def _check_velocity(self, node: int, rpm: float) -> None:
-        limit = self._axis(node).limits.max_velocity_rpm
-        if not math.isfinite(rpm) or abs(rpm) > limit:
-            raise LimitError(node, f"{rpm:g} rpm is beyond the speed limit of {limit:g} rpm")
-
-    def _check_jog(self, node: int, mode: str, value: float) -> None:
-        if mode == "pv":
-            self._check_velocity(node, value)
-            return
-        limit = self._axis(node).limits.max_torque_pct
-        if not math.isfinite(value) or abs(value) > limit:
-            raise LimitError(node, f"{value:g} % is beyond the torque limit of {limit:g} %")
-
-    def _check_travel(self, node: int, target_rev: float) -> None:
-        limits = self._axis(node).limits
-        low, high = limits.min_position_rev, limits.max_position_rev
-        if (low is not None and target_rev < low) or (high is not None and target_rev > high):
-            raise LimitError(
-                node,
-                f"target {target_rev:.4f} rev is outside the travel limits "
-                f"{low if low is not None else '−∞'} … {high if high is not None else '+∞'} rev",
-            )
-
-
-__all__ = ["EnableBlockedError", "MoveOps"]
