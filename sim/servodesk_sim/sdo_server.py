@@ -12,7 +12,8 @@ from dataclasses import dataclass, field
 from enum import Enum, IntEnum
 from typing import Protocol
 
-from servodesk_protocol.sdo import ABORT_COMMAND
+from servodesk_protocol.sdo import ABORT_COMMAND, Ccs, abort_frame
+from servodesk_protocol.sdo import address as _address
 from servodesk_protocol.sdo_abort import (
     COMMAND_NOT_VALID,
     CRC_ERROR,
@@ -36,18 +37,6 @@ SIZE_INDICATED = 0x01
 CRC_SUPPORTED = 0x04
 LAST_SEGMENT = 0x01  # c bit of segmented transfer
 LAST_BLOCK_SEGMENT = 0x80  # c bit of block transfer
-
-
-class Ccs(IntEnum):
-    """Client command specifier: bits 7–5 of byte 0 of a request (CiA 301 §7.2.4.3)."""
-
-    DOWNLOAD_SEGMENT = 0
-    INITIATE_DOWNLOAD = 1
-    INITIATE_UPLOAD = 2
-    UPLOAD_SEGMENT = 3
-    ABORT = 4
-    BLOCK_UPLOAD = 5
-    BLOCK_DOWNLOAD = 6
 
 
 class BlockUploadCs(IntEnum):
@@ -96,15 +85,6 @@ def crc16(data: bytes) -> int:
     """CRC-16-CCITT (poly 1021h, init 0) of block transfers; canopen.sdo's CrcXmodem computes it
     with the same call."""
     return binascii.crc_hqx(data, 0)
-
-
-def abort_frame(index: int, subindex: int, code: int) -> bytes:
-    """`80 idx_lo idx_hi sub` + abort code, little-endian (CiA 301 §7.2.4.3.17)."""
-    return bytes([ABORT_COMMAND]) + _address(index, subindex) + code.to_bytes(4, "little")
-
-
-def _address(index: int, subindex: int) -> bytes:
-    return index.to_bytes(2, "little") + bytes([subindex])
 
 
 def _requested(data: bytes) -> tuple[int, int]:

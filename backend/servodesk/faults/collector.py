@@ -19,7 +19,7 @@ from servodesk.events.bus import EventBus, EventKind, event
 from servodesk.sdo.service import where
 from servodesk.sdo_aborts import abort_meaning
 from servodesk_protocol.cob_id import EMCY, MAX_NODE_ID, SDO_TX
-from servodesk_protocol.sdo import ABORT_COMMAND
+from servodesk_protocol.sdo import ABORT_COMMAND, parse_abort
 
 EmcyHandler = Callable[[int, bytes, float], None]  # (node, data, UNIX time) on the loop
 
@@ -74,11 +74,10 @@ class FrameTap(can.Listener):
 
 def sdo_abort(bus: EventBus, node: int, data: bytes) -> None:
     """On the loop: an abort frame in words (CiA 301 §7.2.4.3.17)."""
-    if len(data) < 8:
+    parsed = parse_abort(data)
+    if parsed is None:
         return
-    index = int.from_bytes(data[1:3], "little")
-    subindex = data[3]
-    code = int.from_bytes(data[4:8], "little")
+    index, subindex, code = parsed
     meaning = abort_meaning(code)
     bus.publish(
         event(

@@ -11,8 +11,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import IntEnum, StrEnum
 
+from servodesk_protocol.sdo import Ccs, Scs
+
 KEEP_BYTES = 64  # enough for identity objects, names and PDO parameters
-ABORT = 4  # ccs = scs = 4: abort transfer
 _SEQ_MASK = 0x7F  # block segments: bit 7 = last segment, bits 0–6 = sequence number
 _LAST = 0x80
 # abort codes that only one direction can meet (CiA 301 §7.2.4.3.17): True = upload (read)
@@ -115,9 +116,9 @@ class SdoChannel:
                 self._block_last = True
             return None
         ccs = self.cs = b0 >> 5
-        if ccs == ABORT:
+        if ccs == Ccs.ABORT:
             return self._abort(data, by_client=True, time=time, frame=frame)
-        if ccs == 1:  # initiate download
+        if ccs == Ccs.INITIATE_DOWNLOAD:
             interrupted = self._interrupted()
             self._begin(data, time, frame, upload=False)
             self._expedited = bool(b0 & 0x02)
@@ -126,19 +127,19 @@ class SdoChannel:
                 self._take(data[4 : 4 + size])
             self._state = _State.DOWNLOAD
             return interrupted
-        if ccs == 0 and state is _State.DOWNLOAD:  # download segment
+        if ccs == Ccs.DOWNLOAD_SEGMENT and state is _State.DOWNLOAD:
             unused = (b0 >> 1) & 0x07
             self._take(data[1 : 8 - unused])
             self._last_segment = bool(b0 & 0x01)
             return None
-        if ccs == 2:  # initiate upload
+        if ccs == Ccs.INITIATE_UPLOAD:
             interrupted = self._interrupted()
             self._begin(data, time, frame, upload=True)
             self._state = _State.UPLOAD
             return interrupted
-        if ccs == 3 and state is _State.UPLOAD:  # upload segment request
+        if ccs == Ccs.UPLOAD_SEGMENT and state is _State.UPLOAD:
             return None
-        if ccs == 6:  # block download: initiate (cs 0) or end (cs 1)
+        if ccs == Ccs.BLOCK_DOWNLOAD:  # initiate (cs 0) or end (cs 1)
             if b0 & 0x01 == 0:
                 interrupted = self._interrupted()
                 self._begin(data, time, frame, upload=False)
@@ -147,7 +148,7 @@ class SdoChannel:
             if state is _State.BLOCK_DOWNLOAD_END:
                 self._trim((b0 >> 2) & 0x07)
             return None
-        if ccs == 5:  # block upload: initiate 0, end response 1, ack 2, start 3
+        if ccs == Ccs.BLOCK_UPLOAD:  # initiate 0, end response 1, ack 2, start 3
             cs = b0 & 0x03
             if cs == 0:
                 interrupted = self._interrupted()
@@ -178,13 +179,13 @@ class SdoChannel:
                 self._block_last = True
             return None
         scs = self.cs = b0 >> 5
-        if scs == ABORT:
+        if scs == Scs.ABORT:
             return self._abort(data, by_client=False, time=time, frame=frame)
-        if scs == 3 and state is _State.DOWNLOAD:  # initiate download response
+        if scs == Scs.INITIATE_DOWNLOAD and state is _State.DOWNLOAD:
             return self._finish(SdoMode.EXPEDITED) if self._expedited else None
-        if scs == 1 and state is _State.DOWNLOAD:  # download segment response
+        if scs == Scs.DOWNLOAD_SEGMENT and state is _State.DOWNLOAD:
             return self._finish(SdoMode.SEGMENTED) if self._last_segment else None
-        if scs == 2:  # initiate upload response (also without a request in the log)
+        if scs == Scs.INITIATE_UPLOAD:  # also without a request in the log
             if state is not _State.UPLOAD:
                 self._begin(data, time, frame, upload=True)
             self._state = _State.UPLOAD
@@ -193,11 +194,11 @@ class SdoChannel:
                 self._take(data[4 : 4 + size])
                 return self._finish(SdoMode.EXPEDITED)
             return None
-        if scs == 0 and state is _State.UPLOAD:  # upload segment response
+        if scs == Scs.UPLOAD_SEGMENT and state is _State.UPLOAD:
             unused = (b0 >> 1) & 0x07
             self._take(data[1 : 8 - unused])
             return self._finish(SdoMode.SEGMENTED) if b0 & 0x01 else None
-        if scs == 5:  # block download: initiate response 0, end response 1, ack 2
+        if scs == Scs.BLOCK_DOWNLOAD:  # initiate response 0, end response 1, ack 2
             ss = b0 & 0x03
             if ss == 0 and state is _State.BLOCK_DOWNLOAD:
                 self._state = _State.BLOCK_DOWNLOAD_SEGMENTS
@@ -210,7 +211,7 @@ class SdoChannel:
             elif ss == 1 and state is _State.BLOCK_DOWNLOAD_END:
                 return self._finish(SdoMode.BLOCK)
             return None
-        if scs == 6:  # block upload: initiate response 0, end 1 (unused bytes in bits 2–4)
+        if scs == Scs.BLOCK_UPLOAD:  # initiate response 0, end 1 (unused bytes in bits 2–4)
             if b0 & 0x01 and state is _State.BLOCK_UPLOAD_END:
                 self._trim((b0 >> 2) & 0x07)
             return None

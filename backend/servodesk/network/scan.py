@@ -14,9 +14,10 @@ import can
 import canopen
 
 from servodesk_protocol import cob_id
+from servodesk_protocol.sdo import upload_request
 
 # initiate upload, 1000h:00 Device type (CiA 301 §7.2.4.3.6); every CANopen node has 1000h
-UPLOAD_DEVICE_TYPE = bytes([0x40, 0x00, 0x10, 0x00, 0x00, 0x00, 0x00, 0x00])
+UPLOAD_DEVICE_TYPE = upload_request(0x1000, 0)  # 1000h Device type
 NODE_IDS = range(1, 128)
 
 

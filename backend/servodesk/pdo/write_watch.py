@@ -13,22 +13,17 @@ from collections.abc import Callable
 
 import can
 
-SDO_RX_BASE = 0x600  # client → server (CiA 301 default SDO COB-IDs)
-INITIATE_DOWNLOAD = 1  # ccs of an expedited or segmented download's first frame
-BLOCK_DOWNLOAD = 6  # ccs of a block download; client subcommand 0 is its initiate
+from servodesk_protocol.cob_id import MAX_NODE_ID, SDO_RX
+from servodesk_protocol.sdo import multiplexer, starts_download
 
 Written = Callable[[int, int, int], None]  # node, index, subindex
 
 
 def written_object(can_id: int, data: bytes) -> tuple[int, int, int] | None:
     """(node, index, subindex) when the frame starts an SDO download (a write), else None."""
-    if not SDO_RX_BASE < can_id <= SDO_RX_BASE + 0x7F or len(data) < 4:
+    if not SDO_RX < can_id <= SDO_RX + MAX_NODE_ID or not starts_download(data):
         return None
-    ccs = data[0] >> 5
-    starts = ccs == INITIATE_DOWNLOAD or (ccs == BLOCK_DOWNLOAD and data[0] & 0x01 == 0)
-    if not starts:
-        return None
-    return can_id - SDO_RX_BASE, int.from_bytes(data[1:3], "little"), data[3]
+    return can_id - SDO_RX, *multiplexer(data)
 
 
 class SdoWriteWatch(can.Listener):
