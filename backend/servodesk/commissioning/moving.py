@@ -5,20 +5,14 @@ settles, a capture fails) is recorded failed with the reason; a refusal before a
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable
 from typing import Any
 
-from servodesk.audit import AuditLog
 from servodesk.commissioning import homing_step, stop_test, test_move
 from servodesk.commissioning.axis_run import AxisRun, StepError, app_client
 from servodesk.commissioning.evidence import Outcome
 from servodesk.commissioning.models import CommissioningRecord, StepRun
 from servodesk.errors import InvalidValueError
-from servodesk.motion.safety import MotionSafety
-from servodesk.nodes.access import NodeAccess
-from servodesk.scope.service import ScopeService
-from servodesk.sdo.service import SdoService
-from servodesk.settings import Settings
 
 MOVING = frozenset({"stop_test", "test_move", "homing"})
 # the run body's fields each step reads; any other field given is refused
@@ -40,23 +34,14 @@ def check_body(key: str, body: StepRun | None) -> None:
         raise InvalidValueError("distance 0 is no move: give a distance in rev (e.g. 0.5)")
 
 
-@dataclass(frozen=True)
-class MovingTools:
-    safety: MotionSafety
-    scope: ScopeService
-    access: NodeAccess
-    sdo: SdoService
-    audit: AuditLog
-    settings: Settings
+# AxisRun with its services bound (the commissioning service's): takes the node and client
+AxisFactory = Callable[..., AxisRun]
 
 
 async def run(
-    tools: MovingTools, key: str, record: CommissioningRecord, body: StepRun | None
+    new_axis: AxisFactory, key: str, record: CommissioningRecord, body: StepRun | None
 ) -> tuple[Outcome, dict[str, float]]:
-    axis = AxisRun(
-        tools.safety, tools.scope, tools.access, tools.sdo, tools.audit, tools.settings,
-        node=record.node, client=app_client(key, record.id),
-    )  # fmt: skip
+    axis = new_axis(node=record.node, client=app_client(key, record.id))
     body = body or StepRun()
     try:
         if key == "stop_test":

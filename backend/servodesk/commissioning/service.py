@@ -7,12 +7,14 @@ from __future__ import annotations
 import asyncio
 import time
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 from servodesk.access.actor import current_actor
 from servodesk.audit import AuditLog
 from servodesk.commissioning import evidence as ev
 from servodesk.commissioning import moving, pdo_step, store_verify
+from servodesk.commissioning.axis_run import AxisRun
 from servodesk.commissioning.models import (
     STEP_KEYS,
     CommissioningCreate,
@@ -95,7 +97,7 @@ class CommissioningService:
         self._moving = (
             None
             if safety is None or scope is None
-            else moving.MovingTools(safety, scope, registry, sdo, audit, settings)
+            else partial(AxisRun, safety, scope, registry, sdo, audit, settings)
         )
 
     def close(self) -> None:
