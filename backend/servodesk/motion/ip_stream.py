@@ -13,9 +13,10 @@ from servodesk.motion import drive_io as io
 from servodesk.motion.ip_timing import SyncClock
 from servodesk.pdo.commands import IP_DATA, RpdoRoute
 from servodesk_protocol.cia402 import CONTROLWORD, STATUSWORD, SW_FAULT, SW_MODE_BIT12
+from servodesk_protocol.sdo import expedited_download
 
 # SDO initiate download, expedited, 4 bytes, 60C1h:01 Interpolation data record (CiA 301)
-EXPEDITED_4 = bytes([0x23, 0xC1, 0x60, 0x01])
+EXPEDITED_4 = expedited_download(0x60C1, 1, 4)
 
 
 @dataclass
