@@ -21,8 +21,6 @@ from servodesk.pdo.model import MappedObject, PdoConfig
 from servodesk.pdo.recommended import MODE_NAMES, MODES, mode_needs
 from servodesk.pdo.service import PdoService
 
-START_SETTLE_S = 0.3  # after NMT start: the first event-timer periods begin
-
 
 def pdo_row(pdo: PdoConfig) -> dict[str, Any]:
     """One PDO as the record keeps it (the report's table reads the same fields)."""
@@ -101,8 +99,8 @@ async def _live_check(
     access = pdos.access
     if str(access.info(node).nmt_state) != "operational":
         await access.nmt(node, NmtCommandName.START)
+        # no wait for the first frames: a rate is taken from the first frame to the last
         evidence["nmt_started"] = "NMT start sent: a node sends PDOs in Operational only"
-        await asyncio.sleep(START_SETTLE_S)
     sync = pdos.sync_state()
     period = sync.period_us if sync.producing else sync.heard_period_us
     evidence["sync_period_us"] = period

@@ -25,9 +25,13 @@ interface CallResult<T> {
 
 /**
  * Await an api.GET/POST/... call and return its data, or throw an ApiError built from the
- * backend's `{error, message, abort_code}` body. Every page goes through this one helper.
+ * backend's `{error, message, abort_code}` body. Every page goes through this one helper;
+ * `toError` builds the error (the motion routes pass theirs, which knows their refusals).
  */
-export async function call<T>(request: Promise<CallResult<T>>): Promise<T> {
+export async function call<T>(
+  request: Promise<CallResult<T>>,
+  toError: (status: number, body: unknown, statusText?: string) => ApiError = toApiError,
+): Promise<T> {
   let result: CallResult<T>;
   try {
     result = await request;
@@ -35,7 +39,7 @@ export async function call<T>(request: Promise<CallResult<T>>): Promise<T> {
     throw asApiError(error);
   }
   const { response } = result;
-  if (!response.ok) throw toApiError(response.status, result.error, response.statusText);
+  if (!response.ok) throw toError(response.status, result.error, response.statusText);
   if (result.data === undefined) {
     throw new ApiError(response.status, "error", "The server sent an empty answer", null);
   }

@@ -10,7 +10,6 @@ import type {
   StepRun,
 } from "./commission";
 import { motionError } from "./driveApi";
-import { ApiError, asApiError } from "./errors";
 
 /** The node's records, newest first; without a node, every node's. */
 export function listRecords(
@@ -52,26 +51,14 @@ export function signOffStep(
 }
 
 /** Runs the step's automated part; takes seconds (the moving steps and store_verify). */
-export async function runStep(
-  id: number,
-  key: StepKey,
-  body: StepRun = {},
-): Promise<CommissioningStep> {
-  let result;
-  try {
-    result = await api.POST("/api/commissioning/{record_id}/steps/{key}/run", {
+export function runStep(id: number, key: StepKey, body: StepRun = {}): Promise<CommissioningStep> {
+  return call(
+    api.POST("/api/commissioning/{record_id}/steps/{key}/run", {
       params: { path: { record_id: id, key } },
       body,
-    });
-  } catch (error) {
-    throw asApiError(error);
-  }
-  const { data, error, response } = result;
-  if (!response.ok) throw motionError(response.status, error, response.statusText);
-  if (data === undefined) {
-    throw new ApiError(response.status, "error", "The server sent an empty answer", null);
-  }
-  return data;
+    }),
+    motionError,
+  );
 }
 
 /** The report route as a plain link (the browser opens or downloads it). */

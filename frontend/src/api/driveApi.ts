@@ -3,7 +3,7 @@
 // tab's X-Client-Id, so the server's safety layer knows who commands the drive. Two refusals
 // come back as their own errors because the page answers them in words: a blocked enable (the
 // reasons) and a node another tab controls (who holds it).
-import { api } from "./client";
+import { api, call } from "./client";
 import { clientHeaders, clientName } from "./clientId";
 import type {
   ControllerHolder,
@@ -21,7 +21,7 @@ import type {
   MoveRequest,
   QuickStopResult,
 } from "./drive";
-import { ApiError, asApiError, toApiError } from "./errors";
+import { ApiError, toApiError } from "./errors";
 
 export class EnableBlockedError extends ApiError {
   readonly reasons: EnableReason[];
@@ -72,26 +72,11 @@ export function motionError(status: number, body: unknown, statusText = ""): Api
   return toApiError(status, body, statusText);
 }
 
-interface CallResult<T> {
-  data?: T;
-  error?: unknown;
-  response: Response;
-}
-
 /** Like the app's `call`, with the motion routes' refusals as their own errors. */
-async function motionCall<T>(request: Promise<CallResult<T>>): Promise<T> {
-  let result: CallResult<T>;
-  try {
-    result = await request;
-  } catch (error) {
-    throw asApiError(error);
-  }
-  const { response } = result;
-  if (!response.ok) throw motionError(response.status, result.error, response.statusText);
-  if (result.data === undefined) {
-    throw new ApiError(response.status, "error", "The server sent an empty answer", null);
-  }
-  return result.data;
+function motionCall<T>(
+  request: Promise<{ data?: T; error?: unknown; response: Response }>,
+): Promise<T> {
+  return call(request, motionError);
 }
 
 const on = (node: number): { path: { node: number } } => ({ path: { node } });
