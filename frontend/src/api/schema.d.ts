@@ -4,13308 +4,13242 @@
  */
 
 export interface paths {
-  "/api/audit": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Audit Entries
-     * @description The entries, newest first.
-     */
-    get: operations["audit_entries_api_audit_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/audit/export": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Export Audit
-     * @description Every matching entry as CSV, oldest first.
-     */
-    get: operations["export_audit_api_audit_export_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/audit/{entry_id}/undo": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Undo
-     * @description Write the entry's old value back (itself audited, naming this entry in `undo_of`).
-     */
-    post: operations["undo_api_audit__entry_id__undo_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/bus": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Bus Status */
-    get: operations["bus_status_api_bus_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/bus-load": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Bus Load */
-    get: operations["bus_load_api_bus_load_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/bus/connect": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Connect */
-    post: operations["connect_api_bus_connect_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/bus/disconnect": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Disconnect */
-    post: operations["disconnect_api_bus_disconnect_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/bus/interfaces": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Interfaces */
-    get: operations["interfaces_api_bus_interfaces_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/bus/reconnect": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Reconnect */
-    post: operations["reconnect_api_bus_reconnect_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/commissioning": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** List Commissioning */
-    get: operations["list_commissioning_api_commissioning_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/commissioning/check": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Check Record
-     * @description The drive now against its hand-over: JSON `{"record_id", "node"?}` (a record of this
-     *     server), or a multipart upload of a bundle zip (`bundle`) and `node`. Only reads.
-     */
-    post: operations["check_record_api_commissioning_check_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/commissioning/report": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Machine Report
-     * @description One report for a machine: the listed records (`ids`), else the latest record of each
-     *     listed node (`nodes`), else the latest record of every node, by node.
-     */
-    get: operations["machine_report_api_commissioning_report_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/commissioning/{record_id}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Get Commissioning */
-    get: operations["get_commissioning_api_commissioning__record_id__get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/commissioning/{record_id}/report": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Record Report
-     * @description The axis's hand-over report as HTML or PDF, or its bundle (zip).
-     */
-    get: operations["record_report_api_commissioning__record_id__report_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/commissioning/{record_id}/steps/{key}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    /** Sign Off Step */
-    put: operations["sign_off_step_api_commissioning__record_id__steps__key__put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/commissioning/{record_id}/steps/{key}/run": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Run Step
-     * @description Optional body: stop_test `{"speed_rpm"}`, test_move `{"distance"}` (rev); no body or
-     *     `{}` runs a step with its defaults.
-     */
-    post: operations["run_step_api_commissioning__record_id__steps__key__run_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/events": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Events */
-    get: operations["events_api_events_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/faults/active": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Active Faults */
-    get: operations["active_faults_api_faults_active_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/health": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Health */
-    get: operations["health_api_health_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/jobs/{job_id}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Get Job */
-    get: operations["get_job_api_jobs__job_id__get"];
-    put?: never;
-    post?: never;
-    /** Cancel Job */
-    delete: operations["cancel_job_api_jobs__job_id__delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/jog/{jog_id}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Get Jog */
-    get: operations["get_jog_api_jog__jog_id__get"];
-    put?: never;
-    post?: never;
-    /**
-     * Stop Jog
-     * @description Stop the jog (anyone may); answers once the stop was sent to the drive, with state
-     *     "stopping" until the axis is at rest.
-     */
-    delete: operations["stop_jog_api_jog__jog_id__delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/jog/{jog_id}/keepalive": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Keepalive
-     * @description Keep the jog moving; 409 jog_stopped once it was stopped (re-arming is explicit); 403
-     *     not_jog_owner from anyone but the login (and the X-Client-Id, where sent) that started it.
-     */
-    post: operations["keepalive_api_jog__jog_id__keepalive_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/login": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Login
-     * @description Trade an access token for a login cookie (HttpOnly, SameSite=Strict; Secure over TLS).
-     */
-    post: operations["login_api_login_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/logout": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Logout
-     * @description End the browser's login (the cookie is cleared and forgotten by the server).
-     */
-    post: operations["logout_api_logout_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/logs": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * List Logs
-     * @description The decoded logs kept, newest first.
-     */
-    get: operations["list_logs_api_logs_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/logs/decode": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Decode Log */
-    post: operations["decode_log_api_logs_decode_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/logs/{log_id}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Get Log
-     * @description A decoded log again: its summary, totals and first page of events.
-     */
-    get: operations["get_log_api_logs__log_id__get"];
-    put?: never;
-    post?: never;
-    /**
-     * Delete Log
-     * @description Delete a decoded log (its events and exports with it); the uploaded file was never
-     *     kept.
-     */
-    delete: operations["delete_log_api_logs__log_id__delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/logs/{log_id}/events": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Log Events */
-    get: operations["log_events_api_logs__log_id__events_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/logs/{log_id}/export": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Export Log */
-    get: operations["export_log_api_logs__log_id__export_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nmt": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Nmt Broadcast */
-    post: operations["nmt_broadcast_api_nmt_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** List Nodes */
-    get: operations["list_nodes_api_nodes_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Get Node */
-    get: operations["get_node_api_nodes__node__get"];
-    put?: never;
-    post?: never;
-    /**
-     * Forget Node
-     * @description Forget a node that is gone: silent, or answering at another id now (`moved_to`).
-     */
-    delete: operations["forget_node_api_nodes__node__delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/bitrates": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Bitrates */
-    get: operations["bitrates_api_nodes__node__bitrates_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/change-bitrate": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Change Bitrate */
-    post: operations["change_bitrate_api_nodes__node__change_bitrate_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/change-node-id": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Change Node Id */
-    post: operations["change_node_id_api_nodes__node__change_node_id_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/commissioning": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Create Commissioning */
-    post: operations["create_commissioning_api_nodes__node__commissioning_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/compare": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Compare */
-    post: operations["compare_api_nodes__node__compare_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/dcf": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Save Dcf */
-    get: operations["save_dcf_api_nodes__node__dcf_get"];
-    put?: never;
-    /** Load Dcf */
-    post: operations["load_dcf_api_nodes__node__dcf_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Drive State
-     * @description The drive now, as every page and client shares it: the values its TPDOs carry from the
-     *     frames, the rest by SDO within a small budget per period (`sources` says which).
-     */
-    get: operations["drive_state_api_nodes__node__drive_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/command": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Command
-     * @description One CiA 402 controlword command (shutdown 0006h, switch on 0007h, enable operation 000Fh,
-     *     disable operation 0007h, disable voltage 0000h, quick stop 0002h, fault reset 0000h → 0080h
-     *     → 0000h). Quick stop is open to everyone, the others pass the lease. A command that takes
-     *     no transition from the drive's state, or whose transition does not happen, answers 409
-     *     enable_blocked with the reasons.
-     */
-    post: operations["command_api_nodes__node__drive_command_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/controller": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Controller
-     * @description Who controls the drive, and whether it stops by itself if ServoDesk dies.
-     */
-    get: operations["controller_api_nodes__node__drive_controller_get"];
-    put?: never;
-    /**
-     * Take Control
-     * @description Take the drive (needs X-Client-Id); held by another client → 409 held_by_other unless
-     *     `take_over` (the other client's jogs then stop).
-     */
-    post: operations["take_control_api_nodes__node__drive_controller_post"];
-    /**
-     * Release Control
-     * @description Release the drive: its jogs stop and its heartbeat consumer entry is restored.
-     */
-    delete: operations["release_control_api_nodes__node__drive_controller_delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/disable": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Disable */
-    post: operations["disable_api_nodes__node__drive_disable_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/enable": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Enable
-     * @description Walk the CiA 402 state machine to Operation enabled; 409 enable_blocked names why not.
-     *     A fault is never reset here (409 naming it, nothing sent): fault-reset is its own act.
-     */
-    post: operations["enable_api_nodes__node__drive_enable_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/fault-reset": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Fault Reset */
-    post: operations["fault_reset_api_nodes__node__drive_fault_reset_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/home": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Home
-     * @description Accepted: homing runs on; its progress is the drive state's `homing`.
-     */
-    post: operations["home_api_nodes__node__drive_home_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/homing-methods": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Homing Methods */
-    get: operations["homing_methods_api_nodes__node__drive_homing_methods_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/ip-stream": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Ip Stream
-     * @description Runs the whole stream (up to 30 s) and answers how closely the axis followed.
-     */
-    post: operations["ip_stream_api_nodes__node__drive_ip_stream_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/limits": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Limits */
-    get: operations["limits_api_nodes__node__drive_limits_get"];
-    /** Set Limits */
-    put: operations["set_limits_api_nodes__node__drive_limits_put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/move": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Move
-     * @description Accepted: the move runs on; its progress is the drive state's `move`.
-     */
-    post: operations["move_api_nodes__node__drive_move_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/move-queue": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Move Queue */
-    post: operations["move_queue_api_nodes__node__drive_move_queue_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/drive/quick-stop": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Quick Stop
-     * @description Open to every client, whoever controls the drive.
-     */
-    post: operations["quick_stop_api_nodes__node__drive_quick_stop_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/faults": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Node Faults */
-    get: operations["node_faults_api_nodes__node__faults_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/faults/device-history": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Device History */
-    get: operations["device_history_api_nodes__node__faults_device_history_get"];
-    put?: never;
-    post?: never;
-    /** Clear Device History */
-    delete: operations["clear_device_history_api_nodes__node__faults_device_history_delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/faults/reset": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Fault Reset
-     * @description Like `/drive/fault-reset`, it passes the controller lease: another client's reset of a
-     *     drive someone controls answers 409 held_by_other (name yourself with X-Client-Id).
-     */
-    post: operations["fault_reset_api_nodes__node__faults_reset_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/heartbeat": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Heartbeat */
-    get: operations["heartbeat_api_nodes__node__heartbeat_get"];
-    /** Set Heartbeat */
-    put: operations["set_heartbeat_api_nodes__node__heartbeat_put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/jog": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Start Jog
-     * @description Start moving (pv: velocity_rpm, pt: torque_pct, capped at speed_cap_rpm); send a
-     *     keep-alive (REST or WebSocket `jog_keepalive`) at least every keepalive_ms or the axis
-     *     stops. A script without X-Client-Id gets an owner id of its own (`owner`) and the drive's
-     *     heartbeat protection until its jog's axis is at rest.
-     */
-    post: operations["start_jog_api_nodes__node__jog_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/nmt": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Nmt */
-    post: operations["nmt_api_nodes__node__nmt_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/node-id-options": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Node Id Options
-     * @description Whether the node-id wizard can change this node's id, before its first step.
-     */
-    get: operations["node_id_options_api_nodes__node__node_id_options_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/od": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Node Od */
-    get: operations["node_od_api_nodes__node__od_get"];
-    put?: never;
-    /** Upload Od */
-    post: operations["upload_od_api_nodes__node__od_post"];
-    /** Reset Od */
-    delete: operations["reset_od_api_nodes__node__od_delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/params": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** List Params */
-    get: operations["list_params_api_nodes__node__params_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/params/{name}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Get Param */
-    get: operations["get_param_api_nodes__node__params__name__get"];
-    /** Set Param */
-    put: operations["set_param_api_nodes__node__params__name__put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/pdos": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Read Pdos */
-    get: operations["read_pdos_api_nodes__node__pdos_get"];
-    /** Apply Pdos */
-    put: operations["apply_pdos_api_nodes__node__pdos_put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/pdos/export": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Export Pdos */
-    get: operations["export_pdos_api_nodes__node__pdos_export_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/pdos/live": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Live */
-    get: operations["live_api_nodes__node__pdos_live_get"];
-    put?: never;
-    /** Start Live */
-    post: operations["start_live_api_nodes__node__pdos_live_post"];
-    /** Stop Live */
-    delete: operations["stop_live_api_nodes__node__pdos_live_delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/pdos/recommended": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Recommended Pdos */
-    get: operations["recommended_pdos_api_nodes__node__pdos_recommended_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/pdos/rules": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Pdo Rules */
-    get: operations["pdo_rules_api_nodes__node__pdos_rules_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/pdos/validate": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Validate Pdos */
-    post: operations["validate_pdos_api_nodes__node__pdos_validate_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/restore-defaults": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Restore Defaults */
-    post: operations["restore_defaults_api_nodes__node__restore_defaults_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/sdo/{index}/{subindex}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Read Entry */
-    get: operations["read_entry_api_nodes__node__sdo__index___subindex__get"];
-    /** Write Entry */
-    put: operations["write_entry_api_nodes__node__sdo__index___subindex__put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/store": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Store */
-    post: operations["store_api_nodes__node__store_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/nodes/{node}/upload-all": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Upload All */
-    post: operations["upload_all_api_nodes__node__upload_all_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/od/check": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Check Od */
-    post: operations["check_od_api_od_check_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/quick-stop": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Quick Stop All
-     * @description Quick stop every known drive (the Network page's one click); open to every client.
-     */
-    post: operations["quick_stop_all_api_quick_stop_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/recording": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Recording Status */
-    get: operations["recording_status_api_recording_get"];
-    put?: never;
-    /**
-     * Start Recording
-     * @description Start recording every frame received (a running recording goes on, in its format).
-     */
-    post: operations["start_recording_api_recording_post"];
-    /**
-     * Stop Recording
-     * @description Stop, close the file and download it (it stays in `<data_dir>/recordings`).
-     */
-    delete: operations["stop_recording_api_recording_delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/scan": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /** Scan */
-    post: operations["scan_api_scan_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/scope/captures": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * List Captures
-     * @description Every capture kept, newest first (the active one with its live progress).
-     */
-    get: operations["list_captures_api_scope_captures_get"];
-    put?: never;
-    /**
-     * Start Capture
-     * @description Set the bus up (SYNC, the scope's TPDOs in free slots, nodes Operational) and start a
-     *     capture. It is `arming` until the signal its trigger watches has sent a first sample (a
-     *     condition met before would be missed), then `armed` until the trigger (free-running: at
-     *     once), then `running`.
-     */
-    post: operations["start_capture_api_scope_captures_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/scope/captures/{capture_id}": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Get Capture */
-    get: operations["get_capture_api_scope_captures__capture_id__get"];
-    put?: never;
-    post?: never;
-    /**
-     * Stop Or Delete Capture
-     * @description An armed or running capture is stopped (its setup undone; 200 with the capture as
-     *     kept); a finished one is deleted with its files (204).
-     */
-    delete: operations["stop_or_delete_capture_api_scope_captures__capture_id__delete"];
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/scope/captures/{capture_id}/export": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Export Capture */
-    get: operations["export_capture_api_scope_captures__capture_id__export_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/scope/captures/{capture_id}/measure": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Measure Capture
-     * @description Cursor A at `t0` and B at `t1` on a finished capture: per signal the value at each
-     *     (the sample at or before it), Δvalue, and min / max / mean / count between them.
-     */
-    get: operations["measure_capture_api_scope_captures__capture_id__measure_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/scope/captures/{capture_id}/trace": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Trace Capture
-     * @description One signal as min/max bins over the capture, for the overview the cursors sit on.
-     */
-    get: operations["trace_capture_api_scope_captures__capture_id__trace_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/scope/plan": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    get?: never;
-    put?: never;
-    /**
-     * Plan Capture
-     * @description What a capture would do, without starting it: each signal's source (TPDO or SDO
-     *     polling, and why) and the bus load at the chosen SYNC period (refused above 100 %).
-     */
-    post: operations["plan_capture_api_scope_plan_post"];
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/scope/viewer": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Scope Viewer
-     * @description The embedded rerun viewer: its page under this origin and what it connects to.
-     */
-    get: operations["scope_viewer_api_scope_viewer_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/session": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /**
-     * Session
-     * @description Who the caller is and what their role may do (401 when a login is needed).
-     */
-    get: operations["session_api_session_get"];
-    put?: never;
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
-  "/api/sync": {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    /** Sync Status */
-    get: operations["sync_status_api_sync_get"];
-    /** Set Sync */
-    put: operations["set_sync_api_sync_put"];
-    post?: never;
-    delete?: never;
-    options?: never;
-    head?: never;
-    patch?: never;
-    trace?: never;
-  };
+    "/api/audit": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Audit Entries
+         * @description The entries, newest first.
+         */
+        get: operations["audit_entries_api_audit_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/audit/export": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Export Audit
+         * @description Every matching entry as CSV, oldest first.
+         */
+        get: operations["export_audit_api_audit_export_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/audit/{entry_id}/undo": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Undo
+         * @description Write the entry's old value back (itself audited, naming this entry in `undo_of`).
+         */
+        post: operations["undo_api_audit__entry_id__undo_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/bus": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Bus Status */
+        get: operations["bus_status_api_bus_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/bus-load": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Bus Load */
+        get: operations["bus_load_api_bus_load_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/bus/connect": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Connect */
+        post: operations["connect_api_bus_connect_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/bus/disconnect": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Disconnect */
+        post: operations["disconnect_api_bus_disconnect_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/bus/interfaces": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Interfaces */
+        get: operations["interfaces_api_bus_interfaces_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/bus/reconnect": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Reconnect */
+        post: operations["reconnect_api_bus_reconnect_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List Commissioning */
+        get: operations["list_commissioning_api_commissioning_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning/check": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Check Record
+         * @description The drive now against its hand-over: JSON `{"record_id", "node"?}` (a record of this
+         *     server), or a multipart upload of a bundle zip (`bundle`) and `node`. Only reads.
+         */
+        post: operations["check_record_api_commissioning_check_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning/report": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Machine Report
+         * @description One report for a machine: the listed records (`ids`), else the latest record of each
+         *     listed node (`nodes`), else the latest record of every node, by node.
+         */
+        get: operations["machine_report_api_commissioning_report_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning/{record_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Commissioning */
+        get: operations["get_commissioning_api_commissioning__record_id__get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning/{record_id}/report": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Record Report
+         * @description The axis's hand-over report as HTML or PDF, or its bundle (zip).
+         */
+        get: operations["record_report_api_commissioning__record_id__report_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning/{record_id}/steps/{key}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        /** Sign Off Step */
+        put: operations["sign_off_step_api_commissioning__record_id__steps__key__put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/commissioning/{record_id}/steps/{key}/run": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Run Step
+         * @description Optional body: stop_test `{"speed_rpm"}`, test_move `{"distance"}` (rev); no body or
+         *     `{}` runs a step with its defaults.
+         */
+        post: operations["run_step_api_commissioning__record_id__steps__key__run_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/events": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Events */
+        get: operations["events_api_events_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/faults/active": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Active Faults */
+        get: operations["active_faults_api_faults_active_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/health": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Health */
+        get: operations["health_api_health_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/jobs/{job_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Job */
+        get: operations["get_job_api_jobs__job_id__get"];
+        put?: never;
+        post?: never;
+        /** Cancel Job */
+        delete: operations["cancel_job_api_jobs__job_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/jog/{jog_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Jog */
+        get: operations["get_jog_api_jog__jog_id__get"];
+        put?: never;
+        post?: never;
+        /**
+         * Stop Jog
+         * @description Stop the jog (anyone may); answers once the stop was sent to the drive, with state
+         *     "stopping" until the axis is at rest.
+         */
+        delete: operations["stop_jog_api_jog__jog_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/jog/{jog_id}/keepalive": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Keepalive
+         * @description Keep the jog moving; 409 jog_stopped once it was stopped (re-arming is explicit); 403
+         *     not_jog_owner from anyone but the login (and the X-Client-Id, where sent) that started it.
+         */
+        post: operations["keepalive_api_jog__jog_id__keepalive_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/login": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Login
+         * @description Trade an access token for a login cookie (HttpOnly, SameSite=Strict; Secure over TLS).
+         */
+        post: operations["login_api_login_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/logout": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Logout
+         * @description End the browser's login (the cookie is cleared and forgotten by the server).
+         */
+        post: operations["logout_api_logout_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/logs": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * List Logs
+         * @description The decoded logs kept, newest first.
+         */
+        get: operations["list_logs_api_logs_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/logs/decode": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Decode Log */
+        post: operations["decode_log_api_logs_decode_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/logs/{log_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Get Log
+         * @description A decoded log again: its summary, totals and first page of events.
+         */
+        get: operations["get_log_api_logs__log_id__get"];
+        put?: never;
+        post?: never;
+        /**
+         * Delete Log
+         * @description Delete a decoded log (its events and exports with it); the uploaded file was never
+         *     kept.
+         */
+        delete: operations["delete_log_api_logs__log_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/logs/{log_id}/events": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Log Events */
+        get: operations["log_events_api_logs__log_id__events_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/logs/{log_id}/export": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Export Log */
+        get: operations["export_log_api_logs__log_id__export_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nmt": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Nmt Broadcast */
+        post: operations["nmt_broadcast_api_nmt_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List Nodes */
+        get: operations["list_nodes_api_nodes_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Node */
+        get: operations["get_node_api_nodes__node__get"];
+        put?: never;
+        post?: never;
+        /**
+         * Forget Node
+         * @description Forget a node that is gone: silent, or answering at another id now (`moved_to`).
+         */
+        delete: operations["forget_node_api_nodes__node__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/bitrates": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Bitrates */
+        get: operations["bitrates_api_nodes__node__bitrates_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/change-bitrate": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Change Bitrate */
+        post: operations["change_bitrate_api_nodes__node__change_bitrate_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/change-node-id": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Change Node Id */
+        post: operations["change_node_id_api_nodes__node__change_node_id_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/commissioning": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Create Commissioning */
+        post: operations["create_commissioning_api_nodes__node__commissioning_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/compare": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Compare */
+        post: operations["compare_api_nodes__node__compare_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/dcf": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Save Dcf */
+        get: operations["save_dcf_api_nodes__node__dcf_get"];
+        put?: never;
+        /** Load Dcf */
+        post: operations["load_dcf_api_nodes__node__dcf_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Drive State
+         * @description The drive now, as every page and client shares it: the values its TPDOs carry from the
+         *     frames, the rest by SDO within a small budget per period (`sources` says which).
+         */
+        get: operations["drive_state_api_nodes__node__drive_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/command": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Command
+         * @description One CiA 402 controlword command (shutdown 0006h, switch on 0007h, enable operation 000Fh,
+         *     disable operation 0007h, disable voltage 0000h, quick stop 0002h, fault reset 0000h → 0080h
+         *     → 0000h). Quick stop is open to everyone, the others pass the lease. A command that takes
+         *     no transition from the drive's state, or whose transition does not happen, answers 409
+         *     enable_blocked with the reasons.
+         */
+        post: operations["command_api_nodes__node__drive_command_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/controller": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Controller
+         * @description Who controls the drive, and whether it stops by itself if ServoDesk dies.
+         */
+        get: operations["controller_api_nodes__node__drive_controller_get"];
+        put?: never;
+        /**
+         * Take Control
+         * @description Take the drive (needs X-Client-Id); held by another client → 409 held_by_other unless
+         *     `take_over` (the other client's jogs then stop).
+         */
+        post: operations["take_control_api_nodes__node__drive_controller_post"];
+        /**
+         * Release Control
+         * @description Release the drive: its jogs stop and its heartbeat consumer entry is restored.
+         */
+        delete: operations["release_control_api_nodes__node__drive_controller_delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/disable": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Disable */
+        post: operations["disable_api_nodes__node__drive_disable_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/enable": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Enable
+         * @description Walk the CiA 402 state machine to Operation enabled; 409 enable_blocked names why not.
+         *     A fault is never reset here (409 naming it, nothing sent): fault-reset is its own act.
+         */
+        post: operations["enable_api_nodes__node__drive_enable_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/fault-reset": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Fault Reset */
+        post: operations["fault_reset_api_nodes__node__drive_fault_reset_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/home": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Home
+         * @description Accepted: homing runs on; its progress is the drive state's `homing`.
+         */
+        post: operations["home_api_nodes__node__drive_home_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/homing-methods": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Homing Methods */
+        get: operations["homing_methods_api_nodes__node__drive_homing_methods_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/ip-stream": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Ip Stream
+         * @description Runs the whole stream (up to 30 s) and answers how closely the axis followed.
+         */
+        post: operations["ip_stream_api_nodes__node__drive_ip_stream_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/limits": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Limits */
+        get: operations["limits_api_nodes__node__drive_limits_get"];
+        /** Set Limits */
+        put: operations["set_limits_api_nodes__node__drive_limits_put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/move": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Move
+         * @description Accepted: the move runs on; its progress is the drive state's `move`.
+         */
+        post: operations["move_api_nodes__node__drive_move_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/move-queue": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Move Queue */
+        post: operations["move_queue_api_nodes__node__drive_move_queue_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/drive/quick-stop": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Quick Stop
+         * @description Open to every client, whoever controls the drive.
+         */
+        post: operations["quick_stop_api_nodes__node__drive_quick_stop_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/faults": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Node Faults */
+        get: operations["node_faults_api_nodes__node__faults_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/faults/device-history": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Device History */
+        get: operations["device_history_api_nodes__node__faults_device_history_get"];
+        put?: never;
+        post?: never;
+        /** Clear Device History */
+        delete: operations["clear_device_history_api_nodes__node__faults_device_history_delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/faults/reset": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Fault Reset
+         * @description Like `/drive/fault-reset`, it passes the controller lease: another client's reset of a
+         *     drive someone controls answers 409 held_by_other (name yourself with X-Client-Id).
+         */
+        post: operations["fault_reset_api_nodes__node__faults_reset_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/heartbeat": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Heartbeat */
+        get: operations["heartbeat_api_nodes__node__heartbeat_get"];
+        /** Set Heartbeat */
+        put: operations["set_heartbeat_api_nodes__node__heartbeat_put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/jog": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Start Jog
+         * @description Start moving (pv: velocity_rpm, pt: torque_pct, capped at speed_cap_rpm); send a
+         *     keep-alive (REST or WebSocket `jog_keepalive`) at least every keepalive_ms or the axis
+         *     stops. A script without X-Client-Id gets an owner id of its own (`owner`) and the drive's
+         *     heartbeat protection until its jog's axis is at rest.
+         */
+        post: operations["start_jog_api_nodes__node__jog_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/nmt": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Nmt */
+        post: operations["nmt_api_nodes__node__nmt_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/node-id-options": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Node Id Options
+         * @description Whether the node-id wizard can change this node's id, before its first step.
+         */
+        get: operations["node_id_options_api_nodes__node__node_id_options_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/od": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Node Od */
+        get: operations["node_od_api_nodes__node__od_get"];
+        put?: never;
+        /** Upload Od */
+        post: operations["upload_od_api_nodes__node__od_post"];
+        /** Reset Od */
+        delete: operations["reset_od_api_nodes__node__od_delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/params": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List Params */
+        get: operations["list_params_api_nodes__node__params_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/params/{name}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Param */
+        get: operations["get_param_api_nodes__node__params__name__get"];
+        /** Set Param */
+        put: operations["set_param_api_nodes__node__params__name__put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/pdos": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Read Pdos */
+        get: operations["read_pdos_api_nodes__node__pdos_get"];
+        /** Apply Pdos */
+        put: operations["apply_pdos_api_nodes__node__pdos_put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/pdos/export": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Export Pdos */
+        get: operations["export_pdos_api_nodes__node__pdos_export_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/pdos/live": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Live */
+        get: operations["live_api_nodes__node__pdos_live_get"];
+        put?: never;
+        /** Start Live */
+        post: operations["start_live_api_nodes__node__pdos_live_post"];
+        /** Stop Live */
+        delete: operations["stop_live_api_nodes__node__pdos_live_delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/pdos/recommended": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Recommended Pdos */
+        get: operations["recommended_pdos_api_nodes__node__pdos_recommended_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/pdos/rules": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Pdo Rules */
+        get: operations["pdo_rules_api_nodes__node__pdos_rules_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/pdos/validate": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Validate Pdos */
+        post: operations["validate_pdos_api_nodes__node__pdos_validate_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/restore-defaults": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Restore Defaults */
+        post: operations["restore_defaults_api_nodes__node__restore_defaults_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/sdo/{index}/{subindex}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Read Entry */
+        get: operations["read_entry_api_nodes__node__sdo__index___subindex__get"];
+        /** Write Entry */
+        put: operations["write_entry_api_nodes__node__sdo__index___subindex__put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/store": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Store */
+        post: operations["store_api_nodes__node__store_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/nodes/{node}/upload-all": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Upload All */
+        post: operations["upload_all_api_nodes__node__upload_all_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/od/check": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Check Od */
+        post: operations["check_od_api_od_check_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/quick-stop": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Quick Stop All
+         * @description Quick stop every known drive (the Network page's one click); open to every client.
+         */
+        post: operations["quick_stop_all_api_quick_stop_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/recording": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Recording Status */
+        get: operations["recording_status_api_recording_get"];
+        put?: never;
+        /**
+         * Start Recording
+         * @description Start recording every frame received (a running recording goes on, in its format).
+         */
+        post: operations["start_recording_api_recording_post"];
+        /**
+         * Stop Recording
+         * @description Stop, close the file and download it (it stays in `<data_dir>/recordings`).
+         */
+        delete: operations["stop_recording_api_recording_delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scan": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Scan */
+        post: operations["scan_api_scan_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/captures": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * List Captures
+         * @description Every capture kept, newest first (the active one with its live progress).
+         */
+        get: operations["list_captures_api_scope_captures_get"];
+        put?: never;
+        /**
+         * Start Capture
+         * @description Set the bus up (SYNC, the scope's TPDOs in free slots, nodes Operational) and start a
+         *     capture. It is `arming` until the signal its trigger watches has sent a first sample (a
+         *     condition met before would be missed), then `armed` until the trigger (free-running: at
+         *     once), then `running`.
+         */
+        post: operations["start_capture_api_scope_captures_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/captures/{capture_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Capture */
+        get: operations["get_capture_api_scope_captures__capture_id__get"];
+        put?: never;
+        post?: never;
+        /**
+         * Stop Or Delete Capture
+         * @description An armed or running capture is stopped (its setup undone; 200 with the capture as
+         *     kept); a finished one is deleted with its files (204).
+         */
+        delete: operations["stop_or_delete_capture_api_scope_captures__capture_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/captures/{capture_id}/export": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Export Capture */
+        get: operations["export_capture_api_scope_captures__capture_id__export_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/captures/{capture_id}/measure": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Measure Capture
+         * @description Cursor A at `t0` and B at `t1` on a finished capture: per signal the value at each
+         *     (the sample at or before it), Δvalue, and min / max / mean / count between them.
+         */
+        get: operations["measure_capture_api_scope_captures__capture_id__measure_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/captures/{capture_id}/trace": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Trace Capture
+         * @description One signal as min/max bins over the capture, for the overview the cursors sit on.
+         */
+        get: operations["trace_capture_api_scope_captures__capture_id__trace_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/plan": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Plan Capture
+         * @description What a capture would do, without starting it: each signal's source (TPDO or SDO
+         *     polling, and why) and the bus load at the chosen SYNC period (refused above 100 %).
+         */
+        post: operations["plan_capture_api_scope_plan_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scope/viewer": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Scope Viewer
+         * @description The embedded rerun viewer: its page under this origin and what it connects to.
+         */
+        get: operations["scope_viewer_api_scope_viewer_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/session": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Session
+         * @description Who the caller is and what their role may do (401 when a login is needed).
+         */
+        get: operations["session_api_session_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/sync": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Sync Status */
+        get: operations["sync_status_api_sync_get"];
+        /** Set Sync */
+        put: operations["set_sync_api_sync_put"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
 }
 export type webhooks = Record<string, never>;
 export interface components {
-  schemas: {
-    /** ActiveFaults */
-    ActiveFaults: {
-      /** Faults */
-      faults: components["schemas"]["Fault"][];
-    };
-    /** AuditEntry */
-    AuditEntry: {
-      /** Abort Code */
-      abort_code: string | null;
-      /** Action */
-      action: string;
-      /** Client */
-      client: string | null;
-      /** Error */
-      error: string | null;
-      /** Finished */
-      finished: number | null;
-      /** Id */
-      id: number;
-      /** Index */
-      index: number | null;
-      /** Message */
-      message: string | null;
-      /** New */
-      new: number | string | null;
-      /** Node */
-      node: number | null;
-      /** Old */
-      old: number | string | null;
-      /**
-       * Result
-       * @enum {string}
-       */
-      result: "pending" | "ok" | "failed" | "unknown";
-      /** Role */
-      role: string;
-      /** Subindex */
-      subindex: number | null;
-      /** Time */
-      time: number;
-      /** Undo Of */
-      undo_of: number | null;
-      /** Undoable */
-      undoable: boolean;
-      /** Undone By */
-      undone_by: number | null;
-      /** User */
-      user: string;
-      /** What */
-      what: string;
-    };
-    /** BitrateChange */
-    BitrateChange: {
-      /** Bitrate */
-      bitrate: number;
-      /**
-       * Confirm
-       * @default false
-       */
-      confirm: boolean;
-    };
-    /** BitrateChangeResult */
-    BitrateChangeResult: {
-      /** Bitrate */
-      bitrate: number;
-      /**
-       * Reconnect Required
-       * @default true
-       */
-      reconnect_required: boolean;
-      /** Steps */
-      steps: string[];
-    };
-    /**
-     * BitrateOptions
-     * @description The bitrates a node can be set to over CANopen, from its profile.
-     */
-    BitrateOptions: {
-      /** Current */
-      current?: number | null;
-      /** Note */
-      note: string;
-      /** Settable */
-      settable: boolean;
-      /** Supported */
-      supported: number[];
-    };
-    /** Body_check_od_api_od_check_post */
-    Body_check_od_api_od_check_post: {
-      /**
-       * File
-       * @description the file (a file part or a form field)
-       */
-      file?: string | null;
-    };
-    /** Body_check_record_api_commissioning_check_post */
-    Body_check_record_api_commissioning_check_post: {
-      /**
-       * Bundle
-       * @description the file (a file part or a form field)
-       */
-      bundle?: string | null;
-      /**
-       * Node
-       * @description node 1–127; default: the record's
-       */
-      node?: string | null;
-    };
-    /** Body_compare_api_nodes__node__compare_post */
-    Body_compare_api_nodes__node__compare_post: {
-      /** File */
-      file?: string | null;
-    };
-    /** Body_decode_log_api_logs_decode_post */
-    Body_decode_log_api_logs_decode_post: {
-      /**
-       * Dcf
-       * @description optional DCF: PDO mappings, identity
-       */
-      dcf?: string | null;
-      /**
-       * File
-       * @description the file (a file part or a form field)
-       */
-      file?: string | null;
-      /**
-       * Profiles
-       * @description which drive a node is, for nodes whose identity the log does not show: "1=mdi-s1c, 2=kinco" (profiles mdi-s1c, kinco, cia402)
-       */
-      profiles?: string | null;
-    };
-    /** Body_load_dcf_api_nodes__node__dcf_post */
-    Body_load_dcf_api_nodes__node__dcf_post: {
-      /**
-       * Confirm
-       * @description write a set made for another device
-       * @default false
-       */
-      confirm: boolean;
-      /**
-       * File
-       * @description the file (a file part or a form field)
-       */
-      file?: string | null;
-    };
-    /** Body_upload_od_api_nodes__node__od_post */
-    Body_upload_od_api_nodes__node__od_post: {
-      /**
-       * File
-       * @description the file (a file part or a form field)
-       */
-      file?: string | null;
-    };
-    /** BusConfig */
-    BusConfig: {
-      /** Bitrate */
-      bitrate?: number | null;
-      /** Channel */
-      channel?: string | null;
-      /** Interface */
-      interface?: string | null;
-      /** Options */
-      options?: {
-        [key: string]: unknown;
-      };
-      /**
-       * Simulated
-       * @default false
-       */
-      simulated: boolean;
-    };
-    /** BusLoadResult */
-    BusLoadResult: {
-      /** Bitrate */
-      bitrate: number;
-      /** Master Period Ms */
-      master_period_ms: number;
-      /** Nodes */
-      nodes: components["schemas"]["NodeLoadModel"][];
-      /** Notes */
-      notes: string[];
-      /** Over Threshold */
-      over_threshold: boolean;
-      /** Percent */
-      percent: number;
-      /** Sync Bits Per S */
-      sync_bits_per_s: number;
-      /** Sync Period Us */
-      sync_period_us: number | null;
-      /** Threshold Percent */
-      threshold_percent: number;
-      /** Total Bits Per S */
-      total_bits_per_s: number;
-    };
-    /** BusMessage */
-    BusMessage: {
-      bus: components["schemas"]["BusStatus"];
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "bus";
-    };
-    /**
-     * BusState
-     * @enum {string}
-     */
-    BusState: "connected" | "disconnected" | "connecting" | "error";
-    /** BusStatus */
-    BusStatus: {
-      /** Bitrate */
-      bitrate?: number | null;
-      /**
-       * Bus Errors
-       * @default 0
-       */
-      bus_errors: number;
-      /** Channel */
-      channel?: string | null;
-      /** Error */
-      error?: string | null;
-      /**
-       * Error Frames
-       * @default 0
-       */
-      error_frames: number;
-      /** Interface */
-      interface?: string | null;
-      /**
-       * Reconnects
-       * @default 0
-       */
-      reconnects: number;
-      /**
-       * Rx Frames
-       * @default 0
-       */
-      rx_frames: number;
-      /**
-       * Simulated
-       * @default false
-       */
-      simulated: boolean;
-      /** Since */
-      since?: number | null;
-      state: components["schemas"]["BusState"];
-      /**
-       * Tx Frames
-       * @default 0
-       */
-      tx_frames: number;
-    };
-    /** Capture */
-    Capture: {
-      /** Bus Load Percent */
-      bus_load_percent?: number | null;
-      /** Created */
-      created: number;
-      /** Duration S */
-      duration_s: number;
-      /** Ended */
-      ended?: number | null;
-      /** Error */
-      error?: string | null;
-      /** Id */
-      id: number;
-      lanes?: components["schemas"]["LanesRequest"];
-      /**
-       * Lost
-       * @default 0
-       */
-      lost: number;
-      /** Name */
-      name: string | null;
-      /** Nodes */
-      nodes: number[];
-      /** Notes */
-      notes?: string[];
-      /** Recording Id */
-      recording_id: string;
-      /** Samples */
-      samples: number;
-      /** Series */
-      series?: number | null;
-      /** Signals */
-      signals: components["schemas"]["CaptureSignal"][];
-      /**
-       * Size Bytes
-       * @default 0
-       */
-      size_bytes: number;
-      /** Started */
-      started?: number | null;
-      /**
-       * State
-       * @enum {string}
-       */
-      state: "arming" | "armed" | "running" | "done" | "failed";
-      /** Sync Period Us */
-      sync_period_us: number;
-      trigger: components["schemas"]["TriggerRequest"];
-      /** Trigger Time */
-      trigger_time?: number | null;
-    };
-    /** CaptureRequest */
-    CaptureRequest: {
-      /** Duration S */
-      duration_s: number;
-      lanes?: components["schemas"]["LanesRequest"];
-      /** Name */
-      name?: string | null;
-      /** Signals */
-      signals: components["schemas"]["ScopeSignalRequest"][];
-      /**
-       * Start Nodes
-       * @description put pre-operational nodes into Operational for the capture (TPDOs only flow there) and back afterwards
-       * @default true
-       */
-      start_nodes: boolean;
-      /**
-       * Sync Period Us
-       * @description µs
-       * @default 1000
-       */
-      sync_period_us: number;
-      trigger?: components["schemas"]["TriggerRequest"];
-    };
-    /** CaptureSignal */
-    CaptureSignal: {
-      /** Bits */
-      bits: number;
-      /** Cob Id */
-      cob_id?: number | null;
-      /** Index */
-      index: number;
-      /** Key */
-      key: string;
-      /** Last Value */
-      last_value?: number | null;
-      /** Name */
-      name: string;
-      /** Node */
-      node: number;
-      /** Note */
-      note?: string | null;
-      /** Quantity */
-      quantity: string;
-      /** Rate Hz */
-      rate_hz?: number | null;
-      /** Raw Unit */
-      raw_unit: string;
-      /**
-       * Samples
-       * @default 0
-       */
-      samples: number;
-      /** Scale */
-      scale: number;
-      /**
-       * Source
-       * @enum {string}
-       */
-      source: "pdo" | "sdo";
-      /** Subindex */
-      subindex: number;
-      /** Tpdo */
-      tpdo?: number | null;
-      /** Unit */
-      unit: string;
-    };
-    /** CheckResult */
-    CheckResult: {
-      /** Checked Parameters */
-      checked_parameters: number;
-      /** Checked Pdos */
-      checked_pdos: number;
-      /**
-       * Differs
-       * @description a parameter, a PDO entry or the firmware differs
-       */
-      differs: boolean;
-      /** Faults Since */
-      faults_since: components["schemas"]["FaultSince"][];
-      firmware: components["schemas"]["Firmware"];
-      /**
-       * Handover At
-       * @description the record's last step time (unix s)
-       */
-      handover_at: number;
-      /** Node */
-      node: number;
-      /** Notes */
-      notes?: string[];
-      /** Parameters */
-      parameters: components["schemas"]["Difference"][];
-      /** Pdos */
-      pdos: components["schemas"]["Difference"][];
-      /** Record Id */
-      record_id: number;
-      /**
-       * Source
-       * @description record (this server's record) or bundle (an uploaded zip)
-       */
-      source: string;
-    };
-    /**
-     * ClientMessage
-     * @description Any message a client may send on /api/ws.
-     */
-    ClientMessage:
-      | components["schemas"]["HelloMessage"]
-      | components["schemas"]["PingMessage"]
-      | components["schemas"]["JogKeepaliveMessage"]
-      | components["schemas"]["JogStopMessage"]
-      | components["schemas"]["PageHiddenMessage"]
-      | components["schemas"]["QuickStopMessage"]
-      | components["schemas"]["WatchDriveMessage"]
-      | components["schemas"]["UnwatchDriveMessage"];
-    /** CommissioningCreate */
-    CommissioningCreate: {
-      /** Modes */
-      modes: string[];
-      /** Title */
-      title?: string | null;
-    };
-    /**
-     * CommissioningIdentity
-     * @description The drive as the tool knew it when the record was made (1008h–100Ah, 1018h, profile).
-     */
-    CommissioningIdentity: {
-      /** Device Type */
-      device_type?: number | null;
-      /** Hardware Version */
-      hardware_version?: string | null;
-      /** Name */
-      name?: string | null;
-      /** Od Filename */
-      od_filename: string;
-      /** Od Source */
-      od_source: string;
-      /** Product Code */
-      product_code?: number | null;
-      /** Profile */
-      profile: string;
-      /** Profile Label */
-      profile_label: string;
-      /** Revision */
-      revision?: number | null;
-      /** Serial */
-      serial?: number | null;
-      /** Software Version */
-      software_version?: string | null;
-      /** Supported Modes */
-      supported_modes?: string[] | null;
-      /** Vendor Id */
-      vendor_id?: number | null;
-    };
-    /** CommissioningRecord */
-    CommissioningRecord: {
-      /** Created */
-      created: number;
-      /** Id */
-      id: number;
-      identity: components["schemas"]["CommissioningIdentity"];
-      /** Modes */
-      modes: string[];
-      /** Node */
-      node: number;
-      /**
-       * Status
-       * @enum {string}
-       */
-      status: "in_progress" | "done" | "failed";
-      /** Steps */
-      steps: components["schemas"]["CommissioningStep"][];
-      /** Title */
-      title: string;
-    };
-    /** CommissioningStep */
-    CommissioningStep: {
-      /** At */
-      at?: number | null;
-      /** By */
-      by?: string | null;
-      /** Evidence */
-      evidence?: {
-        [key: string]: unknown;
-      };
-      /** Figures */
-      figures?: {
-        [key: string]: number;
-      };
-      /**
-       * Key
-       * @enum {string}
-       */
-      key:
-        | "identity"
-        | "communication"
-        | "parameters"
-        | "pdo"
-        | "limits"
-        | "stop_test"
-        | "test_move"
-        | "homing"
-        | "store_verify";
-      /** Reason */
-      reason?: string | null;
-      /**
-       * Status
-       * @default to_do
-       * @enum {string}
-       */
-      status: "to_do" | "done" | "failed" | "skipped";
-      /** Title */
-      title: string;
-    };
-    /** CompareResult */
-    CompareResult: {
-      /** Confirm */
-      confirm?: string[];
-      identity?: components["schemas"]["IdentityCheck"] | null;
-      /** Read Only */
-      read_only?: components["schemas"]["CompareRow"][];
-      /** Rows */
-      rows: components["schemas"]["CompareRow"][];
-    };
-    /** CompareRow */
-    CompareRow: {
-      /** Default */
-      default?: number | string | null;
-      /** Default Text */
-      default_text: string;
-      /** Device */
-      device?: number | string | null;
-      /** Device Text */
-      device_text: string;
-      /** Differs From Default */
-      differs_from_default: boolean;
-      /** Differs From File */
-      differs_from_file: boolean;
-      /** File */
-      file?: number | string | null;
-      /** File Text */
-      file_text: string;
-      /** Index */
-      index: number;
-      /** Name */
-      name: string;
-      /** Subindex */
-      subindex: number;
-      /** Unit */
-      unit: string;
-    };
-    /** Confirm */
-    Confirm: {
-      /**
-       * Confirm
-       * @default false
-       */
-      confirm: boolean;
-    };
-    /** ConfirmBody */
-    ConfirmBody: {
-      /**
-       * Confirm
-       * @default false
-       */
-      confirm: boolean;
-    };
-    /** ControllerHolder */
-    ControllerHolder: {
-      /** Client Id */
-      client_id: string;
-      /** Name */
-      name?: string | null;
-      /** Since */
-      since: number;
-    };
-    /** ControllerInfo */
-    ControllerInfo: {
-      holder: components["schemas"]["ControllerHolder"] | null;
-      /** Node */
-      node: number;
-      protection: components["schemas"]["HeartbeatProtection"];
-      /** You */
-      you: boolean;
-    };
-    /**
-     * ControllerMessage
-     * @description Who controls the node, on every change and when the client starts watching it.
-     */
-    ControllerMessage: {
-      holder: components["schemas"]["ControllerHolder"] | null;
-      /** Node */
-      node: number;
-      protection: components["schemas"]["HeartbeatProtection"];
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "controller";
-      /** You */
-      you: boolean;
-    };
-    /**
-     * DataUsage
-     * @description Bytes under the data directory, by what they are, against the quotas that keep them.
-     */
-    DataUsage: {
-      /** Captures Bytes */
-      captures_bytes: number;
-      /** Captures Keep Bytes */
-      captures_keep_bytes: number;
-      /** Free Bytes */
-      free_bytes: number;
-      /** Logs Bytes */
-      logs_bytes: number;
-      /** Logs Keep Bytes */
-      logs_keep_bytes: number;
-      /** Min Free Bytes */
-      min_free_bytes: number;
-      /** Recordings Bytes */
-      recordings_bytes: number;
-      /** Total Bytes */
-      total_bytes: number;
-    };
-    /** DcfDifference */
-    DcfDifference: {
-      /** Actual */
-      actual: number | string | null;
-      /** Expected */
-      expected: number | string | null;
-      /** Index */
-      index: number;
-      /** Name */
-      name: string;
-      /** Subindex */
-      subindex: number;
-    };
-    /** DcfFailure */
-    DcfFailure: {
-      /** Abort Code */
-      abort_code?: string | null;
-      /** Index */
-      index: number;
-      /** Message */
-      message: string;
-      /** Name */
-      name: string;
-      /** Subindex */
-      subindex: number;
-    };
-    /** DcfLoadResult */
-    DcfLoadResult: {
-      /** Differences */
-      differences: components["schemas"]["DcfDifference"][];
-      /** Failed */
-      failed: components["schemas"]["DcfFailure"][];
-      identity?: components["schemas"]["IdentityCheck"] | null;
-      /** Skipped */
-      skipped: number;
-      /**
-       * Warnings
-       * @default []
-       */
-      warnings: string[];
-      /** Written */
-      written: number;
-    };
-    /** DecodedLog */
-    DecodedLog: {
-      /** Events */
-      events: components["schemas"]["LogEvent"][];
-      /** Id */
-      id: string;
-      /** Name */
-      name: string;
-      /**
-       * Next
-       * @description pass as `since` for the next page; null at the end
-       */
-      next: number | null;
-      /** Stats */
-      stats: {
-        [key: string]: unknown;
-      };
-      /** Summary */
-      summary: string[];
-    };
-    /** DeviceHistory */
-    DeviceHistory: {
-      /** Count */
-      count: number;
-      /** Entries */
-      entries: components["schemas"]["DeviceHistoryEntry"][];
-      /** @description 603Fh, the drive's last error code (0: none) */
-      error_code: components["schemas"]["Fault"] | null;
-      /** Node */
-      node: number;
-      /** Note */
-      note?: string | null;
-      /**
-       * Supported
-       * @description false: the drive has no 1003h at all
-       * @default true
-       */
-      supported: boolean;
-    };
-    /** DeviceHistoryCleared */
-    DeviceHistoryCleared: {
-      /** Message */
-      message: string;
-      /** Node */
-      node: number;
-    };
-    /** DeviceHistoryEntry */
-    DeviceHistoryEntry: {
-      fault: components["schemas"]["Fault"];
-      /** Number */
-      number: number;
-      /** Value Hex */
-      value_hex: string;
-    };
-    /** Difference */
-    Difference: {
-      /** At Handover */
-      at_handover: unknown;
-      /** Audit Id */
-      audit_id?: number | null;
-      /** Changed At */
-      changed_at?: number | null;
-      /**
-       * Changed By
-       * @description who wrote it last, where the audit log knows
-       */
-      changed_by: string | null;
-      /** Error */
-      error?: string | null;
-      /** Index */
-      index: number;
-      /** Name */
-      name: string | null;
-      /** Now */
-      now: unknown;
-      /** Object */
-      object: string;
-      /** Source */
-      source: string;
-      /** Subindex */
-      subindex: number;
-    };
-    /**
-     * DriveCommandRequest
-     * @description One CiA 402 controlword command (MDi-S1-C CANopen manual §3.2.2, figure 3.2).
-     */
-    DriveCommandRequest: {
-      /**
-       * Command
-       * @enum {string}
-       */
-      command:
-        | "shutdown"
-        | "switch_on"
-        | "disable_operation"
-        | "enable_operation"
-        | "disable_voltage"
-        | "quick_stop"
-        | "fault_reset";
-    };
-    /**
-     * DriveLimits
-     * @description The drive's own limits as last read (at most a second old while the drive state is
-     *     watched): the limits in force never go above them.
-     */
-    DriveLimits: {
-      /** Max Torque Pct */
-      max_torque_pct: number;
-      /** Max Velocity Rpm */
-      max_velocity_rpm: number;
-      /** Torque Source */
-      torque_source: string;
-      /** Velocity Source */
-      velocity_source: string;
-    };
-    /** DriveState */
-    DriveState: {
-      /** Controlword */
-      controlword: number;
-      /** Counts Per Rev */
-      counts_per_rev: number;
-      /** Digital Inputs */
-      digital_inputs: number | null;
-      drive_limits?: components["schemas"]["DriveLimits"] | null;
-      fault: components["schemas"]["FaultInfo"] | null;
-      /** Following Error Inc */
-      following_error_inc: number | null;
-      /** Gear Ratio */
-      gear_ratio: [number, number] | null;
-      /** Homed */
-      homed: boolean | null;
-      homing: components["schemas"]["HomingProgress"] | null;
-      /** Inputs */
-      inputs: {
-        [key: string]: boolean;
-      };
-      /** Last Transition */
-      last_transition: string | null;
-      limits: components["schemas"]["MotionLimits"];
-      /** Mode */
-      mode: string | null;
-      /** Mode Display */
-      mode_display: string | null;
-      move: components["schemas"]["MoveProgress"] | null;
-      /** Nmt State */
-      nmt_state: string;
-      /** Node */
-      node: number;
-      /** Position Inc */
-      position_inc: number;
-      /** Position Rev */
-      position_rev: number;
-      pt_speed_limit?: components["schemas"]["SpeedLimit"] | null;
-      /** Sources */
-      sources?: {
-        [key: string]: string;
-      };
-      /**
-       * State
-       * @enum {string}
-       */
-      state:
-        | "not_ready_to_switch_on"
-        | "switch_on_disabled"
-        | "ready_to_switch_on"
-        | "switched_on"
-        | "operation_enabled"
-        | "quick_stop_active"
-        | "fault_reaction_active"
-        | "fault";
-      /** State Label */
-      state_label: string;
-      /** Status Bits */
-      status_bits: components["schemas"]["StatusBit"][];
-      /** Statusword */
-      statusword: number;
-      /** Supported Modes */
-      supported_modes: string[];
-      /** Target Reached */
-      target_reached: boolean;
-      /** Torque Pct */
-      torque_pct: number | null;
-      travel?: components["schemas"]["TravelInfo"] | null;
-      /** Velocity Rpm */
-      velocity_rpm: number;
-    };
-    /**
-     * DriveStateMessage
-     * @description ~10 Hz for each node the client watches (`watch_drive`).
-     */
-    DriveStateMessage: {
-      /** Node */
-      node: number;
-      state: components["schemas"]["DriveState"];
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "drive_state";
-    };
-    /** EnableReason */
-    EnableReason: {
-      /**
-       * Code
-       * @enum {string}
-       */
-      code:
-        | "nmt_stopped"
-        | "nmt_not_operational"
-        | "fault"
-        | "voltage_disabled"
-        | "quick_stop_active"
-        | "mode_unsupported"
-        | "halt_set"
-        | "held_by_other"
-        | "timeout"
-        | "fault_reset_high"
-        | "not_ready"
-        | "not_enabled"
-        | "no_transition";
-      /** Message */
-      message: string;
-    };
-    /** ErrorBody */
-    ErrorBody: {
-      /** Abort Code */
-      abort_code?: string | null;
-      /** Error */
-      error: string;
-      /** Index */
-      index?: number | null;
-      /** Message */
-      message: string;
-      /** Node */
-      node?: number | null;
-      /** Problems */
-      problems?: components["schemas"]["PdoProblem"][] | null;
-      /** Required */
-      required?: string | null;
-      /** Restored */
-      restored?: boolean | null;
-      /** Retry After S */
-      retry_after_s?: number | null;
-      /** Role */
-      role?: string | null;
-      /** Step */
-      step?: string | null;
-      /** Subindex */
-      subindex?: number | null;
-    };
-    /**
-     * ErrorMessage
-     * @description A client message the server could not act on (unparsable, unknown jog …).
-     */
-    ErrorMessage: {
-      /** Error */
-      error: string;
-      /** Message */
-      message: string;
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "error";
-    };
-    /**
-     * EventKind
-     * @enum {string}
-     */
-    EventKind:
-      | "boot-up"
-      | "node-lost"
-      | "node-back"
-      | "nmt"
-      | "bus"
-      | "emcy"
-      | "fault-cleared"
-      | "fault-reset"
-      | "sdo-abort"
-      | "cia402-state"
-      | "tool-write"
-      | "recording"
-      | "dropped";
-    /** EventMessage */
-    EventMessage: {
-      event: components["schemas"]["LiveEvent"];
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "event";
-    };
-    /** EventPage */
-    EventPage: {
-      /** Events */
-      events: components["schemas"]["TimelineEvent"][];
-      /**
-       * Next
-       * @description cursor for the next page: pass it as `before` (newest-first pages) or as `since` (since pages); null when there is nothing more yet
-       */
-      next: number | null;
-    };
-    /**
-     * ExportFormat
-     * @enum {string}
-     */
-    ExportFormat: "text" | "csv" | "json" | "parquet";
-    /**
-     * Fault
-     * @description One decoded EMCY (servodesk.faults.decode.FaultRecord) and the CiA 402 state around it.
-     */
-    Fault: {
-      /** Bus */
-      bus?: string | null;
-      /** Check */
-      check?: string | null;
-      /** Code */
-      code: number;
-      /** Code Hex */
-      code_hex: string;
-      /** Error Register */
-      error_register?: number | null;
-      /** Manufacturer Hex */
-      manufacturer_hex?: string | null;
-      /** Name En */
-      name_en: string;
-      /** Name Zh */
-      name_zh?: string | null;
-      /** Node */
-      node: number;
-      /** Raw Hex */
-      raw_hex: string;
-      /** Source */
-      source: string;
-      /** State After */
-      state_after?: string | null;
-      /** State Before */
-      state_before?: string | null;
-      /** Time */
-      time: number;
-    };
-    /**
-     * FaultInfo
-     * @description The drive's active fault: 603Fh (and the code a profile names it by), decoded.
-     */
-    FaultInfo: {
-      /** Code */
-      code: number;
-      /** Code Hex */
-      code_hex: string;
-      /** Name */
-      name?: string | null;
-      /** Source */
-      source?: string | null;
-      /** Text */
-      text?: string | null;
-    };
-    /**
-     * FaultMessage
-     * @description A node's active fault changed: a new EMCY, an error-reset EMCY or a fault reset (null:
-     *     no active fault). Sent again once the EMCYs behind it are in the node's fault history
-     *     (stored with the state read after them), whether or not one is still active: a page that
-     *     lists the history reads it then. Sent for every node with an active fault when a page
-     *     connects.
-     */
-    FaultMessage: {
-      fault: components["schemas"]["Fault"] | null;
-      /** Node */
-      node: number;
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "fault";
-    };
-    /** FaultResetResult */
-    FaultResetResult: {
-      active: components["schemas"]["Fault"] | null;
-      /** Message */
-      message: string;
-      /** Node */
-      node: number;
-      /** Ok */
-      ok: boolean;
-      /** State After */
-      state_after: string;
-      /** State Before */
-      state_before: string;
-      /** Statusword Hex */
-      statusword_hex: string;
-    };
-    /** FaultSince */
-    FaultSince: {
-      /** Code Hex */
-      code_hex: string;
-      /** Name */
-      name: string;
-      /** Number */
-      number?: number | null;
-      /** Source */
-      source: string;
-      /** Time */
-      time?: number | null;
-    };
-    /** Firmware */
-    Firmware: {
-      /** At Handover */
-      at_handover: {
-        [key: string]: unknown;
-      };
-      /** Changed */
-      changed: boolean;
-      /** Changed Fields */
-      changed_fields?: string[];
-      /** Now */
-      now: {
-        [key: string]: unknown;
-      };
-    };
-    /** Health */
-    Health: {
-      bus: components["schemas"]["BusStatus"];
-      data: components["schemas"]["DataUsage"];
-      loop: components["schemas"]["LoopLag"];
-      /** Status */
-      status: string;
-      /** Version */
-      version: string;
-    };
-    /** HeartbeatConfig */
-    HeartbeatConfig: {
-      /** Producer Ms */
-      producer_ms: number;
-    };
-    /**
-     * HeartbeatProtection
-     * @description Whether the drive watches the tool's heartbeat (1016h) and stops if it goes silent.
-     */
-    HeartbeatProtection: {
-      /** Active */
-      active: boolean;
-      /** Consumer Ms */
-      consumer_ms: number;
-      /** Message */
-      message: string;
-      /** Tool Node Id */
-      tool_node_id: number;
-    };
-    /** HeartbeatWrite */
-    HeartbeatWrite: {
-      /**
-       * Confirm
-       * @default false
-       */
-      confirm: boolean;
-      /** Producer Ms */
-      producer_ms: number;
-    };
-    /**
-     * HelloMessage
-     * @description First message of a page: its client id (the one it sends as X-Client-Id) owns the
-     *     socket; jogs it started stop when the socket closes.
-     */
-    HelloMessage: {
-      /** Client Id */
-      client_id: string;
-      /**
-       * Name
-       * @default null
-       */
-      name: string | null;
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "hello";
-    };
-    /** HistoryMessage */
-    HistoryMessage: {
-      /** Events */
-      events: components["schemas"]["LiveEvent"][];
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "history";
-    };
-    /** HomeRequest */
-    HomeRequest: {
-      /** Acceleration Rpm S */
-      acceleration_rpm_s?: number | null;
-      /** Fast Rpm */
-      fast_rpm?: number | null;
-      /** Method */
-      method: number;
-      /** Offset Inc */
-      offset_inc?: number | null;
-      /** Slow Rpm */
-      slow_rpm?: number | null;
-    };
-    /** HomingMethodInfo */
-    HomingMethodInfo: {
-      /** Description */
-      description: string;
-      /** Method */
-      method: number;
-      /** Name */
-      name: string;
-      /** Path */
-      path: components["schemas"]["PathStep"][];
-    };
-    /** HomingProgress */
-    HomingProgress: {
-      /** Message */
-      message: string;
-      /** Method */
-      method: number;
-      /**
-       * Phase
-       * @enum {string}
-       */
-      phase: "running" | "attained" | "error" | "interrupted";
-      /** Position Inc */
-      position_inc: number | null;
-    };
-    /**
-     * IdentityCheck
-     * @description Whether a parameter set is for the node's kind of device (vendor, product, type).
-     */
-    IdentityCheck: {
-      /**
-       * Checked
-       * @default true
-       */
-      checked: boolean;
-      /** Device */
-      device: string;
-      /** File */
-      file: string;
-      /** Matches */
-      matches: boolean;
-      /** Message */
-      message?: string | null;
-    };
-    /** InterfaceInfo */
-    InterfaceInfo: {
-      /** Example Channel */
-      example_channel: string;
-      /** Label */
-      label: string;
-      /** Name */
-      name: string;
-      /** Needs Channel */
-      needs_channel: boolean;
-    };
-    /** IpStreamRequest */
-    IpStreamRequest: {
-      /** Distance Rev */
-      distance_rev: number;
-      /** Duration S */
-      duration_s: number;
-      /** Period Ms */
-      period_ms: number;
-      /**
-       * Trajectory
-       * @enum {string}
-       */
-      trajectory: "point_to_point" | "sine";
-    };
-    /**
-     * IpStreamResult
-     * @description What an interpolated-position stream did: how closely the axis followed the plan and how
-     *     regular the tool's SYNC was.
-     */
-    IpStreamResult: {
-      /** Duration S */
-      duration_s: number;
-      fault: components["schemas"]["FaultInfo"] | null;
-      /** Final Error Inc */
-      final_error_inc: number;
-      /** Max Lag Inc */
-      max_lag_inc: number;
-      /** Max Lag Rev */
-      max_lag_rev: number;
-      /** Message */
-      message: string;
-      /** Node */
-      node: number;
-      /** Period Ms */
-      period_ms: number;
-      /** Points */
-      points: number;
-      /** Stalled */
-      stalled: boolean;
-      state: components["schemas"]["DriveState"];
-      /** Sync Interval Max Ms */
-      sync_interval_max_ms: number;
-      /** Sync Jitter Ms */
-      sync_jitter_ms: number;
-      /** Syncs */
-      syncs: number;
-      /**
-       * Trajectory
-       * @enum {string}
-       */
-      trajectory: "point_to_point" | "sine";
-    };
-    /** Job */
-    Job: {
-      /** Done */
-      done: number;
-      /**
-       * Elapsed S
-       * @default 0
-       */
-      elapsed_s: number;
-      /** Error */
-      error?: string | null;
-      /** Id */
-      id: string;
-      /**
-       * Kind
-       * @constant
-       */
-      kind: "upload-all";
-      /** Node */
-      node: number;
-      /** Results */
-      results: components["schemas"]["JobResult"][];
-      /**
-       * Results From
-       * @default 0
-       */
-      results_from: number;
-      /**
-       * State
-       * @enum {string}
-       */
-      state: "running" | "done" | "cancelled" | "failed";
-      /** Total */
-      total: number;
-    };
-    /** JobResult */
-    JobResult: {
-      /** Abort Code */
-      abort_code?: string | null;
-      /** Index */
-      index: number;
-      /** Message */
-      message?: string | null;
-      /** Name */
-      name: string;
-      /** Subindex */
-      subindex: number;
-      /** Text */
-      text?: string | null;
-      /** Value */
-      value?: number | string | null;
-    };
-    /** JogInfo */
-    JogInfo: {
-      /** Acceleration Rpm S */
-      acceleration_rpm_s?: number | null;
-      /** Jog Id */
-      jog_id: string;
-      /** Keepalive Ms */
-      keepalive_ms: number;
-      /**
-       * Mode
-       * @enum {string}
-       */
-      mode: "pv" | "pt";
-      /** Node */
-      node: number;
-      /** Owner */
-      owner?: string | null;
-      /** Speed Cap Rpm */
-      speed_cap_rpm?: number | null;
-      /**
-       * State
-       * @enum {string}
-       */
-      state: "running" | "stopping" | "stopped";
-      /** Stop Deceleration Rpm S */
-      stop_deceleration_rpm_s?: number | null;
-      /** Stop Reason */
-      stop_reason?: string | null;
-      /** Torque Slope Pct S */
-      torque_slope_pct_s?: number | null;
-      /** Value */
-      value: number;
-      /** Velocity Limit Rpm */
-      velocity_limit_rpm?: number | null;
-      /** Velocity Limit Source */
-      velocity_limit_source?: string | null;
-      /** Velocity Rpm */
-      velocity_rpm?: number | null;
-    };
-    /** JogKeepaliveMessage */
-    JogKeepaliveMessage: {
-      /** Jog Id */
-      jog_id: string;
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "jog_keepalive";
-    };
-    /** JogRequest */
-    JogRequest: {
-      /** Acceleration Rpm S */
-      acceleration_rpm_s?: number | null;
-      /**
-       * Keepalive Ms
-       * @default 250
-       */
-      keepalive_ms: number;
-      /**
-       * Mode
-       * @enum {string}
-       */
-      mode: "pv" | "pt";
-      /** Speed Cap Rpm */
-      speed_cap_rpm?: number | null;
-      /** Torque Pct */
-      torque_pct?: number | null;
-      /** Torque Slope Pct S */
-      torque_slope_pct_s?: number | null;
-      /** Velocity Rpm */
-      velocity_rpm?: number | null;
-    };
-    /** JogStopMessage */
-    JogStopMessage: {
-      /** Jog Id */
-      jog_id: string;
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "jog_stop";
-    };
-    /**
-     * JogStoppedMessage
-     * @description A jog of this client (or of a watched node) stopped, and why.
-     */
-    JogStoppedMessage: {
-      jog: components["schemas"]["JogInfo"];
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "jog_stopped";
-    };
-    /**
-     * KeptLogInfo
-     * @description A decoded log kept on the server (the oldest go beyond SERVODESK_LOGS_KEEP_MB).
-     */
-    KeptLogInfo: {
-      /**
-       * Created
-       * @description when its decode finished (epoch s)
-       */
-      created: number;
-      /** Id */
-      id: string;
-      /** Name */
-      name: string;
-      /** Size Bytes */
-      size_bytes: number;
-    };
-    /**
-     * LanesRequest
-     * @description Lanes drawn under a captured statusword (6041h) or controlword (6040h): its CiA 402
-     *     state (the controlword: its command) and each bit listed as a 0/1 step lane of its own.
-     */
-    LanesRequest: {
-      /** Controlword Bits */
-      controlword_bits?: number[];
-      /** Statusword Bits */
-      statusword_bits?: number[];
-    };
-    /**
-     * LimitsRequest
-     * @description PUT …/drive/limits: MotionLimits, strict (true/false is not a number).
-     */
-    LimitsRequest: {
-      /** Max Position Rev */
-      max_position_rev?: number | null;
-      /** Max Torque Pct */
-      max_torque_pct: number;
-      /** Max Velocity Rpm */
-      max_velocity_rpm: number;
-      /** Min Position Rev */
-      min_position_rev?: number | null;
-    };
-    /** LintWarningModel */
-    LintWarningModel: {
-      /** Code */
-      code: string;
-      /** File */
-      file: string;
-      /** Key */
-      key: string | null;
-      /** Line */
-      line: number | null;
-      /** Message */
-      message: string;
-      /** Section */
-      section: string | null;
-      /**
-       * Severity
-       * @enum {string}
-       */
-      severity: "info" | "warning" | "error";
-    };
-    /** LiveCheck */
-    LiveCheck: {
-      /** Active */
-      active: boolean;
-      /** Drive Page */
-      drive_page?: string | null;
-      /** Node */
-      node: number;
-      /** Pdos */
-      pdos: components["schemas"]["LivePdo"][];
-      /** Since */
-      since?: number | null;
-    };
-    /**
-     * LiveEvent
-     * @description The live channel's `event` message: a node or bus event (events.bus.BusEvent, which the
-     *     registry publishes) in its wire form.
-     */
-    LiveEvent: {
-      /**
-       * Kind
-       * @enum {string}
-       */
-      kind: "boot-up" | "node-lost" | "node-back" | "nmt" | "bus";
-      /** Message */
-      message: string;
-      /**
-       * Node
-       * @default null
-       */
-      node: number | null;
-      /** Time */
-      time: number;
-    };
-    /** LiveNode */
-    LiveNode: {
-      /** Heartbeat Age Ms */
-      heartbeat_age_ms: number | null;
-      /** Nmt State */
-      nmt_state: string;
-      /** Node */
-      node: number;
-      /** Online */
-      online: boolean;
-    };
-    /** LivePdo */
-    LivePdo: {
-      /** Age Ms */
-      age_ms?: number | null;
-      /** Cob Id */
-      cob_id: number;
-      /** Frames */
-      frames: number;
-      /**
-       * Kind
-       * @enum {string}
-       */
-      kind: "rpdo" | "tpdo";
-      /** Number */
-      number: number;
-      /** Rate Hz */
-      rate_hz?: number | null;
-      /** Values */
-      values: components["schemas"]["LiveValue"][];
-    };
-    /** LiveValue */
-    LiveValue: {
-      /**
-       * Display
-       * @default
-       */
-      display: string;
-      /** Index */
-      index: number;
-      /** Name */
-      name?: string | null;
-      /**
-       * Raw
-       * @default
-       */
-      raw: string;
-      /** Subindex */
-      subindex: number;
-      /** Text */
-      text?: string | null;
-      /**
-       * Unit
-       * @default
-       */
-      unit: string;
-      /** Value */
-      value?: number | string | null;
-    };
-    /** LogEvent */
-    LogEvent: {
-      /** Code */
-      code: number | null;
-      /**
-       * Data
-       * @description detail: a Fault for emcy, values by IIII:SS for pdo, …
-       */
-      data: unknown;
-      /** Frame */
-      frame: number;
-      /** Index */
-      index: number | null;
-      /** Kind */
-      kind: string;
-      /** Node */
-      node: number | null;
-      /**
-       * Polling
-       * @description an SDO read repeated at a steady period (a poll loop such as ServoDesk's own Drive page); hidden by `hide_polling`
-       * @default false
-       */
-      polling: boolean;
-      /** Seq */
-      seq: number;
-      /** Subindex */
-      subindex: number | null;
-      /** Text */
-      text: string;
-      /** Time */
-      time: number;
-    };
-    /** LogEventPage */
-    LogEventPage: {
-      /** Events */
-      events: components["schemas"]["LogEvent"][];
-      /**
-       * Next
-       * @description pass as `since` for the next page; null at the end
-       */
-      next: number | null;
-    };
-    /** LoginRequest */
-    LoginRequest: {
-      /** Token */
-      token: string;
-    };
-    /**
-     * LoopLag
-     * @description The event loop's lag over the last minute: how late a timer of the loop ran.
-     */
-    LoopLag: {
-      /** Max Ms */
-      max_ms: number;
-      /** P50 Ms */
-      p50_ms: number;
-      /** P99 Ms */
-      p99_ms: number;
-      /**
-       * Samples
-       * @description timer wake-ups measured (one every 50 ms)
-       */
-      samples: number;
-      /** Window S */
-      window_s: number;
-    };
-    /**
-     * Measurement
-     * @description Two cursors on a finished capture (seconds from its trigger) and what lies between.
-     */
-    Measurement: {
-      /** Dt */
-      dt: number;
-      /** End */
-      end: number;
-      /** Signals */
-      signals: components["schemas"]["SignalMeasurement"][];
-      /** Start */
-      start: number;
-      /** T0 */
-      t0: number;
-      /** T1 */
-      t1: number;
-    };
-    /** MessageResult */
-    MessageResult: {
-      /** Message */
-      message: string;
-    };
-    /**
-     * MotionErrorBody
-     * @description ErrorBody with what the motion routes add: who holds the drive (held_by_other), why it
-     *     does not enable (enable_blocked: reasons and the drive state), a stopped jog.
-     */
-    MotionErrorBody: {
-      /** Abort Code */
-      abort_code?: string | null;
-      /** Error */
-      error: string;
-      holder?: components["schemas"]["ControllerHolder"] | null;
-      /** Index */
-      index?: number | null;
-      jog?: components["schemas"]["JogInfo"] | null;
-      /** Message */
-      message: string;
-      /** Node */
-      node?: number | null;
-      /** Problems */
-      problems?: components["schemas"]["PdoProblem"][] | null;
-      /** Reasons */
-      reasons?: components["schemas"]["EnableReason"][] | null;
-      /** Required */
-      required?: string | null;
-      /** Restored */
-      restored?: boolean | null;
-      /** Retry After S */
-      retry_after_s?: number | null;
-      /** Role */
-      role?: string | null;
-      state?: components["schemas"]["DriveState"] | null;
-      /** Step */
-      step?: string | null;
-      /** Subindex */
-      subindex?: number | null;
-    };
-    /** MotionLimits */
-    MotionLimits: {
-      /** Max Position Rev */
-      max_position_rev?: number | null;
-      /** Max Torque Pct */
-      max_torque_pct: number;
-      /** Max Velocity Rpm */
-      max_velocity_rpm: number;
-      /** Min Position Rev */
-      min_position_rev?: number | null;
-    };
-    /**
-     * MoveProgress
-     * @description The last PP move: moving until the drive reaches its target, or ended without reaching
-     *     it — `error` (statusword bit 13, following error) or `interrupted` (a quick stop, a halt,
-     *     a fault, the drive leaving Operation enabled, another command); `message` says why.
-     */
-    MoveProgress: {
-      /** Message */
-      message?: string | null;
-      /**
-       * Phase
-       * @enum {string}
-       */
-      phase: "moving" | "reached" | "error" | "interrupted";
-      /** Queued */
-      queued: number;
-      /** Target Inc */
-      target_inc: number;
-    };
-    /** MoveQueueRequest */
-    MoveQueueRequest: {
-      /** Moves */
-      moves: components["schemas"]["MoveRequest"][];
-    };
-    /**
-     * MoveRequest
-     * @description Numbers are JSON numbers only ("12" and true are refused, not read as 12 and 1).
-     */
-    MoveRequest: {
-      /** Acceleration Rpm S */
-      acceleration_rpm_s?: number | null;
-      /**
-       * Immediately
-       * @default false
-       */
-      immediately: boolean;
-      /**
-       * Mode
-       * @default pp
-       * @constant
-       */
-      mode: "pp";
-      /** Position Rev */
-      position_rev: number;
-      /**
-       * Relative
-       * @default false
-       */
-      relative: boolean;
-      /** Velocity Rpm */
-      velocity_rpm: number;
-    };
-    /**
-     * NmtCommandName
-     * @enum {string}
-     */
-    NmtCommandName: "start" | "stop" | "pre-operational" | "reset-node" | "reset-communication";
-    /** NmtRequest */
-    NmtRequest: {
-      command: components["schemas"]["NmtCommandName"];
-    };
-    /** NmtSent */
-    NmtSent: {
-      sent: components["schemas"]["NmtCommandName"];
-    };
-    /**
-     * NmtStateName
-     * @enum {string}
-     */
-    NmtStateName: "initialising" | "pre-operational" | "operational" | "stopped" | "unknown";
-    /** NodeFaults */
-    NodeFaults: {
-      active: components["schemas"]["Fault"] | null;
-      /** History */
-      history: components["schemas"]["Fault"][];
-      /**
-       * Total
-       * @description faults of this node in the history (the list is the newest)
-       */
-      total: number;
-    };
-    /** NodeIdChange */
-    NodeIdChange: {
-      /**
-       * Confirm
-       * @default false
-       */
-      confirm: boolean;
-      /** New Node */
-      new_node: number;
-    };
-    /** NodeIdChangeResult */
-    NodeIdChangeResult: {
-      /** New Node */
-      new_node: number;
-      node: components["schemas"]["NodeInfo"];
-      /** Old Node */
-      old_node: number;
-      /** Steps */
-      steps: string[];
-    };
-    /**
-     * NodeIdOptions
-     * @description Whether a node's id can be changed over CANopen (its profile knows the object).
-     */
-    NodeIdOptions: {
-      /** Note */
-      note: string;
-      /** Settable */
-      settable: boolean;
-    };
-    /** NodeInfo */
-    NodeInfo: {
-      /** Device Type */
-      device_type?: number | null;
-      /** Hardware Version */
-      hardware_version?: string | null;
-      /** Heartbeat Age Ms */
-      heartbeat_age_ms?: number | null;
-      /** Last Seen */
-      last_seen?: number | null;
-      /** Moved To */
-      moved_to?: number | null;
-      /** Name */
-      name?: string | null;
-      /** @default unknown */
-      nmt_state: components["schemas"]["NmtStateName"];
-      /** Node */
-      node: number;
-      /**
-       * Od Filename
-       * @default
-       */
-      od_filename: string;
-      /**
-       * Od Source
-       * @default profile
-       * @enum {string}
-       */
-      od_source: "profile" | "upload";
-      /**
-       * Od Warnings
-       * @default 0
-       */
-      od_warnings: number;
-      /**
-       * Online
-       * @default false
-       */
-      online: boolean;
-      /** Product Code */
-      product_code?: number | null;
-      /** Profile */
-      profile: string;
-      /** Profile Label */
-      profile_label: string;
-      /** Revision */
-      revision?: number | null;
-      /** Serial */
-      serial?: number | null;
-      /** Software Version */
-      software_version?: string | null;
-      /** Vendor Id */
-      vendor_id?: number | null;
-    };
-    /** NodeLoadModel */
-    NodeLoadModel: {
-      /** Bits Per S */
-      bits_per_s: number;
-      /** Node */
-      node: number;
-      /** Pdos */
-      pdos: components["schemas"]["PdoLoadModel"][];
-      /** Percent */
-      percent: number;
-    };
-    /** NodesMessage */
-    NodesMessage: {
-      /** Nodes */
-      nodes: components["schemas"]["LiveNode"][];
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "nodes";
-    };
-    /** OdCheckResult */
-    OdCheckResult: {
-      device: components["schemas"]["OdDeviceSummary"];
-      /** Filename */
-      filename: string;
-      /** Format */
-      format: string;
-      /** Objects */
-      objects: number;
-      /** Warnings */
-      warnings: components["schemas"]["LintWarningModel"][];
-    };
-    /** OdDeviceSummary */
-    OdDeviceSummary: {
-      /**
-       * Product Name
-       * @default
-       */
-      product_name: string;
-      /** Product Number */
-      product_number?: number | null;
-      /**
-       * Vendor Name
-       * @default
-       */
-      vendor_name: string;
-      /** Vendor Number */
-      vendor_number?: number | null;
-    };
-    /** OdEntry */
-    OdEntry: {
-      /** Access */
-      access: string;
-      /** Data Type */
-      data_type: number;
-      /** Data Type Name */
-      data_type_name: string;
-      /** Default */
-      default?: number | string | null;
-      /**
-       * Description
-       * @default
-       */
-      description: string;
-      /** High */
-      high?: number | null;
-      /** Index */
-      index: number;
-      /** Low */
-      low?: number | null;
-      /** Name */
-      name: string;
-      /** Pdo Mappable */
-      pdo_mappable: boolean;
-      /** Subindex */
-      subindex: number;
-      /**
-       * Unit
-       * @default
-       */
-      unit: string;
-    };
-    /** OdObject */
-    OdObject: {
-      /** Index */
-      index: number;
-      /** Index Hex */
-      index_hex: string;
-      /** Name */
-      name: string;
-      /** Object Type */
-      object_type: string;
-      /** Subs */
-      subs: components["schemas"]["OdEntry"][];
-    };
-    /** OdTree */
-    OdTree: {
-      /** Filename */
-      filename: string;
-      /** Objects */
-      objects: components["schemas"]["OdObject"][];
-      /**
-       * Source
-       * @enum {string}
-       */
-      source: "profile" | "upload";
-      /** Warnings */
-      warnings: components["schemas"]["LintWarningModel"][];
-    };
-    /**
-     * PageHiddenMessage
-     * @description The page went to the background: every jog of this client stops.
-     */
-    PageHiddenMessage: {
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "page_hidden";
-    };
-    /** Param */
-    Param: {
-      /** Choices */
-      choices: {
-        [key: string]: string;
-      };
-      /** Default */
-      default: number;
-      /** Description */
-      description: string;
-      /** Error */
-      error?: string | null;
-      /** Index */
-      index: number;
-      /** Label */
-      label: string;
-      /** Max */
-      max: number;
-      /** Min */
-      min: number;
-      /** Name */
-      name: string;
-      /** Object */
-      object: string;
-      /**
-       * Pending
-       * @default false
-       */
-      pending: boolean;
-      /** Subindex */
-      subindex: number;
-      /**
-       * Takes Effect
-       * @enum {string}
-       */
-      takes_effect: "immediately" | "after_reset" | "after_store_and_reset";
-      /** Unit */
-      unit: string;
-      /** Value */
-      value?: number | null;
-    };
-    /** ParamWriteRequest */
-    ParamWriteRequest: {
-      /** Value */
-      value: number | string;
-    };
-    /** ParamWriteResult */
-    ParamWriteResult: {
-      /** Message */
-      message: string;
-      param: components["schemas"]["Param"];
-      /** Requires Reset */
-      requires_reset: boolean;
-      /** Requires Store */
-      requires_store: boolean;
-    };
-    /** PathStep */
-    PathStep: {
-      /**
-       * Direction
-       * @enum {string}
-       */
-      direction: "negative" | "positive";
-      /**
-       * Speed
-       * @enum {string}
-       */
-      speed: "fast" | "slow";
-      /** Until */
-      until: string;
-    };
-    /**
-     * Pdo
-     * @description One RPDO/TPDO as the device has it (GET) or as it is to be (PUT).
-     */
-    Pdo: {
-      /** Cob Id */
-      cob_id: number;
-      /** Event Timer Ms */
-      event_timer_ms: number;
-      /** Inhibit Time 100Us */
-      inhibit_time_100us: number;
-      /**
-       * Kind
-       * @enum {string}
-       */
-      kind: "rpdo" | "tpdo";
-      /** Mapping */
-      mapping: components["schemas"]["PdoMappedObject"][];
-      /** Number */
-      number: number;
-      /** Sync Start */
-      sync_start: number;
-      /**
-       * Transmission
-       * @default
-       */
-      transmission: string;
-      /** Transmission Type */
-      transmission_type: number;
-      /** Valid */
-      valid: boolean;
-    };
-    /** PdoIn */
-    PdoIn: {
-      /** Cob Id */
-      cob_id: number;
-      /**
-       * Event Timer Ms
-       * @default 0
-       */
-      event_timer_ms: number;
-      /**
-       * Inhibit Time 100Us
-       * @default 0
-       */
-      inhibit_time_100us: number;
-      /**
-       * Kind
-       * @enum {string}
-       */
-      kind: "rpdo" | "tpdo";
-      /** Mapping */
-      mapping?: components["schemas"]["PdoMappedObjectIn"][];
-      /** Number */
-      number: number;
-      /**
-       * Sync Start
-       * @default 0
-       */
-      sync_start: number;
-      /** Transmission */
-      transmission?: string | null;
-      /** Transmission Type */
-      transmission_type: number;
-      /** Valid */
-      valid: boolean;
-    };
-    /** PdoList */
-    PdoList: {
-      /** Pdos */
-      pdos: components["schemas"]["Pdo"][];
-    };
-    /** PdoLoadModel */
-    PdoLoadModel: {
-      /** Basis */
-      basis: string;
-      /** Bits Per Frame */
-      bits_per_frame: number;
-      /** Bits Per S */
-      bits_per_s: number;
-      /** Cob Id */
-      cob_id: number;
-      /** Frames Per S */
-      frames_per_s: number | null;
-      /**
-       * Kind
-       * @enum {string}
-       */
-      kind: "rpdo" | "tpdo";
-      /** Number */
-      number: number;
-    };
-    /** PdoMappedObject */
-    PdoMappedObject: {
-      /** Bits */
-      bits: number;
-      /** Index */
-      index: number;
-      /** Name */
-      name?: string | null;
-      /** Subindex */
-      subindex: number;
-    };
-    /** PdoMappedObjectIn */
-    PdoMappedObjectIn: {
-      /** Bits */
-      bits: number;
-      /** Index */
-      index: number;
-      /** Name */
-      name?: string | null;
-      /** Subindex */
-      subindex: number;
-    };
-    /** PdoProblem */
-    PdoProblem: {
-      /** Index */
-      index?: number | null;
-      /**
-       * Kind
-       * @enum {string}
-       */
-      kind: "rpdo" | "tpdo";
-      /** Message */
-      message: string;
-      /** Number */
-      number: number;
-      /** Subindex */
-      subindex?: number | null;
-    };
-    /**
-     * PdoRules
-     * @description How one node takes PDO changes: from its profile, else CiA 301 and its dictionary.
-     */
-    PdoRules: {
-      /** Byte Granular */
-      byte_granular: boolean;
-      /** Fixed Cob Ids */
-      fixed_cob_ids: number;
-      /** Needs Pre Operational */
-      needs_pre_operational: boolean;
-      /** Procedure */
-      procedure: string;
-      /** Rpdo Count */
-      rpdo_count: number;
-      /** Rtr Supported */
-      rtr_supported: boolean;
-      /** Tpdo Count */
-      tpdo_count: number;
-    };
-    /**
-     * PdoSync
-     * @description Where SYNC comes from when a mapping is checked.
-     */
-    PdoSync: {
-      /** Heard */
-      heard: boolean;
-      /**
-       * Heard Frames
-       * @default 0
-       */
-      heard_frames: number;
-      /** Heard Period Us */
-      heard_period_us?: number | null;
-      /** Period Us */
-      period_us?: number | null;
-      /** Producing */
-      producing: boolean;
-      /** Source */
-      source?: "external" | null;
-    };
-    /** PdoValidation */
-    PdoValidation: {
-      bus_load: components["schemas"]["BusLoadResult"];
-      /** Ok */
-      ok: boolean;
-      /** Problems */
-      problems: components["schemas"]["PdoProblem"][];
-      sync?: components["schemas"]["PdoSync"] | null;
-      /** Warnings */
-      warnings?: components["schemas"]["PdoProblem"][];
-    };
-    /** PdoWriteRequest */
-    PdoWriteRequest: {
-      /** Pdos */
-      pdos: components["schemas"]["PdoIn"][];
-      /** Sync Source */
-      sync_source?: "external" | null;
-    };
-    /** Permissions */
-    Permissions: {
-      /** Configure */
-      configure: boolean;
-      /** Operate */
-      operate: boolean;
-    };
-    /** PingMessage */
-    PingMessage: {
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "ping";
-    };
-    /** PongMessage */
-    PongMessage: {
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "pong";
-    };
-    /**
-     * QuickStopMessage
-     * @description Quick stop one node, or every node when `node` is null; open to every client.
-     */
-    QuickStopMessage: {
-      /**
-       * Node
-       * @default null
-       */
-      node: number | null;
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "quick_stop";
-    };
-    /**
-     * QuickStopResult
-     * @description `POST /api/quick-stop`: which drives were told to stop, and which could not be.
-     */
-    QuickStopResult: {
-      /** Failed */
-      failed: {
-        [key: string]: string;
-      };
-      /** Stopped */
-      stopped: number[];
-    };
-    /**
-     * RecordingFormat
-     * @enum {string}
-     */
-    RecordingFormat: "blf" | "asc" | "log" | "mf4";
-    /** RecordingInfo */
-    RecordingInfo: {
-      /** Active */
-      active: boolean;
-      /** Dropped */
-      dropped: number;
-      /** File */
-      file: string | null;
-      format: components["schemas"]["RecordingFormat"] | null;
-      /** Frames */
-      frames: number;
-      /** Since */
-      since: number | null;
-    };
-    /** RecordingStart */
-    RecordingStart: {
-      /** @default blf */
-      format: components["schemas"]["RecordingFormat"];
-    };
-    /** ScanRequest */
-    ScanRequest: {
-      /**
-       * Sdo Sweep
-       * @default true
-       */
-      sdo_sweep: boolean;
-      /**
-       * Timeout Ms
-       * @default 50
-       */
-      timeout_ms: number;
-    };
-    /** ScanResult */
-    ScanResult: {
-      /** Duration Ms */
-      duration_ms: number;
-      /** Nodes */
-      nodes: components["schemas"]["NodeInfo"][];
-    };
-    /**
-     * ScopePlan
-     * @description What a capture would do, before it starts: each signal's source and the bus load.
-     */
-    ScopePlan: {
-      bus_load: components["schemas"]["BusLoadResult"];
-      /** Notes */
-      notes: string[];
-      /** Ok */
-      ok: boolean;
-      /** Problems */
-      problems: string[];
-      /** Signals */
-      signals: components["schemas"]["CaptureSignal"][];
-    };
-    /** ScopeSignalRequest */
-    ScopeSignalRequest: {
-      /**
-       * Index
-       * @description object index 0000h–FFFFh
-       */
-      index: number;
-      /**
-       * Node
-       * @description CANopen node id 1–127
-       */
-      node: number;
-      /**
-       * Subindex
-       * @description subindex 0–255
-       * @default 0
-       */
-      subindex: number;
-    };
-    /**
-     * ScopeViewer
-     * @description Where the embedded rerun viewer is and what it connects to.
-     */
-    ScopeViewer: {
-      /** Grpc Url */
-      grpc_url: string;
-      /** Running */
-      running: boolean;
-      /** Url */
-      url: string;
-      /** Version */
-      version: string;
-    };
-    /** SdoValue */
-    SdoValue: {
-      /** Data Type Name */
-      data_type_name?: string | null;
-      /** Index */
-      index: number;
-      /** Name */
-      name?: string | null;
-      /** Node */
-      node: number;
-      /** Raw Hex */
-      raw_hex: string;
-      /** Subindex */
-      subindex: number;
-      /** Text */
-      text: string;
-      /** Value */
-      value: number | string | null;
-    };
-    /** SdoWrite */
-    SdoWrite: {
-      /**
-       * Confirm
-       * @default false
-       */
-      confirm: boolean;
-      /** Size */
-      size?: (1 | 2 | 4) | null;
-      /** Value */
-      value: number | string;
-    };
-    /**
-     * ServerMessage
-     * @description Any message the server sends on /api/ws.
-     */
-    ServerMessage:
-      | components["schemas"]["BusMessage"]
-      | components["schemas"]["NodesMessage"]
-      | components["schemas"]["EventMessage"]
-      | components["schemas"]["HistoryMessage"]
-      | components["schemas"]["TimelineMessage"]
-      | components["schemas"]["FaultMessage"]
-      | components["schemas"]["PongMessage"]
-      | components["schemas"]["DriveStateMessage"]
-      | components["schemas"]["ControllerMessage"]
-      | components["schemas"]["JogStoppedMessage"]
-      | components["schemas"]["ErrorMessage"];
-    /** SessionInfo */
-    SessionInfo: {
-      /** Auth Required */
-      auth_required: boolean;
-      may: components["schemas"]["Permissions"];
-      /**
-       * Role
-       * @enum {string}
-       */
-      role: "viewer" | "operator" | "engineer";
-      /** User */
-      user: string;
-    };
-    /**
-     * SignalMeasurement
-     * @description One signal between the cursors, in physical units (`unit`); None where it has no sample
-     *     (at a cursor: none at or before it; between them: none at all).
-     */
-    SignalMeasurement: {
-      /** At A */
-      at_a: number | null;
-      /** At B */
-      at_b: number | null;
-      /** Count */
-      count: number;
-      /** Delta */
-      delta: number | null;
-      /** Index */
-      index: number;
-      /** Max */
-      max: number | null;
-      /** Mean */
-      mean: number | null;
-      /** Min */
-      min: number | null;
-      /** Name */
-      name: string;
-      /** Node */
-      node: number;
-      /** Subindex */
-      subindex: number;
-      /** Unit */
-      unit: string;
-    };
-    /**
-     * SpeedLimit
-     * @description What caps the speed in profile torque: the drive's max speed object (MDi-S1-C: PA-103
-     *     2006h:08, MDi-S1-C CANopen manual table 2.31; Kinco and CiA 402: 6080h Max motor speed).
-     */
-    SpeedLimit: {
-      /** Rpm */
-      rpm: number | null;
-      /** Source */
-      source: string;
-    };
-    /** StatusBit */
-    StatusBit: {
-      /** Bit */
-      bit: number;
-      /** Name */
-      name: string;
-      /** On */
-      on: boolean;
-    };
-    /**
-     * StepRun
-     * @description The optional body of `POST …/steps/{key}/run`: each step reads what it takes (stop_test:
-     *     speed_rpm; test_move: distance; homing: method; pdo: apply); a field the step does not take
-     *     is refused.
-     */
-    StepRun: {
-      /** Apply */
-      apply?: boolean | null;
-      /** Distance */
-      distance?: number | null;
-      /** Method */
-      method?: number | null;
-      /** Speed Rpm */
-      speed_rpm?: number | null;
-    };
-    /** StepSignOff */
-    StepSignOff: {
-      /** Reason */
-      reason?: string | null;
-      /**
-       * Status
-       * @enum {string}
-       */
-      status: "done" | "skipped";
-    };
-    /** SyncConfig */
-    SyncConfig: {
-      /** Period Us */
-      period_us?: number | null;
-      /**
-       * Producing
-       * @default false
-       */
-      producing: boolean;
-    };
-    /** TakeControlRequest */
-    TakeControlRequest: {
-      /** Name */
-      name?: string | null;
-      /**
-       * Take Over
-       * @default false
-       */
-      take_over: boolean;
-    };
-    /** TimelineEvent */
-    TimelineEvent: {
-      /** Bus */
-      bus?: string | null;
-      /** Data */
-      data: {
-        [key: string]: unknown;
-      };
-      /** Id */
-      id: number;
-      /** Kind */
-      kind: string;
-      /** Message */
-      message: string;
-      /** Node */
-      node: number | null;
-      /** Time */
-      time: number;
-    };
-    /**
-     * TimelineMessage
-     * @description An event of the timeline as it is published (EMCYs, state changes, tool writes …), with
-     *     the id `GET /api/events` shows it under. Ids grow by one: a page that sees a gap missed
-     *     some (a slow page skips the oldest) and fetches them with `GET /api/events?since=`.
-     */
-    TimelineMessage: {
-      event: components["schemas"]["TimelineEvent"];
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "timeline";
-    };
-    /**
-     * Trace
-     * @description One signal of a finished capture reduced to at most `points` bins for an overview plot:
-     *     per bin its time and the lowest and highest value (a spike between samples stays).
-     */
-    Trace: {
-      /** End */
-      end: number;
-      /** High */
-      high: number[];
-      /** Low */
-      low: number[];
-      /** Signal */
-      signal: number;
-      /** Start */
-      start: number;
-      /** Times */
-      times: number[];
-      /** Unit */
-      unit: string;
-    };
-    /**
-     * TravelEnds
-     * @description Where something ends the axis's travel, in motor revolutions (None: no end that side).
-     */
-    TravelEnds: {
-      /** Max Rev */
-      max_rev: number | null;
-      /** Min Rev */
-      min_rev: number | null;
-      /**
-       * Note
-       * @default
-       */
-      note: string;
-      /**
-       * Simulator
-       * @default false
-       */
-      simulator: boolean;
-      /** Source */
-      source: string;
-    };
-    /**
-     * TravelInfo
-     * @description Where the axis's travel ends: the limit switches (the simulator's 5FF1h/5FF2h), the
-     *     drive's software position limit 607Dh where its dictionary has it. ServoDesk's own travel
-     *     limits are MotionLimits.min_position_rev / max_position_rev.
-     */
-    TravelInfo: {
-      software_limit: components["schemas"]["TravelEnds"] | null;
-      switches: components["schemas"]["TravelEnds"] | null;
-    };
-    /**
-     * TriggerRequest
-     * @description When the capture starts. `none`: at once (free-running); `level`: the signal at
-     *     (node, index, subindex) crosses `level` (raw value, the object's own units) on `edge`;
-     *     `bit`: bit `bit` of that object (6041h Statusword when no index is given) changes on
-     *     `edge`; `emcy`: an EMCY from `node` (any node when none is given); `state`: the CiA 402
-     *     state of `node` changes (to `state` when given). `pre_s` of the capture lies before the
-     *     trigger. `normal` re-arms after each capture and keeps the last `keep` captures.
-     */
-    TriggerRequest: {
-      /** Bit */
-      bit?: number | null;
-      /**
-       * Edge
-       * @default rising
-       * @enum {string}
-       */
-      edge: "rising" | "falling" | "either";
-      /** Index */
-      index?: number | null;
-      /**
-       * Keep
-       * @default 10
-       */
-      keep: number;
-      /**
-       * Kind
-       * @default none
-       * @enum {string}
-       */
-      kind: "none" | "level" | "bit" | "emcy" | "state";
-      /** Level */
-      level?: number | null;
-      /**
-       * Mode
-       * @default single
-       * @enum {string}
-       */
-      mode: "single" | "normal";
-      /** Node */
-      node?: number | null;
-      /**
-       * Pre S
-       * @default 0
-       */
-      pre_s: number;
-      /** State */
-      state?: string | null;
-      /** Subindex */
-      subindex?: number | null;
-    };
-    /** UndoRequest */
-    UndoRequest: {
-      /**
-       * Force
-       * @default false
-       */
-      force: boolean;
-    };
-    /** UnwatchDriveMessage */
-    UnwatchDriveMessage: {
-      /** Node */
-      node: number;
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "unwatch_drive";
-    };
-    /** WatchDriveMessage */
-    WatchDriveMessage: {
-      /** Node */
-      node: number;
-      /**
-       * @description discriminator enum property added by openapi-typescript
-       * @enum {string}
-       */
-      type: "watch_drive";
-    };
-  };
-  responses: never;
-  parameters: never;
-  requestBodies: never;
-  headers: never;
-  pathItems: never;
+    schemas: {
+        /** ActiveFaults */
+        ActiveFaults: {
+            /** Faults */
+            faults: components["schemas"]["Fault"][];
+        };
+        /** AuditEntry */
+        AuditEntry: {
+            /** Abort Code */
+            abort_code: string | null;
+            /** Action */
+            action: string;
+            /** Client */
+            client: string | null;
+            /** Error */
+            error: string | null;
+            /** Finished */
+            finished: number | null;
+            /** Id */
+            id: number;
+            /** Index */
+            index: number | null;
+            /** Message */
+            message: string | null;
+            /** New */
+            new: number | string | null;
+            /** Node */
+            node: number | null;
+            /** Old */
+            old: number | string | null;
+            /**
+             * Result
+             * @enum {string}
+             */
+            result: "pending" | "ok" | "failed" | "unknown";
+            /** Role */
+            role: string;
+            /** Subindex */
+            subindex: number | null;
+            /** Time */
+            time: number;
+            /** Undo Of */
+            undo_of: number | null;
+            /** Undoable */
+            undoable: boolean;
+            /** Undone By */
+            undone_by: number | null;
+            /** User */
+            user: string;
+            /** What */
+            what: string;
+        };
+        /** BitrateChange */
+        BitrateChange: {
+            /** Bitrate */
+            bitrate: number;
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+        };
+        /** BitrateChangeResult */
+        BitrateChangeResult: {
+            /** Bitrate */
+            bitrate: number;
+            /**
+             * Reconnect Required
+             * @default true
+             */
+            reconnect_required: boolean;
+            /** Steps */
+            steps: string[];
+        };
+        /**
+         * BitrateOptions
+         * @description The bitrates a node can be set to over CANopen, from its profile.
+         */
+        BitrateOptions: {
+            /** Current */
+            current?: number | null;
+            /** Note */
+            note: string;
+            /** Settable */
+            settable: boolean;
+            /** Supported */
+            supported: number[];
+        };
+        /** Body_check_od_api_od_check_post */
+        Body_check_od_api_od_check_post: {
+            /**
+             * File
+             * @description the file (a file part or a form field)
+             */
+            file?: string | null;
+        };
+        /** Body_check_record_api_commissioning_check_post */
+        Body_check_record_api_commissioning_check_post: {
+            /**
+             * Bundle
+             * @description the file (a file part or a form field)
+             */
+            bundle?: string | null;
+            /**
+             * Node
+             * @description node 1–127; default: the record's
+             */
+            node?: string | null;
+        };
+        /** Body_compare_api_nodes__node__compare_post */
+        Body_compare_api_nodes__node__compare_post: {
+            /** File */
+            file?: string | null;
+        };
+        /** Body_decode_log_api_logs_decode_post */
+        Body_decode_log_api_logs_decode_post: {
+            /**
+             * Dcf
+             * @description optional DCF: PDO mappings, identity
+             */
+            dcf?: string | null;
+            /**
+             * File
+             * @description the file (a file part or a form field)
+             */
+            file?: string | null;
+            /**
+             * Profiles
+             * @description which drive a node is, for nodes whose identity the log does not show: "1=mdi-s1c, 2=kinco" (profiles mdi-s1c, kinco, cia402)
+             */
+            profiles?: string | null;
+        };
+        /** Body_load_dcf_api_nodes__node__dcf_post */
+        Body_load_dcf_api_nodes__node__dcf_post: {
+            /**
+             * Confirm
+             * @description write a set made for another device
+             * @default false
+             */
+            confirm: boolean;
+            /**
+             * File
+             * @description the file (a file part or a form field)
+             */
+            file?: string | null;
+        };
+        /** Body_upload_od_api_nodes__node__od_post */
+        Body_upload_od_api_nodes__node__od_post: {
+            /**
+             * File
+             * @description the file (a file part or a form field)
+             */
+            file?: string | null;
+        };
+        /** BusConfig */
+        BusConfig: {
+            /** Bitrate */
+            bitrate?: number | null;
+            /** Channel */
+            channel?: string | null;
+            /** Interface */
+            interface?: string | null;
+            /** Options */
+            options?: {
+                [key: string]: unknown;
+            };
+            /**
+             * Simulated
+             * @default false
+             */
+            simulated: boolean;
+        };
+        /** BusLoadResult */
+        BusLoadResult: {
+            /** Bitrate */
+            bitrate: number;
+            /** Master Period Ms */
+            master_period_ms: number;
+            /** Nodes */
+            nodes: components["schemas"]["NodeLoadModel"][];
+            /** Notes */
+            notes: string[];
+            /** Over Threshold */
+            over_threshold: boolean;
+            /** Percent */
+            percent: number;
+            /** Sync Bits Per S */
+            sync_bits_per_s: number;
+            /** Sync Period Us */
+            sync_period_us: number | null;
+            /** Threshold Percent */
+            threshold_percent: number;
+            /** Total Bits Per S */
+            total_bits_per_s: number;
+        };
+        /** BusMessage */
+        BusMessage: {
+            bus: components["schemas"]["BusStatus"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "bus";
+        };
+        /**
+         * BusState
+         * @enum {string}
+         */
+        BusState: "connected" | "disconnected" | "connecting" | "error";
+        /** BusStatus */
+        BusStatus: {
+            /** Bitrate */
+            bitrate?: number | null;
+            /**
+             * Bus Errors
+             * @default 0
+             */
+            bus_errors: number;
+            /** Channel */
+            channel?: string | null;
+            /** Error */
+            error?: string | null;
+            /**
+             * Error Frames
+             * @default 0
+             */
+            error_frames: number;
+            /** Interface */
+            interface?: string | null;
+            /**
+             * Reconnects
+             * @default 0
+             */
+            reconnects: number;
+            /**
+             * Rx Frames
+             * @default 0
+             */
+            rx_frames: number;
+            /**
+             * Simulated
+             * @default false
+             */
+            simulated: boolean;
+            /** Since */
+            since?: number | null;
+            state: components["schemas"]["BusState"];
+            /**
+             * Tx Frames
+             * @default 0
+             */
+            tx_frames: number;
+        };
+        /** Capture */
+        Capture: {
+            /** Bus Load Percent */
+            bus_load_percent?: number | null;
+            /** Created */
+            created: number;
+            /** Duration S */
+            duration_s: number;
+            /** Ended */
+            ended?: number | null;
+            /** Error */
+            error?: string | null;
+            /** Id */
+            id: number;
+            lanes?: components["schemas"]["LanesRequest"];
+            /**
+             * Lost
+             * @default 0
+             */
+            lost: number;
+            /** Name */
+            name: string | null;
+            /** Nodes */
+            nodes: number[];
+            /** Notes */
+            notes?: string[];
+            /** Recording Id */
+            recording_id: string;
+            /** Samples */
+            samples: number;
+            /** Series */
+            series?: number | null;
+            /** Signals */
+            signals: components["schemas"]["CaptureSignal"][];
+            /**
+             * Size Bytes
+             * @default 0
+             */
+            size_bytes: number;
+            /** Started */
+            started?: number | null;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "arming" | "armed" | "running" | "done" | "failed";
+            /** Sync Period Us */
+            sync_period_us: number;
+            trigger: components["schemas"]["TriggerRequest"];
+            /** Trigger Time */
+            trigger_time?: number | null;
+        };
+        /** CaptureRequest */
+        CaptureRequest: {
+            /** Duration S */
+            duration_s: number;
+            lanes?: components["schemas"]["LanesRequest"];
+            /** Name */
+            name?: string | null;
+            /** Signals */
+            signals: components["schemas"]["ScopeSignalRequest"][];
+            /**
+             * Start Nodes
+             * @description put pre-operational nodes into Operational for the capture (TPDOs only flow there) and back afterwards
+             * @default true
+             */
+            start_nodes: boolean;
+            /**
+             * Sync Period Us
+             * @description µs
+             * @default 1000
+             */
+            sync_period_us: number;
+            trigger?: components["schemas"]["TriggerRequest"];
+        };
+        /** CaptureSignal */
+        CaptureSignal: {
+            /** Bits */
+            bits: number;
+            /** Cob Id */
+            cob_id?: number | null;
+            /** Index */
+            index: number;
+            /** Key */
+            key: string;
+            /** Last Value */
+            last_value?: number | null;
+            /** Name */
+            name: string;
+            /** Node */
+            node: number;
+            /** Note */
+            note?: string | null;
+            /** Quantity */
+            quantity: string;
+            /** Rate Hz */
+            rate_hz?: number | null;
+            /** Raw Unit */
+            raw_unit: string;
+            /**
+             * Samples
+             * @default 0
+             */
+            samples: number;
+            /** Scale */
+            scale: number;
+            /**
+             * Source
+             * @enum {string}
+             */
+            source: "pdo" | "sdo";
+            /** Subindex */
+            subindex: number;
+            /** Tpdo */
+            tpdo?: number | null;
+            /** Unit */
+            unit: string;
+        };
+        /** CheckResult */
+        CheckResult: {
+            /** Checked Parameters */
+            checked_parameters: number;
+            /** Checked Pdos */
+            checked_pdos: number;
+            /**
+             * Differs
+             * @description a parameter, a PDO entry or the firmware differs
+             */
+            differs: boolean;
+            /** Faults Since */
+            faults_since: components["schemas"]["FaultSince"][];
+            firmware: components["schemas"]["Firmware"];
+            /**
+             * Handover At
+             * @description the record's last step time (unix s)
+             */
+            handover_at: number;
+            /** Node */
+            node: number;
+            /** Notes */
+            notes?: string[];
+            /** Parameters */
+            parameters: components["schemas"]["Difference"][];
+            /** Pdos */
+            pdos: components["schemas"]["Difference"][];
+            /** Record Id */
+            record_id: number;
+            /**
+             * Source
+             * @description record (this server's record) or bundle (an uploaded zip)
+             */
+            source: string;
+        };
+        /**
+         * ClientMessage
+         * @description Any message a client may send on /api/ws.
+         */
+        ClientMessage: components["schemas"]["HelloMessage"] | components["schemas"]["PingMessage"] | components["schemas"]["JogKeepaliveMessage"] | components["schemas"]["JogStopMessage"] | components["schemas"]["PageHiddenMessage"] | components["schemas"]["QuickStopMessage"] | components["schemas"]["WatchDriveMessage"] | components["schemas"]["UnwatchDriveMessage"];
+        /** CommissioningCreate */
+        CommissioningCreate: {
+            /** Modes */
+            modes: string[];
+            /** Title */
+            title?: string | null;
+        };
+        /**
+         * CommissioningIdentity
+         * @description The drive as the tool knew it when the record was made (1008h–100Ah, 1018h, profile).
+         */
+        CommissioningIdentity: {
+            /** Device Type */
+            device_type?: number | null;
+            /** Hardware Version */
+            hardware_version?: string | null;
+            /** Name */
+            name?: string | null;
+            /** Od Filename */
+            od_filename: string;
+            /** Od Source */
+            od_source: string;
+            /** Product Code */
+            product_code?: number | null;
+            /** Profile */
+            profile: string;
+            /** Profile Label */
+            profile_label: string;
+            /** Revision */
+            revision?: number | null;
+            /** Serial */
+            serial?: number | null;
+            /** Software Version */
+            software_version?: string | null;
+            /** Supported Modes */
+            supported_modes?: string[] | null;
+            /** Vendor Id */
+            vendor_id?: number | null;
+        };
+        /** CommissioningRecord */
+        CommissioningRecord: {
+            /** Created */
+            created: number;
+            /** Id */
+            id: number;
+            identity: components["schemas"]["CommissioningIdentity"];
+            /** Modes */
+            modes: string[];
+            /** Node */
+            node: number;
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "in_progress" | "done" | "failed";
+            /** Steps */
+            steps: components["schemas"]["CommissioningStep"][];
+            /** Title */
+            title: string;
+        };
+        /** CommissioningStep */
+        CommissioningStep: {
+            /** At */
+            at?: number | null;
+            /** By */
+            by?: string | null;
+            /** Evidence */
+            evidence?: {
+                [key: string]: unknown;
+            };
+            /** Figures */
+            figures?: {
+                [key: string]: number;
+            };
+            /**
+             * Key
+             * @enum {string}
+             */
+            key: "identity" | "communication" | "parameters" | "pdo" | "limits" | "stop_test" | "test_move" | "homing" | "store_verify";
+            /** Reason */
+            reason?: string | null;
+            /**
+             * Status
+             * @default to_do
+             * @enum {string}
+             */
+            status: "to_do" | "done" | "failed" | "skipped";
+            /** Title */
+            title: string;
+        };
+        /** CompareResult */
+        CompareResult: {
+            /** Confirm */
+            confirm?: string[];
+            identity?: components["schemas"]["IdentityCheck"] | null;
+            /** Read Only */
+            read_only?: components["schemas"]["CompareRow"][];
+            /** Rows */
+            rows: components["schemas"]["CompareRow"][];
+        };
+        /** CompareRow */
+        CompareRow: {
+            /** Default */
+            default?: number | string | null;
+            /** Default Text */
+            default_text: string;
+            /** Device */
+            device?: number | string | null;
+            /** Device Text */
+            device_text: string;
+            /** Differs From Default */
+            differs_from_default: boolean;
+            /** Differs From File */
+            differs_from_file: boolean;
+            /** File */
+            file?: number | string | null;
+            /** File Text */
+            file_text: string;
+            /** Index */
+            index: number;
+            /** Name */
+            name: string;
+            /** Subindex */
+            subindex: number;
+            /** Unit */
+            unit: string;
+        };
+        /** Confirm */
+        Confirm: {
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+        };
+        /** ConfirmBody */
+        ConfirmBody: {
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+        };
+        /** ControllerHolder */
+        ControllerHolder: {
+            /** Client Id */
+            client_id: string;
+            /** Name */
+            name?: string | null;
+            /** Since */
+            since: number;
+        };
+        /** ControllerInfo */
+        ControllerInfo: {
+            holder: components["schemas"]["ControllerHolder"] | null;
+            /** Node */
+            node: number;
+            protection: components["schemas"]["HeartbeatProtection"];
+            /** You */
+            you: boolean;
+        };
+        /**
+         * ControllerMessage
+         * @description Who controls the node, on every change and when the client starts watching it.
+         */
+        ControllerMessage: {
+            holder: components["schemas"]["ControllerHolder"] | null;
+            /** Node */
+            node: number;
+            protection: components["schemas"]["HeartbeatProtection"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "controller";
+            /** You */
+            you: boolean;
+        };
+        /**
+         * DataUsage
+         * @description Bytes under the data directory, by what they are, against the quotas that keep them.
+         */
+        DataUsage: {
+            /** Captures Bytes */
+            captures_bytes: number;
+            /** Captures Keep Bytes */
+            captures_keep_bytes: number;
+            /** Free Bytes */
+            free_bytes: number;
+            /** Logs Bytes */
+            logs_bytes: number;
+            /** Logs Keep Bytes */
+            logs_keep_bytes: number;
+            /** Min Free Bytes */
+            min_free_bytes: number;
+            /** Recordings Bytes */
+            recordings_bytes: number;
+            /** Total Bytes */
+            total_bytes: number;
+        };
+        /** DcfDifference */
+        DcfDifference: {
+            /** Actual */
+            actual: number | string | null;
+            /** Expected */
+            expected: number | string | null;
+            /** Index */
+            index: number;
+            /** Name */
+            name: string;
+            /** Subindex */
+            subindex: number;
+        };
+        /** DcfFailure */
+        DcfFailure: {
+            /** Abort Code */
+            abort_code?: string | null;
+            /** Index */
+            index: number;
+            /** Message */
+            message: string;
+            /** Name */
+            name: string;
+            /** Subindex */
+            subindex: number;
+        };
+        /** DcfLoadResult */
+        DcfLoadResult: {
+            /** Differences */
+            differences: components["schemas"]["DcfDifference"][];
+            /** Failed */
+            failed: components["schemas"]["DcfFailure"][];
+            identity?: components["schemas"]["IdentityCheck"] | null;
+            /** Skipped */
+            skipped: number;
+            /**
+             * Warnings
+             * @default []
+             */
+            warnings: string[];
+            /** Written */
+            written: number;
+        };
+        /** DecodedLog */
+        DecodedLog: {
+            /** Events */
+            events: components["schemas"]["LogEvent"][];
+            /** Id */
+            id: string;
+            /** Name */
+            name: string;
+            /**
+             * Next
+             * @description pass as `since` for the next page; null at the end
+             */
+            next: number | null;
+            /** Stats */
+            stats: {
+                [key: string]: unknown;
+            };
+            /** Summary */
+            summary: string[];
+        };
+        /** DeviceHistory */
+        DeviceHistory: {
+            /** Count */
+            count: number;
+            /** Entries */
+            entries: components["schemas"]["DeviceHistoryEntry"][];
+            /** @description 603Fh, the drive's last error code (0: none) */
+            error_code: components["schemas"]["Fault"] | null;
+            /** Node */
+            node: number;
+            /** Note */
+            note?: string | null;
+            /**
+             * Supported
+             * @description false: the drive has no 1003h at all
+             * @default true
+             */
+            supported: boolean;
+        };
+        /** DeviceHistoryCleared */
+        DeviceHistoryCleared: {
+            /** Message */
+            message: string;
+            /** Node */
+            node: number;
+        };
+        /** DeviceHistoryEntry */
+        DeviceHistoryEntry: {
+            fault: components["schemas"]["Fault"];
+            /** Number */
+            number: number;
+            /** Value Hex */
+            value_hex: string;
+        };
+        /** Difference */
+        Difference: {
+            /** At Handover */
+            at_handover: unknown;
+            /** Audit Id */
+            audit_id?: number | null;
+            /** Changed At */
+            changed_at?: number | null;
+            /**
+             * Changed By
+             * @description who wrote it last, where the audit log knows
+             */
+            changed_by: string | null;
+            /** Error */
+            error?: string | null;
+            /** Index */
+            index: number;
+            /** Name */
+            name: string | null;
+            /** Now */
+            now: unknown;
+            /** Object */
+            object: string;
+            /** Source */
+            source: string;
+            /** Subindex */
+            subindex: number;
+        };
+        /**
+         * DriveCommandRequest
+         * @description One CiA 402 controlword command (MDi-S1-C CANopen manual §3.2.2, figure 3.2).
+         */
+        DriveCommandRequest: {
+            /**
+             * Command
+             * @enum {string}
+             */
+            command: "shutdown" | "switch_on" | "disable_operation" | "enable_operation" | "disable_voltage" | "quick_stop" | "fault_reset";
+        };
+        /**
+         * DriveLimits
+         * @description The drive's own limits as last read (at most a second old while the drive state is
+         *     watched): the limits in force never go above them.
+         */
+        DriveLimits: {
+            /** Max Torque Pct */
+            max_torque_pct: number;
+            /** Max Velocity Rpm */
+            max_velocity_rpm: number;
+            /** Torque Source */
+            torque_source: string;
+            /** Velocity Source */
+            velocity_source: string;
+        };
+        /** DriveState */
+        DriveState: {
+            /** Controlword */
+            controlword: number;
+            /** Counts Per Rev */
+            counts_per_rev: number;
+            /** Digital Inputs */
+            digital_inputs: number | null;
+            drive_limits?: components["schemas"]["DriveLimits"] | null;
+            fault: components["schemas"]["FaultInfo"] | null;
+            /** Following Error Inc */
+            following_error_inc: number | null;
+            /** Gear Ratio */
+            gear_ratio: [
+                number,
+                number
+            ] | null;
+            /** Homed */
+            homed: boolean | null;
+            homing: components["schemas"]["HomingProgress"] | null;
+            /** Inputs */
+            inputs: {
+                [key: string]: boolean;
+            };
+            /** Last Transition */
+            last_transition: string | null;
+            limits: components["schemas"]["MotionLimits"];
+            /** Mode */
+            mode: string | null;
+            /** Mode Display */
+            mode_display: string | null;
+            move: components["schemas"]["MoveProgress"] | null;
+            /** Nmt State */
+            nmt_state: string;
+            /** Node */
+            node: number;
+            /** Position Inc */
+            position_inc: number;
+            /** Position Rev */
+            position_rev: number;
+            pt_speed_limit?: components["schemas"]["SpeedLimit"] | null;
+            /** Sources */
+            sources?: {
+                [key: string]: string;
+            };
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "not_ready_to_switch_on" | "switch_on_disabled" | "ready_to_switch_on" | "switched_on" | "operation_enabled" | "quick_stop_active" | "fault_reaction_active" | "fault";
+            /** State Label */
+            state_label: string;
+            /** Status Bits */
+            status_bits: components["schemas"]["StatusBit"][];
+            /** Statusword */
+            statusword: number;
+            /** Supported Modes */
+            supported_modes: string[];
+            /** Target Reached */
+            target_reached: boolean;
+            /** Torque Pct */
+            torque_pct: number | null;
+            travel?: components["schemas"]["TravelInfo"] | null;
+            /** Velocity Rpm */
+            velocity_rpm: number;
+        };
+        /**
+         * DriveStateMessage
+         * @description ~10 Hz for each node the client watches (`watch_drive`).
+         */
+        DriveStateMessage: {
+            /** Node */
+            node: number;
+            state: components["schemas"]["DriveState"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "drive_state";
+        };
+        /** EnableReason */
+        EnableReason: {
+            /**
+             * Code
+             * @enum {string}
+             */
+            code: "nmt_stopped" | "nmt_not_operational" | "fault" | "voltage_disabled" | "quick_stop_active" | "mode_unsupported" | "halt_set" | "held_by_other" | "timeout" | "fault_reset_high" | "not_ready" | "not_enabled" | "no_transition";
+            /** Message */
+            message: string;
+        };
+        /** ErrorBody */
+        ErrorBody: {
+            /** Abort Code */
+            abort_code?: string | null;
+            /** Error */
+            error: string;
+            /** Index */
+            index?: number | null;
+            /** Message */
+            message: string;
+            /** Node */
+            node?: number | null;
+            /** Problems */
+            problems?: components["schemas"]["PdoProblem"][] | null;
+            /** Required */
+            required?: string | null;
+            /** Restored */
+            restored?: boolean | null;
+            /** Retry After S */
+            retry_after_s?: number | null;
+            /** Role */
+            role?: string | null;
+            /** Step */
+            step?: string | null;
+            /** Subindex */
+            subindex?: number | null;
+        };
+        /**
+         * ErrorMessage
+         * @description A client message the server could not act on (unparsable, unknown jog …).
+         */
+        ErrorMessage: {
+            /** Error */
+            error: string;
+            /** Message */
+            message: string;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "error";
+        };
+        /**
+         * EventKind
+         * @enum {string}
+         */
+        EventKind: "boot-up" | "node-lost" | "node-back" | "nmt" | "bus" | "emcy" | "fault-cleared" | "fault-reset" | "sdo-abort" | "cia402-state" | "tool-write" | "recording" | "dropped";
+        /** EventMessage */
+        EventMessage: {
+            event: components["schemas"]["LiveEvent"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "event";
+        };
+        /** EventPage */
+        EventPage: {
+            /** Events */
+            events: components["schemas"]["TimelineEvent"][];
+            /**
+             * Next
+             * @description cursor for the next page: pass it as `before` (newest-first pages) or as `since` (since pages); null when there is nothing more yet
+             */
+            next: number | null;
+        };
+        /**
+         * ExportFormat
+         * @enum {string}
+         */
+        ExportFormat: "text" | "csv" | "json" | "parquet";
+        /**
+         * Fault
+         * @description One decoded EMCY (servodesk.faults.decode.FaultRecord) and the CiA 402 state around it.
+         */
+        Fault: {
+            /** Bus */
+            bus?: string | null;
+            /** Check */
+            check?: string | null;
+            /** Code */
+            code: number;
+            /** Code Hex */
+            code_hex: string;
+            /** Error Register */
+            error_register?: number | null;
+            /** Manufacturer Hex */
+            manufacturer_hex?: string | null;
+            /** Name En */
+            name_en: string;
+            /** Name Zh */
+            name_zh?: string | null;
+            /** Node */
+            node: number;
+            /** Raw Hex */
+            raw_hex: string;
+            /** Source */
+            source: string;
+            /** State After */
+            state_after?: string | null;
+            /** State Before */
+            state_before?: string | null;
+            /** Time */
+            time: number;
+        };
+        /**
+         * FaultInfo
+         * @description The drive's active fault: 603Fh (and the code a profile names it by), decoded.
+         */
+        FaultInfo: {
+            /** Code */
+            code: number;
+            /** Code Hex */
+            code_hex: string;
+            /** Name */
+            name?: string | null;
+            /** Source */
+            source?: string | null;
+            /** Text */
+            text?: string | null;
+        };
+        /**
+         * FaultMessage
+         * @description A node's active fault changed: a new EMCY, an error-reset EMCY or a fault reset (null:
+         *     no active fault). Sent again once the EMCYs behind it are in the node's fault history
+         *     (stored with the state read after them), whether or not one is still active: a page that
+         *     lists the history reads it then. Sent for every node with an active fault when a page
+         *     connects.
+         */
+        FaultMessage: {
+            fault: components["schemas"]["Fault"] | null;
+            /** Node */
+            node: number;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "fault";
+        };
+        /** FaultResetResult */
+        FaultResetResult: {
+            active: components["schemas"]["Fault"] | null;
+            /** Message */
+            message: string;
+            /** Node */
+            node: number;
+            /** Ok */
+            ok: boolean;
+            /** State After */
+            state_after: string;
+            /** State Before */
+            state_before: string;
+            /** Statusword Hex */
+            statusword_hex: string;
+        };
+        /** FaultSince */
+        FaultSince: {
+            /** Code Hex */
+            code_hex: string;
+            /** Name */
+            name: string;
+            /** Number */
+            number?: number | null;
+            /** Source */
+            source: string;
+            /** Time */
+            time?: number | null;
+        };
+        /** Firmware */
+        Firmware: {
+            /** At Handover */
+            at_handover: {
+                [key: string]: unknown;
+            };
+            /** Changed */
+            changed: boolean;
+            /** Changed Fields */
+            changed_fields?: string[];
+            /** Now */
+            now: {
+                [key: string]: unknown;
+            };
+        };
+        /** Health */
+        Health: {
+            bus: components["schemas"]["BusStatus"];
+            data: components["schemas"]["DataUsage"];
+            loop: components["schemas"]["LoopLag"];
+            /** Status */
+            status: string;
+            /** Version */
+            version: string;
+        };
+        /** HeartbeatConfig */
+        HeartbeatConfig: {
+            /** Producer Ms */
+            producer_ms: number;
+        };
+        /**
+         * HeartbeatProtection
+         * @description Whether the drive watches the tool's heartbeat (1016h) and stops if it goes silent.
+         */
+        HeartbeatProtection: {
+            /** Active */
+            active: boolean;
+            /** Consumer Ms */
+            consumer_ms: number;
+            /** Message */
+            message: string;
+            /** Tool Node Id */
+            tool_node_id: number;
+        };
+        /** HeartbeatWrite */
+        HeartbeatWrite: {
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+            /** Producer Ms */
+            producer_ms: number;
+        };
+        /**
+         * HelloMessage
+         * @description First message of a page: its client id (the one it sends as X-Client-Id) owns the
+         *     socket; jogs it started stop when the socket closes.
+         */
+        HelloMessage: {
+            /** Client Id */
+            client_id: string;
+            /**
+             * Name
+             * @default null
+             */
+            name: string | null;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "hello";
+        };
+        /** HistoryMessage */
+        HistoryMessage: {
+            /** Events */
+            events: components["schemas"]["LiveEvent"][];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "history";
+        };
+        /** HomeRequest */
+        HomeRequest: {
+            /** Acceleration Rpm S */
+            acceleration_rpm_s?: number | null;
+            /** Fast Rpm */
+            fast_rpm?: number | null;
+            /** Method */
+            method: number;
+            /** Offset Inc */
+            offset_inc?: number | null;
+            /** Slow Rpm */
+            slow_rpm?: number | null;
+        };
+        /** HomingMethodInfo */
+        HomingMethodInfo: {
+            /** Description */
+            description: string;
+            /** Method */
+            method: number;
+            /** Name */
+            name: string;
+            /** Path */
+            path: components["schemas"]["PathStep"][];
+        };
+        /** HomingProgress */
+        HomingProgress: {
+            /** Message */
+            message: string;
+            /** Method */
+            method: number;
+            /**
+             * Phase
+             * @enum {string}
+             */
+            phase: "running" | "attained" | "error" | "interrupted";
+            /** Position Inc */
+            position_inc: number | null;
+        };
+        /**
+         * IdentityCheck
+         * @description Whether a parameter set is for the node's kind of device (vendor, product, type).
+         */
+        IdentityCheck: {
+            /**
+             * Checked
+             * @default true
+             */
+            checked: boolean;
+            /** Device */
+            device: string;
+            /** File */
+            file: string;
+            /** Matches */
+            matches: boolean;
+            /** Message */
+            message?: string | null;
+        };
+        /** InterfaceInfo */
+        InterfaceInfo: {
+            /** Example Channel */
+            example_channel: string;
+            /** Label */
+            label: string;
+            /** Name */
+            name: string;
+            /** Needs Channel */
+            needs_channel: boolean;
+        };
+        /** IpStreamRequest */
+        IpStreamRequest: {
+            /** Distance Rev */
+            distance_rev: number;
+            /** Duration S */
+            duration_s: number;
+            /** Period Ms */
+            period_ms: number;
+            /**
+             * Trajectory
+             * @enum {string}
+             */
+            trajectory: "point_to_point" | "sine";
+        };
+        /**
+         * IpStreamResult
+         * @description What an interpolated-position stream did: how closely the axis followed the plan and how
+         *     regular the tool's SYNC was.
+         */
+        IpStreamResult: {
+            /** Duration S */
+            duration_s: number;
+            fault: components["schemas"]["FaultInfo"] | null;
+            /** Final Error Inc */
+            final_error_inc: number;
+            /** Max Lag Inc */
+            max_lag_inc: number;
+            /** Max Lag Rev */
+            max_lag_rev: number;
+            /** Message */
+            message: string;
+            /** Node */
+            node: number;
+            /** Period Ms */
+            period_ms: number;
+            /** Points */
+            points: number;
+            /** Stalled */
+            stalled: boolean;
+            state: components["schemas"]["DriveState"];
+            /** Sync Interval Max Ms */
+            sync_interval_max_ms: number;
+            /** Sync Jitter Ms */
+            sync_jitter_ms: number;
+            /** Syncs */
+            syncs: number;
+            /**
+             * Trajectory
+             * @enum {string}
+             */
+            trajectory: "point_to_point" | "sine";
+        };
+        /** Job */
+        Job: {
+            /** Done */
+            done: number;
+            /**
+             * Elapsed S
+             * @default 0
+             */
+            elapsed_s: number;
+            /** Error */
+            error?: string | null;
+            /** Id */
+            id: string;
+            /**
+             * Kind
+             * @constant
+             */
+            kind: "upload-all";
+            /** Node */
+            node: number;
+            /** Results */
+            results: components["schemas"]["JobResult"][];
+            /**
+             * Results From
+             * @default 0
+             */
+            results_from: number;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "running" | "done" | "cancelled" | "failed";
+            /** Total */
+            total: number;
+        };
+        /** JobResult */
+        JobResult: {
+            /** Abort Code */
+            abort_code?: string | null;
+            /** Index */
+            index: number;
+            /** Message */
+            message?: string | null;
+            /** Name */
+            name: string;
+            /** Subindex */
+            subindex: number;
+            /** Text */
+            text?: string | null;
+            /** Value */
+            value?: number | string | null;
+        };
+        /** JogInfo */
+        JogInfo: {
+            /** Acceleration Rpm S */
+            acceleration_rpm_s?: number | null;
+            /** Jog Id */
+            jog_id: string;
+            /** Keepalive Ms */
+            keepalive_ms: number;
+            /**
+             * Mode
+             * @enum {string}
+             */
+            mode: "pv" | "pt";
+            /** Node */
+            node: number;
+            /** Owner */
+            owner?: string | null;
+            /** Speed Cap Rpm */
+            speed_cap_rpm?: number | null;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "running" | "stopping" | "stopped";
+            /** Stop Deceleration Rpm S */
+            stop_deceleration_rpm_s?: number | null;
+            /** Stop Reason */
+            stop_reason?: string | null;
+            /** Torque Slope Pct S */
+            torque_slope_pct_s?: number | null;
+            /** Value */
+            value: number;
+            /** Velocity Limit Rpm */
+            velocity_limit_rpm?: number | null;
+            /** Velocity Limit Source */
+            velocity_limit_source?: string | null;
+            /** Velocity Rpm */
+            velocity_rpm?: number | null;
+        };
+        /** JogKeepaliveMessage */
+        JogKeepaliveMessage: {
+            /** Jog Id */
+            jog_id: string;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "jog_keepalive";
+        };
+        /** JogRequest */
+        JogRequest: {
+            /** Acceleration Rpm S */
+            acceleration_rpm_s?: number | null;
+            /**
+             * Keepalive Ms
+             * @default 250
+             */
+            keepalive_ms: number;
+            /**
+             * Mode
+             * @enum {string}
+             */
+            mode: "pv" | "pt";
+            /** Speed Cap Rpm */
+            speed_cap_rpm?: number | null;
+            /** Torque Pct */
+            torque_pct?: number | null;
+            /** Torque Slope Pct S */
+            torque_slope_pct_s?: number | null;
+            /** Velocity Rpm */
+            velocity_rpm?: number | null;
+        };
+        /** JogStopMessage */
+        JogStopMessage: {
+            /** Jog Id */
+            jog_id: string;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "jog_stop";
+        };
+        /**
+         * JogStoppedMessage
+         * @description A jog of this client (or of a watched node) stopped, and why.
+         */
+        JogStoppedMessage: {
+            jog: components["schemas"]["JogInfo"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "jog_stopped";
+        };
+        /**
+         * KeptLogInfo
+         * @description A decoded log kept on the server (the oldest go beyond SERVODESK_LOGS_KEEP_MB).
+         */
+        KeptLogInfo: {
+            /**
+             * Created
+             * @description when its decode finished (epoch s)
+             */
+            created: number;
+            /** Id */
+            id: string;
+            /** Name */
+            name: string;
+            /** Size Bytes */
+            size_bytes: number;
+        };
+        /**
+         * LanesRequest
+         * @description Lanes drawn under a captured statusword (6041h) or controlword (6040h): its CiA 402
+         *     state (the controlword: its command) and each bit listed as a 0/1 step lane of its own.
+         */
+        LanesRequest: {
+            /** Controlword Bits */
+            controlword_bits?: number[];
+            /** Statusword Bits */
+            statusword_bits?: number[];
+        };
+        /**
+         * LimitsRequest
+         * @description PUT …/drive/limits: MotionLimits, strict (true/false is not a number).
+         */
+        LimitsRequest: {
+            /** Max Position Rev */
+            max_position_rev?: number | null;
+            /** Max Torque Pct */
+            max_torque_pct: number;
+            /** Max Velocity Rpm */
+            max_velocity_rpm: number;
+            /** Min Position Rev */
+            min_position_rev?: number | null;
+        };
+        /** LintWarningModel */
+        LintWarningModel: {
+            /** Code */
+            code: string;
+            /** File */
+            file: string;
+            /** Key */
+            key: string | null;
+            /** Line */
+            line: number | null;
+            /** Message */
+            message: string;
+            /** Section */
+            section: string | null;
+            /**
+             * Severity
+             * @enum {string}
+             */
+            severity: "info" | "warning" | "error";
+        };
+        /** LiveCheck */
+        LiveCheck: {
+            /** Active */
+            active: boolean;
+            /** Drive Page */
+            drive_page?: string | null;
+            /** Node */
+            node: number;
+            /** Pdos */
+            pdos: components["schemas"]["LivePdo"][];
+            /** Since */
+            since?: number | null;
+        };
+        /**
+         * LiveEvent
+         * @description The live channel's `event` message: a node or bus event (events.bus.BusEvent, which the
+         *     registry publishes) in its wire form.
+         */
+        LiveEvent: {
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "boot-up" | "node-lost" | "node-back" | "nmt" | "bus";
+            /** Message */
+            message: string;
+            /**
+             * Node
+             * @default null
+             */
+            node: number | null;
+            /** Time */
+            time: number;
+        };
+        /** LiveNode */
+        LiveNode: {
+            /** Heartbeat Age Ms */
+            heartbeat_age_ms: number | null;
+            /** Nmt State */
+            nmt_state: string;
+            /** Node */
+            node: number;
+            /** Online */
+            online: boolean;
+        };
+        /** LivePdo */
+        LivePdo: {
+            /** Age Ms */
+            age_ms?: number | null;
+            /** Cob Id */
+            cob_id: number;
+            /** Frames */
+            frames: number;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "rpdo" | "tpdo";
+            /** Number */
+            number: number;
+            /** Rate Hz */
+            rate_hz?: number | null;
+            /** Values */
+            values: components["schemas"]["LiveValue"][];
+        };
+        /** LiveValue */
+        LiveValue: {
+            /**
+             * Display
+             * @default
+             */
+            display: string;
+            /** Index */
+            index: number;
+            /** Name */
+            name?: string | null;
+            /**
+             * Raw
+             * @default
+             */
+            raw: string;
+            /** Subindex */
+            subindex: number;
+            /** Text */
+            text?: string | null;
+            /**
+             * Unit
+             * @default
+             */
+            unit: string;
+            /** Value */
+            value?: number | string | null;
+        };
+        /** LogEvent */
+        LogEvent: {
+            /** Code */
+            code: number | null;
+            /**
+             * Data
+             * @description detail: a Fault for emcy, values by IIII:SS for pdo, …
+             */
+            data: unknown;
+            /** Frame */
+            frame: number;
+            /** Index */
+            index: number | null;
+            /** Kind */
+            kind: string;
+            /** Node */
+            node: number | null;
+            /**
+             * Polling
+             * @description an SDO read repeated at a steady period (a poll loop such as ServoDesk's own Drive page); hidden by `hide_polling`
+             * @default false
+             */
+            polling: boolean;
+            /** Seq */
+            seq: number;
+            /** Subindex */
+            subindex: number | null;
+            /** Text */
+            text: string;
+            /** Time */
+            time: number;
+        };
+        /** LogEventPage */
+        LogEventPage: {
+            /** Events */
+            events: components["schemas"]["LogEvent"][];
+            /**
+             * Next
+             * @description pass as `since` for the next page; null at the end
+             */
+            next: number | null;
+        };
+        /** LoginRequest */
+        LoginRequest: {
+            /** Token */
+            token: string;
+        };
+        /**
+         * LoopLag
+         * @description The event loop's lag over the last minute: how late a timer of the loop ran.
+         */
+        LoopLag: {
+            /** Max Ms */
+            max_ms: number;
+            /** P50 Ms */
+            p50_ms: number;
+            /** P99 Ms */
+            p99_ms: number;
+            /**
+             * Samples
+             * @description timer wake-ups measured (one every 50 ms)
+             */
+            samples: number;
+            /** Window S */
+            window_s: number;
+        };
+        /**
+         * Measurement
+         * @description Two cursors on a finished capture (seconds from its trigger) and what lies between.
+         */
+        Measurement: {
+            /** Dt */
+            dt: number;
+            /** End */
+            end: number;
+            /** Signals */
+            signals: components["schemas"]["SignalMeasurement"][];
+            /** Start */
+            start: number;
+            /** T0 */
+            t0: number;
+            /** T1 */
+            t1: number;
+        };
+        /** MessageResult */
+        MessageResult: {
+            /** Message */
+            message: string;
+        };
+        /**
+         * MotionErrorBody
+         * @description ErrorBody with what the motion routes add: who holds the drive (held_by_other), why it
+         *     does not enable (enable_blocked: reasons and the drive state), a stopped jog.
+         */
+        MotionErrorBody: {
+            /** Abort Code */
+            abort_code?: string | null;
+            /** Error */
+            error: string;
+            holder?: components["schemas"]["ControllerHolder"] | null;
+            /** Index */
+            index?: number | null;
+            jog?: components["schemas"]["JogInfo"] | null;
+            /** Message */
+            message: string;
+            /** Node */
+            node?: number | null;
+            /** Problems */
+            problems?: components["schemas"]["PdoProblem"][] | null;
+            /** Reasons */
+            reasons?: components["schemas"]["EnableReason"][] | null;
+            /** Required */
+            required?: string | null;
+            /** Restored */
+            restored?: boolean | null;
+            /** Retry After S */
+            retry_after_s?: number | null;
+            /** Role */
+            role?: string | null;
+            state?: components["schemas"]["DriveState"] | null;
+            /** Step */
+            step?: string | null;
+            /** Subindex */
+            subindex?: number | null;
+        };
+        /** MotionLimits */
+        MotionLimits: {
+            /** Max Position Rev */
+            max_position_rev?: number | null;
+            /** Max Torque Pct */
+            max_torque_pct: number;
+            /** Max Velocity Rpm */
+            max_velocity_rpm: number;
+            /** Min Position Rev */
+            min_position_rev?: number | null;
+        };
+        /**
+         * MoveProgress
+         * @description The last PP move: moving until the drive reaches its target, or ended without reaching
+         *     it — `error` (statusword bit 13, following error) or `interrupted` (a quick stop, a halt,
+         *     a fault, the drive leaving Operation enabled, another command); `message` says why.
+         */
+        MoveProgress: {
+            /** Message */
+            message?: string | null;
+            /**
+             * Phase
+             * @enum {string}
+             */
+            phase: "moving" | "reached" | "error" | "interrupted";
+            /** Queued */
+            queued: number;
+            /** Target Inc */
+            target_inc: number;
+        };
+        /** MoveQueueRequest */
+        MoveQueueRequest: {
+            /** Moves */
+            moves: components["schemas"]["MoveRequest"][];
+        };
+        /**
+         * MoveRequest
+         * @description Numbers are JSON numbers only ("12" and true are refused, not read as 12 and 1).
+         */
+        MoveRequest: {
+            /** Acceleration Rpm S */
+            acceleration_rpm_s?: number | null;
+            /**
+             * Immediately
+             * @default false
+             */
+            immediately: boolean;
+            /**
+             * Mode
+             * @default pp
+             * @constant
+             */
+            mode: "pp";
+            /** Position Rev */
+            position_rev: number;
+            /**
+             * Relative
+             * @default false
+             */
+            relative: boolean;
+            /** Velocity Rpm */
+            velocity_rpm: number;
+        };
+        /**
+         * NmtCommandName
+         * @enum {string}
+         */
+        NmtCommandName: "start" | "stop" | "pre-operational" | "reset-node" | "reset-communication";
+        /** NmtRequest */
+        NmtRequest: {
+            command: components["schemas"]["NmtCommandName"];
+        };
+        /** NmtSent */
+        NmtSent: {
+            sent: components["schemas"]["NmtCommandName"];
+        };
+        /**
+         * NmtStateName
+         * @enum {string}
+         */
+        NmtStateName: "initialising" | "pre-operational" | "operational" | "stopped" | "unknown";
+        /** NodeFaults */
+        NodeFaults: {
+            active: components["schemas"]["Fault"] | null;
+            /** History */
+            history: components["schemas"]["Fault"][];
+            /**
+             * Total
+             * @description faults of this node in the history (the list is the newest)
+             */
+            total: number;
+        };
+        /** NodeIdChange */
+        NodeIdChange: {
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+            /** New Node */
+            new_node: number;
+        };
+        /** NodeIdChangeResult */
+        NodeIdChangeResult: {
+            /** New Node */
+            new_node: number;
+            node: components["schemas"]["NodeInfo"];
+            /** Old Node */
+            old_node: number;
+            /** Steps */
+            steps: string[];
+        };
+        /**
+         * NodeIdOptions
+         * @description Whether a node's id can be changed over CANopen (its profile knows the object).
+         */
+        NodeIdOptions: {
+            /** Note */
+            note: string;
+            /** Settable */
+            settable: boolean;
+        };
+        /** NodeInfo */
+        NodeInfo: {
+            /** Device Type */
+            device_type?: number | null;
+            /** Hardware Version */
+            hardware_version?: string | null;
+            /** Heartbeat Age Ms */
+            heartbeat_age_ms?: number | null;
+            /** Last Seen */
+            last_seen?: number | null;
+            /** Moved To */
+            moved_to?: number | null;
+            /** Name */
+            name?: string | null;
+            /** @default unknown */
+            nmt_state: components["schemas"]["NmtStateName"];
+            /** Node */
+            node: number;
+            /**
+             * Od Filename
+             * @default
+             */
+            od_filename: string;
+            /**
+             * Od Source
+             * @default profile
+             * @enum {string}
+             */
+            od_source: "profile" | "upload";
+            /**
+             * Od Warnings
+             * @default 0
+             */
+            od_warnings: number;
+            /**
+             * Online
+             * @default false
+             */
+            online: boolean;
+            /** Product Code */
+            product_code?: number | null;
+            /** Profile */
+            profile: string;
+            /** Profile Label */
+            profile_label: string;
+            /** Revision */
+            revision?: number | null;
+            /** Serial */
+            serial?: number | null;
+            /** Software Version */
+            software_version?: string | null;
+            /** Vendor Id */
+            vendor_id?: number | null;
+        };
+        /** NodeLoadModel */
+        NodeLoadModel: {
+            /** Bits Per S */
+            bits_per_s: number;
+            /** Node */
+            node: number;
+            /** Pdos */
+            pdos: components["schemas"]["PdoLoadModel"][];
+            /** Percent */
+            percent: number;
+        };
+        /** NodesMessage */
+        NodesMessage: {
+            /** Nodes */
+            nodes: components["schemas"]["LiveNode"][];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "nodes";
+        };
+        /** OdCheckResult */
+        OdCheckResult: {
+            device: components["schemas"]["OdDeviceSummary"];
+            /** Filename */
+            filename: string;
+            /** Format */
+            format: string;
+            /** Objects */
+            objects: number;
+            /** Warnings */
+            warnings: components["schemas"]["LintWarningModel"][];
+        };
+        /** OdDeviceSummary */
+        OdDeviceSummary: {
+            /**
+             * Product Name
+             * @default
+             */
+            product_name: string;
+            /** Product Number */
+            product_number?: number | null;
+            /**
+             * Vendor Name
+             * @default
+             */
+            vendor_name: string;
+            /** Vendor Number */
+            vendor_number?: number | null;
+        };
+        /** OdEntry */
+        OdEntry: {
+            /** Access */
+            access: string;
+            /** Data Type */
+            data_type: number;
+            /** Data Type Name */
+            data_type_name: string;
+            /** Default */
+            default?: number | string | null;
+            /**
+             * Description
+             * @default
+             */
+            description: string;
+            /** High */
+            high?: number | null;
+            /** Index */
+            index: number;
+            /** Low */
+            low?: number | null;
+            /** Name */
+            name: string;
+            /** Pdo Mappable */
+            pdo_mappable: boolean;
+            /** Subindex */
+            subindex: number;
+            /**
+             * Unit
+             * @default
+             */
+            unit: string;
+        };
+        /** OdObject */
+        OdObject: {
+            /** Index */
+            index: number;
+            /** Index Hex */
+            index_hex: string;
+            /** Name */
+            name: string;
+            /** Object Type */
+            object_type: string;
+            /** Subs */
+            subs: components["schemas"]["OdEntry"][];
+        };
+        /** OdTree */
+        OdTree: {
+            /** Filename */
+            filename: string;
+            /** Objects */
+            objects: components["schemas"]["OdObject"][];
+            /**
+             * Source
+             * @enum {string}
+             */
+            source: "profile" | "upload";
+            /** Warnings */
+            warnings: components["schemas"]["LintWarningModel"][];
+        };
+        /**
+         * PageHiddenMessage
+         * @description The page went to the background: every jog of this client stops.
+         */
+        PageHiddenMessage: {
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "page_hidden";
+        };
+        /** Param */
+        Param: {
+            /** Choices */
+            choices: {
+                [key: string]: string;
+            };
+            /** Default */
+            default: number;
+            /** Description */
+            description: string;
+            /** Error */
+            error?: string | null;
+            /** Index */
+            index: number;
+            /** Label */
+            label: string;
+            /** Max */
+            max: number;
+            /** Min */
+            min: number;
+            /** Name */
+            name: string;
+            /** Object */
+            object: string;
+            /**
+             * Pending
+             * @default false
+             */
+            pending: boolean;
+            /** Subindex */
+            subindex: number;
+            /**
+             * Takes Effect
+             * @enum {string}
+             */
+            takes_effect: "immediately" | "after_reset" | "after_store_and_reset";
+            /** Unit */
+            unit: string;
+            /** Value */
+            value?: number | null;
+        };
+        /** ParamWriteRequest */
+        ParamWriteRequest: {
+            /** Value */
+            value: number | string;
+        };
+        /** ParamWriteResult */
+        ParamWriteResult: {
+            /** Message */
+            message: string;
+            param: components["schemas"]["Param"];
+            /** Requires Reset */
+            requires_reset: boolean;
+            /** Requires Store */
+            requires_store: boolean;
+        };
+        /** PathStep */
+        PathStep: {
+            /**
+             * Direction
+             * @enum {string}
+             */
+            direction: "negative" | "positive";
+            /**
+             * Speed
+             * @enum {string}
+             */
+            speed: "fast" | "slow";
+            /** Until */
+            until: string;
+        };
+        /**
+         * Pdo
+         * @description One RPDO/TPDO as the device has it (GET) or as it is to be (PUT).
+         */
+        Pdo: {
+            /** Cob Id */
+            cob_id: number;
+            /** Event Timer Ms */
+            event_timer_ms: number;
+            /** Inhibit Time 100Us */
+            inhibit_time_100us: number;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "rpdo" | "tpdo";
+            /** Mapping */
+            mapping: components["schemas"]["PdoMappedObject"][];
+            /** Number */
+            number: number;
+            /** Sync Start */
+            sync_start: number;
+            /**
+             * Transmission
+             * @default
+             */
+            transmission: string;
+            /** Transmission Type */
+            transmission_type: number;
+            /** Valid */
+            valid: boolean;
+        };
+        /** PdoIn */
+        PdoIn: {
+            /** Cob Id */
+            cob_id: number;
+            /**
+             * Event Timer Ms
+             * @default 0
+             */
+            event_timer_ms: number;
+            /**
+             * Inhibit Time 100Us
+             * @default 0
+             */
+            inhibit_time_100us: number;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "rpdo" | "tpdo";
+            /** Mapping */
+            mapping?: components["schemas"]["PdoMappedObjectIn"][];
+            /** Number */
+            number: number;
+            /**
+             * Sync Start
+             * @default 0
+             */
+            sync_start: number;
+            /** Transmission */
+            transmission?: string | null;
+            /** Transmission Type */
+            transmission_type: number;
+            /** Valid */
+            valid: boolean;
+        };
+        /** PdoList */
+        PdoList: {
+            /** Pdos */
+            pdos: components["schemas"]["Pdo"][];
+        };
+        /** PdoLoadModel */
+        PdoLoadModel: {
+            /** Basis */
+            basis: string;
+            /** Bits Per Frame */
+            bits_per_frame: number;
+            /** Bits Per S */
+            bits_per_s: number;
+            /** Cob Id */
+            cob_id: number;
+            /** Frames Per S */
+            frames_per_s: number | null;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "rpdo" | "tpdo";
+            /** Number */
+            number: number;
+        };
+        /** PdoMappedObject */
+        PdoMappedObject: {
+            /** Bits */
+            bits: number;
+            /** Index */
+            index: number;
+            /** Name */
+            name?: string | null;
+            /** Subindex */
+            subindex: number;
+        };
+        /** PdoMappedObjectIn */
+        PdoMappedObjectIn: {
+            /** Bits */
+            bits: number;
+            /** Index */
+            index: number;
+            /** Name */
+            name?: string | null;
+            /** Subindex */
+            subindex: number;
+        };
+        /** PdoProblem */
+        PdoProblem: {
+            /** Index */
+            index?: number | null;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "rpdo" | "tpdo";
+            /** Message */
+            message: string;
+            /** Number */
+            number: number;
+            /** Subindex */
+            subindex?: number | null;
+        };
+        /**
+         * PdoRules
+         * @description How one node takes PDO changes: from its profile, else CiA 301 and its dictionary.
+         */
+        PdoRules: {
+            /** Byte Granular */
+            byte_granular: boolean;
+            /** Fixed Cob Ids */
+            fixed_cob_ids: number;
+            /** Needs Pre Operational */
+            needs_pre_operational: boolean;
+            /** Procedure */
+            procedure: string;
+            /** Rpdo Count */
+            rpdo_count: number;
+            /** Rtr Supported */
+            rtr_supported: boolean;
+            /** Tpdo Count */
+            tpdo_count: number;
+        };
+        /**
+         * PdoSync
+         * @description Where SYNC comes from when a mapping is checked.
+         */
+        PdoSync: {
+            /** Heard */
+            heard: boolean;
+            /**
+             * Heard Frames
+             * @default 0
+             */
+            heard_frames: number;
+            /** Heard Period Us */
+            heard_period_us?: number | null;
+            /** Period Us */
+            period_us?: number | null;
+            /** Producing */
+            producing: boolean;
+            /** Source */
+            source?: "external" | null;
+        };
+        /** PdoValidation */
+        PdoValidation: {
+            bus_load: components["schemas"]["BusLoadResult"];
+            /** Ok */
+            ok: boolean;
+            /** Problems */
+            problems: components["schemas"]["PdoProblem"][];
+            sync?: components["schemas"]["PdoSync"] | null;
+            /** Warnings */
+            warnings?: components["schemas"]["PdoProblem"][];
+        };
+        /** PdoWriteRequest */
+        PdoWriteRequest: {
+            /** Pdos */
+            pdos: components["schemas"]["PdoIn"][];
+            /** Sync Source */
+            sync_source?: "external" | null;
+        };
+        /** Permissions */
+        Permissions: {
+            /** Configure */
+            configure: boolean;
+            /** Operate */
+            operate: boolean;
+        };
+        /** PingMessage */
+        PingMessage: {
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "ping";
+        };
+        /** PongMessage */
+        PongMessage: {
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "pong";
+        };
+        /**
+         * QuickStopMessage
+         * @description Quick stop one node, or every node when `node` is null; open to every client.
+         */
+        QuickStopMessage: {
+            /**
+             * Node
+             * @default null
+             */
+            node: number | null;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "quick_stop";
+        };
+        /**
+         * QuickStopResult
+         * @description `POST /api/quick-stop`: which drives were told to stop, and which could not be.
+         */
+        QuickStopResult: {
+            /** Failed */
+            failed: {
+                [key: string]: string;
+            };
+            /** Stopped */
+            stopped: number[];
+        };
+        /**
+         * RecordingFormat
+         * @enum {string}
+         */
+        RecordingFormat: "blf" | "asc" | "log" | "mf4";
+        /** RecordingInfo */
+        RecordingInfo: {
+            /** Active */
+            active: boolean;
+            /** Dropped */
+            dropped: number;
+            /** File */
+            file: string | null;
+            format: components["schemas"]["RecordingFormat"] | null;
+            /** Frames */
+            frames: number;
+            /** Since */
+            since: number | null;
+        };
+        /** RecordingStart */
+        RecordingStart: {
+            /** @default blf */
+            format: components["schemas"]["RecordingFormat"];
+        };
+        /** ScanRequest */
+        ScanRequest: {
+            /**
+             * Sdo Sweep
+             * @default true
+             */
+            sdo_sweep: boolean;
+            /**
+             * Timeout Ms
+             * @default 50
+             */
+            timeout_ms: number;
+        };
+        /** ScanResult */
+        ScanResult: {
+            /** Duration Ms */
+            duration_ms: number;
+            /** Nodes */
+            nodes: components["schemas"]["NodeInfo"][];
+        };
+        /**
+         * ScopePlan
+         * @description What a capture would do, before it starts: each signal's source and the bus load.
+         */
+        ScopePlan: {
+            bus_load: components["schemas"]["BusLoadResult"];
+            /** Notes */
+            notes: string[];
+            /** Ok */
+            ok: boolean;
+            /** Problems */
+            problems: string[];
+            /** Signals */
+            signals: components["schemas"]["CaptureSignal"][];
+        };
+        /** ScopeSignalRequest */
+        ScopeSignalRequest: {
+            /**
+             * Index
+             * @description object index 0000h–FFFFh
+             */
+            index: number;
+            /**
+             * Node
+             * @description CANopen node id 1–127
+             */
+            node: number;
+            /**
+             * Subindex
+             * @description subindex 0–255
+             * @default 0
+             */
+            subindex: number;
+        };
+        /**
+         * ScopeViewer
+         * @description Where the embedded rerun viewer is and what it connects to.
+         */
+        ScopeViewer: {
+            /** Grpc Url */
+            grpc_url: string;
+            /** Running */
+            running: boolean;
+            /** Url */
+            url: string;
+            /** Version */
+            version: string;
+        };
+        /** SdoValue */
+        SdoValue: {
+            /** Data Type Name */
+            data_type_name?: string | null;
+            /** Index */
+            index: number;
+            /** Name */
+            name?: string | null;
+            /** Node */
+            node: number;
+            /** Raw Hex */
+            raw_hex: string;
+            /** Subindex */
+            subindex: number;
+            /** Text */
+            text: string;
+            /** Value */
+            value: number | string | null;
+        };
+        /** SdoWrite */
+        SdoWrite: {
+            /**
+             * Confirm
+             * @default false
+             */
+            confirm: boolean;
+            /** Size */
+            size?: (1 | 2 | 4) | null;
+            /** Value */
+            value: number | string;
+        };
+        /**
+         * ServerMessage
+         * @description Any message the server sends on /api/ws.
+         */
+        ServerMessage: components["schemas"]["BusMessage"] | components["schemas"]["NodesMessage"] | components["schemas"]["EventMessage"] | components["schemas"]["HistoryMessage"] | components["schemas"]["TimelineMessage"] | components["schemas"]["FaultMessage"] | components["schemas"]["PongMessage"] | components["schemas"]["DriveStateMessage"] | components["schemas"]["ControllerMessage"] | components["schemas"]["JogStoppedMessage"] | components["schemas"]["ErrorMessage"];
+        /** SessionInfo */
+        SessionInfo: {
+            /** Auth Required */
+            auth_required: boolean;
+            may: components["schemas"]["Permissions"];
+            /**
+             * Role
+             * @enum {string}
+             */
+            role: "viewer" | "operator" | "engineer";
+            /** User */
+            user: string;
+        };
+        /**
+         * SignalMeasurement
+         * @description One signal between the cursors, in physical units (`unit`); None where it has no sample
+         *     (at a cursor: none at or before it; between them: none at all).
+         */
+        SignalMeasurement: {
+            /** At A */
+            at_a: number | null;
+            /** At B */
+            at_b: number | null;
+            /** Count */
+            count: number;
+            /** Delta */
+            delta: number | null;
+            /** Index */
+            index: number;
+            /** Max */
+            max: number | null;
+            /** Mean */
+            mean: number | null;
+            /** Min */
+            min: number | null;
+            /** Name */
+            name: string;
+            /** Node */
+            node: number;
+            /** Subindex */
+            subindex: number;
+            /** Unit */
+            unit: string;
+        };
+        /**
+         * SpeedLimit
+         * @description What caps the speed in profile torque: the drive's max speed object (MDi-S1-C: PA-103
+         *     2006h:08, MDi-S1-C CANopen manual table 2.31; Kinco and CiA 402: 6080h Max motor speed).
+         */
+        SpeedLimit: {
+            /** Rpm */
+            rpm: number | null;
+            /** Source */
+            source: string;
+        };
+        /** StatusBit */
+        StatusBit: {
+            /** Bit */
+            bit: number;
+            /** Name */
+            name: string;
+            /** On */
+            on: boolean;
+        };
+        /**
+         * StepRun
+         * @description The optional body of `POST …/steps/{key}/run`: each step reads what it takes (stop_test:
+         *     speed_rpm; test_move: distance; homing: method; pdo: apply); a field the step does not take
+         *     is refused.
+         */
+        StepRun: {
+            /** Apply */
+            apply?: boolean | null;
+            /** Distance */
+            distance?: number | null;
+            /** Method */
+            method?: number | null;
+            /** Speed Rpm */
+            speed_rpm?: number | null;
+        };
+        /** StepSignOff */
+        StepSignOff: {
+            /** Reason */
+            reason?: string | null;
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "done" | "skipped";
+        };
+        /** SyncConfig */
+        SyncConfig: {
+            /** Period Us */
+            period_us?: number | null;
+            /**
+             * Producing
+             * @default false
+             */
+            producing: boolean;
+        };
+        /** TakeControlRequest */
+        TakeControlRequest: {
+            /** Name */
+            name?: string | null;
+            /**
+             * Take Over
+             * @default false
+             */
+            take_over: boolean;
+        };
+        /** TimelineEvent */
+        TimelineEvent: {
+            /** Bus */
+            bus?: string | null;
+            /** Data */
+            data: {
+                [key: string]: unknown;
+            };
+            /** Id */
+            id: number;
+            /** Kind */
+            kind: string;
+            /** Message */
+            message: string;
+            /** Node */
+            node: number | null;
+            /** Time */
+            time: number;
+        };
+        /**
+         * TimelineMessage
+         * @description An event of the timeline as it is published (EMCYs, state changes, tool writes …), with
+         *     the id `GET /api/events` shows it under. Ids grow by one: a page that sees a gap missed
+         *     some (a slow page skips the oldest) and fetches them with `GET /api/events?since=`.
+         */
+        TimelineMessage: {
+            event: components["schemas"]["TimelineEvent"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "timeline";
+        };
+        /**
+         * Trace
+         * @description One signal of a finished capture reduced to at most `points` bins for an overview plot:
+         *     per bin its time and the lowest and highest value (a spike between samples stays).
+         */
+        Trace: {
+            /** End */
+            end: number;
+            /** High */
+            high: number[];
+            /** Low */
+            low: number[];
+            /** Signal */
+            signal: number;
+            /** Start */
+            start: number;
+            /** Times */
+            times: number[];
+            /** Unit */
+            unit: string;
+        };
+        /**
+         * TravelEnds
+         * @description Where something ends the axis's travel, in motor revolutions (None: no end that side).
+         */
+        TravelEnds: {
+            /** Max Rev */
+            max_rev: number | null;
+            /** Min Rev */
+            min_rev: number | null;
+            /**
+             * Note
+             * @default
+             */
+            note: string;
+            /**
+             * Simulator
+             * @default false
+             */
+            simulator: boolean;
+            /** Source */
+            source: string;
+        };
+        /**
+         * TravelInfo
+         * @description Where the axis's travel ends: the limit switches (the simulator's 5FF1h/5FF2h), the
+         *     drive's software position limit 607Dh where its dictionary has it. ServoDesk's own travel
+         *     limits are MotionLimits.min_position_rev / max_position_rev.
+         */
+        TravelInfo: {
+            software_limit: components["schemas"]["TravelEnds"] | null;
+            switches: components["schemas"]["TravelEnds"] | null;
+        };
+        /**
+         * TriggerRequest
+         * @description When the capture starts. `none`: at once (free-running); `level`: the signal at
+         *     (node, index, subindex) crosses `level` (raw value, the object's own units) on `edge`;
+         *     `bit`: bit `bit` of that object (6041h Statusword when no index is given) changes on
+         *     `edge`; `emcy`: an EMCY from `node` (any node when none is given); `state`: the CiA 402
+         *     state of `node` changes (to `state` when given). `pre_s` of the capture lies before the
+         *     trigger. `normal` re-arms after each capture and keeps the last `keep` captures.
+         */
+        TriggerRequest: {
+            /** Bit */
+            bit?: number | null;
+            /**
+             * Edge
+             * @default rising
+             * @enum {string}
+             */
+            edge: "rising" | "falling" | "either";
+            /** Index */
+            index?: number | null;
+            /**
+             * Keep
+             * @default 10
+             */
+            keep: number;
+            /**
+             * Kind
+             * @default none
+             * @enum {string}
+             */
+            kind: "none" | "level" | "bit" | "emcy" | "state";
+            /** Level */
+            level?: number | null;
+            /**
+             * Mode
+             * @default single
+             * @enum {string}
+             */
+            mode: "single" | "normal";
+            /** Node */
+            node?: number | null;
+            /**
+             * Pre S
+             * @default 0
+             */
+            pre_s: number;
+            /** State */
+            state?: string | null;
+            /** Subindex */
+            subindex?: number | null;
+        };
+        /** UndoRequest */
+        UndoRequest: {
+            /**
+             * Force
+             * @default false
+             */
+            force: boolean;
+        };
+        /** UnwatchDriveMessage */
+        UnwatchDriveMessage: {
+            /** Node */
+            node: number;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "unwatch_drive";
+        };
+        /** WatchDriveMessage */
+        WatchDriveMessage: {
+            /** Node */
+            node: number;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "watch_drive";
+        };
+    };
+    responses: never;
+    parameters: never;
+    requestBodies: never;
+    headers: never;
+    pathItems: never;
 }
 export type $defs = Record<string, never>;
 export interface operations {
-  audit_entries_api_audit_get: {
-    parameters: {
-      query?: {
-        /** @description entries older than this id */
-        before?: number | null;
-        limit?: number;
-        node?: number | null;
-        /** @description unix time (s) */
-        since?: number | null;
-        /** @description unix time (s) */
-        until?: number | null;
-        user?: string | null;
-        action?: string | null;
-      };
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["AuditEntry"][];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  export_audit_api_audit_export_get: {
-    parameters: {
-      query?: {
-        format?: "csv";
-        node?: number | null;
-        /** @description unix time (s) */
-        since?: number | null;
-        /** @description unix time (s) */
-        until?: number | null;
-        user?: string | null;
-        action?: string | null;
-      };
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description every matching entry */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "text/csv": unknown;
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  undo_api_audit__entry_id__undo_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        entry_id: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: {
-      content: {
-        "application/json": components["schemas"]["UndoRequest"] | null;
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["AuditEntry"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No such entry, or its node is not on the bus */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description not_undoable (why), already_undone (another undo of the entry took it back or is doing so: an entry is undone once, forced or not), changed_since (the value changed: use force), or the drive refused the write (sdo_abort with its code) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  bus_status_api_bus_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BusStatus"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  bus_load_api_bus_load_get: {
-    parameters: {
-      query?: {
-        /** @description percent of the bitrate above which load is too high */
-        threshold?: number;
-        /** @description ms: the master cycle assumed for event-driven RPDOs while no SYNC producer runs */
-        master_period_ms?: number;
-      };
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BusLoadResult"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  connect_api_bus_connect_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["BusConfig"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BusStatus"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  disconnect_api_bus_disconnect_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BusStatus"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  interfaces_api_bus_interfaces_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["InterfaceInfo"][];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  reconnect_api_bus_reconnect_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BusStatus"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  list_commissioning_api_commissioning_get: {
-    parameters: {
-      query?: {
-        node?: number | null;
-      };
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["CommissioningRecord"][];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  check_record_api_commissioning_check_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": {
-          /** Node */
-          node?: number | null;
-          /** Record Id */
-          record_id: number;
-        };
-        "multipart/form-data": components["schemas"]["Body_check_record_api_commissioning_check_post"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["CheckResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  machine_report_api_commissioning_report_get: {
-    parameters: {
-      query?: {
-        format?: "html" | "pdf";
-        /** @description 1,2,3 */
-        ids?: string | null;
-        /** @description 1,2,3 */
-        nodes?: string | null;
-      };
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description the report as an HTML page or a PDF; zip: the record's bundle */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/pdf": unknown;
-          "application/zip": unknown;
-          "text/html": unknown;
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  get_commissioning_api_commissioning__record_id__get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description the record's id */
-        record_id: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["CommissioningRecord"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  record_report_api_commissioning__record_id__report_get: {
-    parameters: {
-      query?: {
-        format?: "html" | "pdf" | "zip";
-      };
-      header?: never;
-      path: {
-        /** @description the record's id */
-        record_id: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description the report as an HTML page or a PDF; zip: the record's bundle */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/pdf": unknown;
-          "application/zip": unknown;
-          "text/html": unknown;
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  sign_off_step_api_commissioning__record_id__steps__key__put: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description the record's id */
-        record_id: number;
-        /** @description identity, communication, … store_verify */
-        key: string;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["StepSignOff"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["CommissioningStep"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  run_step_api_commissioning__record_id__steps__key__run_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description the record's id */
-        record_id: number;
-        /** @description identity, communication, … store_verify */
-        key: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: {
-      content: {
-        "application/json": components["schemas"]["StepRun"] | null;
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["CommissioningStep"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description step_not_automated: do the step on its page and sign it off with PUT; or an SDO abort / node_stopped while running it */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description timeout: the node did not answer, or (store_verify) did not boot after the reset; the message names its NMT state and the step is recorded failed */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  events_api_events_get: {
-    parameters: {
-      query?: {
-        node?: number | null;
-        kind?: components["schemas"]["EventKind"] | null;
-        /** @description events after this id, oldest first (polling) */
-        since?: number | null;
-        /** @description older events than this id, newest first */
-        before?: number | null;
-        limit?: number;
-        /** @description also the events of other buses (another server sharing this data directory, a bus connected before); default: the connected bus's only */
-        all_buses?: boolean;
-      };
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["EventPage"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  active_faults_api_faults_active_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ActiveFaults"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  health_api_health_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Health"];
-        };
-      };
-    };
-  };
-  get_job_api_jobs__job_id__get: {
-    parameters: {
-      query?: {
-        /** @description only results from this position on */
-        since?: number;
-      };
-      header?: never;
-      path: {
-        job_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Job"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  cancel_job_api_jobs__job_id__delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        job_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Job"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  get_jog_api_jog__jog_id__get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        jog_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["JogInfo"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or not_jog_owner (jog): only the jog's owner keeps it moving */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description No such jog (jog_not_found) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description jog_stopped (jog): the jog was stopped; start a new one to move again */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  stop_jog_api_jog__jog_id__delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        jog_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["JogInfo"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or not_jog_owner (jog): only the jog's owner keeps it moving */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description No such jog (jog_not_found) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description jog_stopped (jog): the jog was stopped; start a new one to move again */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  keepalive_api_jog__jog_id__keepalive_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        jog_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["JogInfo"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or not_jog_owner (jog): only the jog's owner keeps it moving */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description No such jog (jog_not_found) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description jog_stopped (jog): the jog was stopped; start a new one to move again */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  login_api_login_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["LoginRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["SessionInfo"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description The token is not valid */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Too many failed logins: wait `retry_after_s` */
-      429: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  logout_api_logout_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      204: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content?: never;
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  list_logs_api_logs_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["KeptLogInfo"][];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  decode_log_api_logs_decode_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: {
-      content: {
-        "multipart/form-data": components["schemas"]["Body_decode_log_api_logs_decode_post"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DecodedLog"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  get_log_api_logs__log_id__get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        log_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DecodedLog"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No decoded log with this id */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  delete_log_api_logs__log_id__delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        log_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description the decoded log is deleted */
-      204: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content?: never;
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No decoded log with this id */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  log_events_api_logs__log_id__events_get: {
-    parameters: {
-      query?: {
-        /** @description first event seq */
-        since?: number;
-        limit?: number;
-        /** @description leave out SDO reads repeated at a steady period (the tool's own polling and any other poll loop): the same object of a node read a third time and on, each interval within half a period of the one before, period ≤ 2 s */
-        hide_polling?: boolean;
-      };
-      header?: never;
-      path: {
-        log_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["LogEventPage"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No decoded log with this id */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  export_log_api_logs__log_id__export_get: {
-    parameters: {
-      query?: {
-        format?: components["schemas"]["ExportFormat"];
-      };
-      header?: never;
-      path: {
-        log_id: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description every event of the log as CSV, JSON lines or Parquet */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/vnd.apache.parquet": string;
-          "application/x-ndjson": string;
-          "text/csv": string;
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No decoded log with this id */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  nmt_broadcast_api_nmt_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["NmtRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NmtSent"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  list_nodes_api_nodes_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NodeInfo"][];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  get_node_api_nodes__node__get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NodeInfo"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  forget_node_api_nodes__node__delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description the node is no longer listed (a scan or its boot-up adds it again) */
-      204: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content?: never;
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description node_online: the node answers on the bus; only a gone node is forgotten */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  bitrates_api_nodes__node__bitrates_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BitrateOptions"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  change_bitrate_api_nodes__node__change_bitrate_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["BitrateChange"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["BitrateChangeResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  change_node_id_api_nodes__node__change_node_id_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["NodeIdChange"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NodeIdChangeResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  create_commissioning_api_nodes__node__commissioning_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["CommissioningCreate"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      201: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["CommissioningRecord"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  compare_api_nodes__node__compare_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: {
-      content: {
-        "multipart/form-data": components["schemas"]["Body_compare_api_nodes__node__compare_post"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["CompareResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  save_dcf_api_nodes__node__dcf_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "text/plain": string;
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  load_dcf_api_nodes__node__dcf_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: {
-      content: {
-        "multipart/form-data": components["schemas"]["Body_load_dcf_api_nodes__node__dcf_post"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DcfLoadResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  drive_state_api_nodes__node__drive_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DriveState"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  command_api_nodes__node__drive_command_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["DriveCommandRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DriveState"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  controller_api_nodes__node__drive_controller_get: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ControllerInfo"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  take_control_api_nodes__node__drive_controller_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["TakeControlRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ControllerInfo"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  release_control_api_nodes__node__drive_controller_delete: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ControllerInfo"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  disable_api_nodes__node__drive_disable_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DriveState"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  enable_api_nodes__node__drive_enable_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DriveState"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  fault_reset_api_nodes__node__drive_fault_reset_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DriveState"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  home_api_nodes__node__drive_home_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["HomeRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      202: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DriveState"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  homing_methods_api_nodes__node__drive_homing_methods_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["HomingMethodInfo"][];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  ip_stream_api_nodes__node__drive_ip_stream_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["IpStreamRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["IpStreamResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  limits_api_nodes__node__drive_limits_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionLimits"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  set_limits_api_nodes__node__drive_limits_put: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["LimitsRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionLimits"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  move_api_nodes__node__drive_move_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["MoveRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      202: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DriveState"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  move_queue_api_nodes__node__drive_move_queue_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["MoveQueueRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      202: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DriveState"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  quick_stop_api_nodes__node__drive_quick_stop_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DriveState"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  node_faults_api_nodes__node__faults_get: {
-    parameters: {
-      query?: {
-        /** @description newest history entries */
-        limit?: number;
-        /** @description also the faults stored from other buses (another server sharing this data directory, a bus connected before); default: the connected bus's only */
-        all_buses?: boolean;
-      };
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NodeFaults"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  device_history_api_nodes__node__faults_device_history_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DeviceHistory"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  clear_device_history_api_nodes__node__faults_device_history_delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: {
-      content: {
-        "application/json": components["schemas"]["ConfirmBody"] | null;
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["DeviceHistoryCleared"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  fault_reset_api_nodes__node__faults_reset_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["FaultResetResult"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  heartbeat_api_nodes__node__heartbeat_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["HeartbeatConfig"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  set_heartbeat_api_nodes__node__heartbeat_put: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["HeartbeatWrite"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["HeartbeatConfig"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  start_jog_api_nodes__node__jog_post: {
-    parameters: {
-      query?: never;
-      header?: {
-        /** @description who sends this: the page's (or script's) id */
-        "x-client-id"?: string | null;
-        /** @description shown to others as the holder */
-        "x-client-name"?: string | null;
-      };
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["JogRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["JogInfo"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MotionErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  nmt_api_nodes__node__nmt_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["NmtRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NodeInfo"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  node_id_options_api_nodes__node__node_id_options_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["NodeIdOptions"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  node_od_api_nodes__node__od_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["OdTree"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  upload_od_api_nodes__node__od_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: {
-      content: {
-        "multipart/form-data": components["schemas"]["Body_upload_od_api_nodes__node__od_post"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["OdTree"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  reset_od_api_nodes__node__od_delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["OdTree"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  list_params_api_nodes__node__params_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Param"][];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  get_param_api_nodes__node__params__name__get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-        name: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Param"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  set_param_api_nodes__node__params__name__put: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-        name: string;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["ParamWriteRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ParamWriteResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  read_pdos_api_nodes__node__pdos_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Pdo"][];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  apply_pdos_api_nodes__node__pdos_put: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["PdoWriteRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Pdo"][];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description pdo_apply_failed: the device refused a step (step, abort_code, restored); the previous PDOs were restored. Also an SDO abort while reading, or the node is Stopped */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  export_pdos_api_nodes__node__pdos_export_get: {
-    parameters: {
-      query?: {
-        /** @description dcf: a DCF fragment; python: a python-canopen snippet */
-        format?: "dcf" | "python";
-      };
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "text/plain": string;
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  live_api_nodes__node__pdos_live_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["LiveCheck"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  start_live_api_nodes__node__pdos_live_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["LiveCheck"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  stop_live_api_nodes__node__pdos_live_delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["LiveCheck"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  recommended_pdos_api_nodes__node__pdos_recommended_get: {
-    parameters: {
-      query: {
-        /** @description operating modes, comma-separated: pp, pv, pt, hm, ip */
-        modes: string;
-      };
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["PdoList"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  pdo_rules_api_nodes__node__pdos_rules_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["PdoRules"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  validate_pdos_api_nodes__node__pdos_validate_post: {
-    parameters: {
-      query?: {
-        /** @description percent of the bitrate above which load is too high */
-        threshold?: number;
-        /** @description ms: the master cycle assumed for event-driven RPDOs while no SYNC producer runs */
-        master_period_ms?: number;
-      };
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["PdoWriteRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["PdoValidation"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  restore_defaults_api_nodes__node__restore_defaults_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["Confirm"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MessageResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  read_entry_api_nodes__node__sdo__index___subindex__get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-        /** @description index, 4 hex digits: 6041 */
-        index: string;
-        /** @description sub-index, 1–2 hex digits: 0, 0A */
-        subindex: string;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["SdoValue"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  write_entry_api_nodes__node__sdo__index___subindex__put: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-        /** @description index, 4 hex digits: 6041 */
-        index: string;
-        /** @description sub-index, 1–2 hex digits: 0, 0A */
-        subindex: string;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["SdoWrite"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["SdoValue"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  store_api_nodes__node__store_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["Confirm"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["MessageResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Needs confirmation: send again with confirm=true */
-      428: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  upload_all_api_nodes__node__upload_all_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description CANopen node id 1–127 */
-        node: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Job"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  check_od_api_od_check_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: {
-      content: {
-        "multipart/form-data": components["schemas"]["Body_check_od_api_od_check_post"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["OdCheckResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  quick_stop_all_api_quick_stop_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["QuickStopResult"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  recording_status_api_recording_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["RecordingInfo"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  start_recording_api_recording_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["RecordingStart"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["RecordingInfo"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  stop_recording_api_recording_delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description the recorded file */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/octet-stream": string;
-          "text/plain": string;
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No recording is running (recording_not_running) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  scan_api_scan_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["ScanRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ScanResult"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  list_captures_api_scope_captures_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Capture"][];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  start_capture_api_scope_captures_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["CaptureRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Capture"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description scope_busy: another capture is arming, armed or running; or the scope's TPDOs could not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  get_capture_api_scope_captures__capture_id__get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description capture id */
-        capture_id: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Capture"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No such capture (capture_not_found) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  stop_or_delete_capture_api_scope_captures__capture_id__delete: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path: {
-        /** @description capture id */
-        capture_id: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Capture"];
-        };
-      };
-      /** @description the capture and its files are deleted */
-      204: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content?: never;
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No such capture (capture_not_found) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  export_capture_api_scope_captures__capture_id__export_get: {
-    parameters: {
-      query?: {
-        /** @description csv, parquet (pyarrow), mf4 (asammdf) or rrd (rerun) */
-        format?: "csv" | "parquet" | "mf4" | "rrd";
-        /** @description CSV only: long (one row per sample) or wide (one row per time stamp, a column per signal) */
-        layout?: "long" | "wide";
-      };
-      header?: never;
-      path: {
-        /** @description capture id */
-        capture_id: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description the exported capture */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/octet-stream": string;
-          "text/csv": string;
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No such capture (capture_not_found) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description The capture is still armed or running (capture_recording) */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  measure_capture_api_scope_captures__capture_id__measure_get: {
-    parameters: {
-      query: {
-        /** @description s from the trigger (negative before it) */
-        t0: number;
-        /** @description s from the trigger (negative before it) */
-        t1: number;
-      };
-      header?: never;
-      path: {
-        /** @description capture id */
-        capture_id: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Measurement"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No such capture (capture_not_found) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description The capture is still armed or running, or its samples were never finished */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  trace_capture_api_scope_captures__capture_id__trace_get: {
-    parameters: {
-      query?: {
-        /** @description position in the capture's signals */
-        signal?: number;
-        points?: number;
-      };
-      header?: never;
-      path: {
-        /** @description capture id */
-        capture_id: number;
-      };
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["Trace"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description No such capture (capture_not_found) */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description The capture is still armed or running, or its samples were never finished */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  plan_capture_api_scope_plan_post: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["CaptureRequest"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ScopePlan"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Unknown node */
-      404: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description scope_busy: another capture is arming, armed or running; or the scope's TPDOs could not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort */
-      409: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
-      502: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected, or the connection was renewed during the request */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Node did not answer */
-      504: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  scope_viewer_api_scope_viewer_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ScopeViewer"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description The rerun viewer could not start */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  session_api_session_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["SessionInfo"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  sync_status_api_sync_get: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody?: never;
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["SyncConfig"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-    };
-  };
-  set_sync_api_sync_put: {
-    parameters: {
-      query?: never;
-      header?: never;
-      path?: never;
-      cookie?: never;
-    };
-    requestBody: {
-      content: {
-        "application/json": components["schemas"]["SyncConfig"];
-      };
-    };
-    responses: {
-      /** @description Successful Response */
-      200: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["SyncConfig"];
-        };
-      };
-      /** @description The body could not be parsed */
-      400: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description A login is needed: access tokens are configured */
-      401: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Refused: the caller's role may not, or another site's page */
-      403: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Invalid request: what is wrong, per field */
-      422: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description Bus not connected */
-      503: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
-      /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
-      507: {
-        headers: {
-          [name: string]: unknown;
-        };
-        content: {
-          "application/json": components["schemas"]["ErrorBody"];
-        };
-      };
+    audit_entries_api_audit_get: {
+        parameters: {
+            query?: {
+                /** @description entries older than this id */
+                before?: number | null;
+                limit?: number;
+                node?: number | null;
+                /** @description unix time (s) */
+                since?: number | null;
+                /** @description unix time (s) */
+                until?: number | null;
+                user?: string | null;
+                action?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["AuditEntry"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    export_audit_api_audit_export_get: {
+        parameters: {
+            query?: {
+                format?: "csv";
+                node?: number | null;
+                /** @description unix time (s) */
+                since?: number | null;
+                /** @description unix time (s) */
+                until?: number | null;
+                user?: string | null;
+                action?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description every matching entry */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/csv": unknown;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    undo_api_audit__entry_id__undo_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                entry_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "application/json": components["schemas"]["UndoRequest"] | null;
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["AuditEntry"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such entry, or its node is not on the bus */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description not_undoable (why), already_undone (another undo of the entry took it back or is doing so: an entry is undone once, forced or not), changed_since (the value changed: use force), or the drive refused the write (sdo_abort with its code) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    bus_status_api_bus_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    bus_load_api_bus_load_get: {
+        parameters: {
+            query?: {
+                /** @description percent of the bitrate above which load is too high */
+                threshold?: number;
+                /** @description ms: the master cycle assumed for event-driven RPDOs while no SYNC producer runs */
+                master_period_ms?: number;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BusLoadResult"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    connect_api_bus_connect_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["BusConfig"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    disconnect_api_bus_disconnect_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    interfaces_api_bus_interfaces_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["InterfaceInfo"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    reconnect_api_bus_reconnect_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BusStatus"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    list_commissioning_api_commissioning_get: {
+        parameters: {
+            query?: {
+                node?: number | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CommissioningRecord"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    check_record_api_commissioning_check_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": {
+                    /** Node */
+                    node?: number | null;
+                    /** Record Id */
+                    record_id: number;
+                };
+                "multipart/form-data": components["schemas"]["Body_check_record_api_commissioning_check_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CheckResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    machine_report_api_commissioning_report_get: {
+        parameters: {
+            query?: {
+                format?: "html" | "pdf";
+                /** @description 1,2,3 */
+                ids?: string | null;
+                /** @description 1,2,3 */
+                nodes?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the report as an HTML page or a PDF; zip: the record's bundle */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/pdf": unknown;
+                    "application/zip": unknown;
+                    "text/html": unknown;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_commissioning_api_commissioning__record_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the record's id */
+                record_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CommissioningRecord"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    record_report_api_commissioning__record_id__report_get: {
+        parameters: {
+            query?: {
+                format?: "html" | "pdf" | "zip";
+            };
+            header?: never;
+            path: {
+                /** @description the record's id */
+                record_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the report as an HTML page or a PDF; zip: the record's bundle */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/pdf": unknown;
+                    "application/zip": unknown;
+                    "text/html": unknown;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    sign_off_step_api_commissioning__record_id__steps__key__put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the record's id */
+                record_id: number;
+                /** @description identity, communication, … store_verify */
+                key: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["StepSignOff"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CommissioningStep"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    run_step_api_commissioning__record_id__steps__key__run_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the record's id */
+                record_id: number;
+                /** @description identity, communication, … store_verify */
+                key: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "application/json": components["schemas"]["StepRun"] | null;
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CommissioningStep"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description commissioning_not_found (no such record) or step_not_found (no such step key) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description step_not_automated: do the step on its page and sign it off with PUT; or an SDO abort / node_stopped while running it */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description timeout: the node did not answer, or (store_verify) did not boot after the reset; the message names its NMT state and the step is recorded failed */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    events_api_events_get: {
+        parameters: {
+            query?: {
+                node?: number | null;
+                kind?: components["schemas"]["EventKind"] | null;
+                /** @description events after this id, oldest first (polling) */
+                since?: number | null;
+                /** @description older events than this id, newest first */
+                before?: number | null;
+                limit?: number;
+                /** @description also the events of other buses (another server sharing this data directory, a bus connected before); default: the connected bus's only */
+                all_buses?: boolean;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["EventPage"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    active_faults_api_faults_active_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ActiveFaults"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    health_api_health_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Health"];
+                };
+            };
+        };
+    };
+    get_job_api_jobs__job_id__get: {
+        parameters: {
+            query?: {
+                /** @description only results from this position on */
+                since?: number;
+            };
+            header?: never;
+            path: {
+                job_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Job"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    cancel_job_api_jobs__job_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                job_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Job"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_jog_api_jog__jog_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                jog_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["JogInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or not_jog_owner (jog): only the jog's owner keeps it moving */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description No such jog (jog_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description jog_stopped (jog): the jog was stopped; start a new one to move again */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    stop_jog_api_jog__jog_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                jog_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["JogInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or not_jog_owner (jog): only the jog's owner keeps it moving */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description No such jog (jog_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description jog_stopped (jog): the jog was stopped; start a new one to move again */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    keepalive_api_jog__jog_id__keepalive_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                jog_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["JogInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or not_jog_owner (jog): only the jog's owner keeps it moving */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description No such jog (jog_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description jog_stopped (jog): the jog was stopped; start a new one to move again */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    login_api_login_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["LoginRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SessionInfo"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The token is not valid */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Too many failed logins: wait `retry_after_s` */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    logout_api_logout_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    list_logs_api_logs_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["KeptLogInfo"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    decode_log_api_logs_decode_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_decode_log_api_logs_decode_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DecodedLog"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_log_api_logs__log_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                log_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DecodedLog"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No decoded log with this id */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    delete_log_api_logs__log_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                log_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the decoded log is deleted */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No decoded log with this id */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    log_events_api_logs__log_id__events_get: {
+        parameters: {
+            query?: {
+                /** @description first event seq */
+                since?: number;
+                limit?: number;
+                /** @description leave out SDO reads repeated at a steady period (the tool's own polling and any other poll loop): the same object of a node read a third time and on, each interval within half a period of the one before, period ≤ 2 s */
+                hide_polling?: boolean;
+            };
+            header?: never;
+            path: {
+                log_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LogEventPage"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No decoded log with this id */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    export_log_api_logs__log_id__export_get: {
+        parameters: {
+            query?: {
+                format?: components["schemas"]["ExportFormat"];
+            };
+            header?: never;
+            path: {
+                log_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description every event of the log as CSV, JSON lines or Parquet */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/vnd.apache.parquet": string;
+                    "application/x-ndjson": string;
+                    "text/csv": string;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No decoded log with this id */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    nmt_broadcast_api_nmt_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["NmtRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NmtSent"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    list_nodes_api_nodes_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeInfo"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_node_api_nodes__node__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    forget_node_api_nodes__node__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the node is no longer listed (a scan or its boot-up adds it again) */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description node_online: the node answers on the bus; only a gone node is forgotten */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    bitrates_api_nodes__node__bitrates_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BitrateOptions"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    change_bitrate_api_nodes__node__change_bitrate_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["BitrateChange"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["BitrateChangeResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    change_node_id_api_nodes__node__change_node_id_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["NodeIdChange"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeIdChangeResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    create_commissioning_api_nodes__node__commissioning_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["CommissioningCreate"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CommissioningRecord"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    compare_api_nodes__node__compare_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_compare_api_nodes__node__compare_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CompareResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    save_dcf_api_nodes__node__dcf_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/plain": string;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    load_dcf_api_nodes__node__dcf_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_load_dcf_api_nodes__node__dcf_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DcfLoadResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    drive_state_api_nodes__node__drive_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    command_api_nodes__node__drive_command_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["DriveCommandRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    controller_api_nodes__node__drive_controller_get: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ControllerInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    take_control_api_nodes__node__drive_controller_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["TakeControlRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ControllerInfo"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    release_control_api_nodes__node__drive_controller_delete: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ControllerInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    disable_api_nodes__node__drive_disable_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    enable_api_nodes__node__drive_enable_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    fault_reset_api_nodes__node__drive_fault_reset_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    home_api_nodes__node__drive_home_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["HomeRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            202: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    homing_methods_api_nodes__node__drive_homing_methods_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HomingMethodInfo"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    ip_stream_api_nodes__node__drive_ip_stream_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["IpStreamRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["IpStreamResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    limits_api_nodes__node__drive_limits_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionLimits"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    set_limits_api_nodes__node__drive_limits_put: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["LimitsRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionLimits"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    move_api_nodes__node__drive_move_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["MoveRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            202: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    move_queue_api_nodes__node__drive_move_queue_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["MoveQueueRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            202: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    quick_stop_api_nodes__node__drive_quick_stop_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DriveState"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    node_faults_api_nodes__node__faults_get: {
+        parameters: {
+            query?: {
+                /** @description newest history entries */
+                limit?: number;
+                /** @description also the faults stored from other buses (another server sharing this data directory, a bus connected before); default: the connected bus's only */
+                all_buses?: boolean;
+            };
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeFaults"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    device_history_api_nodes__node__faults_device_history_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DeviceHistory"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    clear_device_history_api_nodes__node__faults_device_history_delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "application/json": components["schemas"]["ConfirmBody"] | null;
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DeviceHistoryCleared"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    fault_reset_api_nodes__node__faults_reset_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["FaultResetResult"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    heartbeat_api_nodes__node__heartbeat_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HeartbeatConfig"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    set_heartbeat_api_nodes__node__heartbeat_put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["HeartbeatWrite"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HeartbeatConfig"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    start_jog_api_nodes__node__jog_post: {
+        parameters: {
+            query?: never;
+            header?: {
+                /** @description who sends this: the page's (or script's) id */
+                "x-client-id"?: string | null;
+                /** @description shown to others as the holder */
+                "x-client-name"?: string | null;
+            };
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["JogRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["JogInfo"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description held_by_other (holder): another client controls the drive, take over first; enable_blocked (reasons, state); motion_busy; sync_unsafe (an IP stream refused: this host does not keep the SYNC deadlines); or an SDO abort / node_stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MotionErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    nmt_api_nodes__node__nmt_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["NmtRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeInfo"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    node_id_options_api_nodes__node__node_id_options_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["NodeIdOptions"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    node_od_api_nodes__node__od_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["OdTree"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    upload_od_api_nodes__node__od_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_upload_od_api_nodes__node__od_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["OdTree"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    reset_od_api_nodes__node__od_delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["OdTree"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    list_params_api_nodes__node__params_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Param"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_param_api_nodes__node__params__name__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Param"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    set_param_api_nodes__node__params__name__put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["ParamWriteRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ParamWriteResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    read_pdos_api_nodes__node__pdos_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Pdo"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    apply_pdos_api_nodes__node__pdos_put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["PdoWriteRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Pdo"][];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description pdo_apply_failed: the device refused a step (step, abort_code, restored); the previous PDOs were restored. Also an SDO abort while reading, or the node is Stopped */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    export_pdos_api_nodes__node__pdos_export_get: {
+        parameters: {
+            query?: {
+                /** @description dcf: a DCF fragment; python: a python-canopen snippet */
+                format?: "dcf" | "python";
+            };
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/plain": string;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    live_api_nodes__node__pdos_live_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LiveCheck"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    start_live_api_nodes__node__pdos_live_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LiveCheck"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    stop_live_api_nodes__node__pdos_live_delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LiveCheck"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    recommended_pdos_api_nodes__node__pdos_recommended_get: {
+        parameters: {
+            query: {
+                /** @description operating modes, comma-separated: pp, pv, pt, hm, ip */
+                modes: string;
+            };
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PdoList"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    pdo_rules_api_nodes__node__pdos_rules_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PdoRules"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    validate_pdos_api_nodes__node__pdos_validate_post: {
+        parameters: {
+            query?: {
+                /** @description percent of the bitrate above which load is too high */
+                threshold?: number;
+                /** @description ms: the master cycle assumed for event-driven RPDOs while no SYNC producer runs */
+                master_period_ms?: number;
+            };
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["PdoWriteRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PdoValidation"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    restore_defaults_api_nodes__node__restore_defaults_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["Confirm"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MessageResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    read_entry_api_nodes__node__sdo__index___subindex__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+                /** @description index, 4 hex digits: 6041 */
+                index: string;
+                /** @description sub-index, 1–2 hex digits: 0, 0A */
+                subindex: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SdoValue"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    write_entry_api_nodes__node__sdo__index___subindex__put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+                /** @description index, 4 hex digits: 6041 */
+                index: string;
+                /** @description sub-index, 1–2 hex digits: 0, 0A */
+                subindex: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["SdoWrite"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SdoValue"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    store_api_nodes__node__store_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["Confirm"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MessageResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Needs confirmation: send again with confirm=true */
+            428: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    upload_all_api_nodes__node__upload_all_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description CANopen node id 1–127 */
+                node: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Job"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    check_od_api_od_check_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_check_od_api_od_check_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["OdCheckResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    quick_stop_all_api_quick_stop_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["QuickStopResult"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, another site's page, or client_id_taken (another login uses this X-Client-Id) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    recording_status_api_recording_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RecordingInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    start_recording_api_recording_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["RecordingStart"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RecordingInfo"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    stop_recording_api_recording_delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the recorded file */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/octet-stream": string;
+                    "text/plain": string;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No recording is running (recording_not_running) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    scan_api_scan_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["ScanRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ScanResult"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description SDO abort (abort_code and its meaning), or the node is Stopped (node_stopped) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    list_captures_api_scope_captures_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Capture"][];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    start_capture_api_scope_captures_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["CaptureRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Capture"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description scope_busy: another capture is arming, armed or running; or the scope's TPDOs could not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_capture_api_scope_captures__capture_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description capture id */
+                capture_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Capture"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such capture (capture_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    stop_or_delete_capture_api_scope_captures__capture_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description capture id */
+                capture_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Capture"];
+                };
+            };
+            /** @description the capture and its files are deleted */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such capture (capture_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    export_capture_api_scope_captures__capture_id__export_get: {
+        parameters: {
+            query?: {
+                /** @description csv, parquet (pyarrow), mf4 (asammdf) or rrd (rerun) */
+                format?: "csv" | "parquet" | "mf4" | "rrd";
+                /** @description CSV only: long (one row per sample) or wide (one row per time stamp, a column per signal) */
+                layout?: "long" | "wide";
+            };
+            header?: never;
+            path: {
+                /** @description capture id */
+                capture_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description the exported capture */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/octet-stream": string;
+                    "text/csv": string;
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such capture (capture_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The capture is still armed or running (capture_recording) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    measure_capture_api_scope_captures__capture_id__measure_get: {
+        parameters: {
+            query: {
+                /** @description s from the trigger (negative before it) */
+                t0: number;
+                /** @description s from the trigger (negative before it) */
+                t1: number;
+            };
+            header?: never;
+            path: {
+                /** @description capture id */
+                capture_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Measurement"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such capture (capture_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The capture is still armed or running, or its samples were never finished */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    trace_capture_api_scope_captures__capture_id__trace_get: {
+        parameters: {
+            query?: {
+                /** @description position in the capture's signals */
+                signal?: number;
+                points?: number;
+            };
+            header?: never;
+            path: {
+                /** @description capture id */
+                capture_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Trace"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such capture (capture_not_found) */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The capture is still armed or running, or its samples were never finished */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    plan_capture_api_scope_plan_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["CaptureRequest"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ScopePlan"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Unknown node */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description scope_busy: another capture is arming, armed or running; or the scope's TPDOs could not be written (pdo_apply_failed, the previous PDOs restored); or an SDO abort */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description sdo_protocol: the node answered, but not as the SDO transfer expects (a segment's toggle bit, another command); the transfer was aborted */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected, or the connection was renewed during the request */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Node did not answer */
+            504: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    scope_viewer_api_scope_viewer_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ScopeViewer"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The rerun viewer could not start */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    session_api_session_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SessionInfo"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    sync_status_api_sync_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SyncConfig"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    set_sync_api_sync_put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["SyncConfig"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SyncConfig"];
+                };
+            };
+            /** @description The body could not be parsed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A login is needed: access tokens are configured */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Refused: the caller's role may not, or another site's page */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid request: what is wrong, per field */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Bus not connected */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description audit_unavailable: the audit log cannot be written (no space left); nothing was sent. Stops and disables answer with the X-Audit-Error header instead */
+            507: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
     };
-  };
 }
