@@ -72,10 +72,19 @@ api-check: install
 frontend-check: install
 	npm run --silent test
 
+# A worker per core (pytest-xdist, a test file per worker) for the tests that keep no real time of
+# their own; then, alone on the machine, the `serial` ones: browser tests, realtime tests and
+# the schema fuzzing (tests/conftest.py says which).
 pytest: install system-deps $(STATIC)
-	$(BIN)/pytest
+	$(BIN)/pytest -n logical --dist loadfile -m "not serial"
+	$(BIN)/pytest -m serial
 
-test: lint typecheck api-check frontend-check pytest
+# The checks first, two at a time (api-check alone before them: it rewrites the generated
+# client that the type check reads), then the Python tests.
+test: install
+	$(MAKE) --no-print-directory api-check
+	$(MAKE) --no-print-directory -j2 --output-sync=target lint typecheck frontend-check
+	$(MAKE) --no-print-directory pytest
 
 bench: install
 	$(BIN)/python bench/sim_realtime.py
