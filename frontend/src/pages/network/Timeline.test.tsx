@@ -98,4 +98,24 @@ describe("Timeline", () => {
     expect(await screen.findByText("message 16")).toBeTruthy();
     expect(screen.queryByText("message 17")).toBeNull();
   });
+
+  it("catches up after the first page when the socket opened while it was on its way", async () => {
+    // what was published between the first page's read and the socket's opening reaches the
+    // page neither way: the list fetches it once the first page is in
+    let answerFirst: (page: object) => void = () => undefined;
+    const stub = stubFetch({
+      "GET /api/events": (request: Request) => {
+        const since = new URL(request.url).searchParams.get("since");
+        if (since === "10") return { events: [ev(11)], next: 11 };
+        if (since) return { events: [], next: Number(since) };
+        return new Promise((resolve) => (answerFirst = resolve));
+      },
+    });
+    const { store } = renderPage(<Timeline />);
+    await vi.waitFor(() => expect(stub.urls).toHaveLength(1));
+    act(() => store.setLink({ state: "open", attempt: 0, retryAt: null }));
+    act(() => answerFirst({ events: [ev(10)], next: null }));
+    expect(await screen.findByText("message 11")).toBeTruthy();
+    expect(stub.urls.some((u) => u.includes("since=10"))).toBe(true);
+  });
 });

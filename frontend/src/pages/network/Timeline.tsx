@@ -116,9 +116,16 @@ function TimelineList({ filter }: { filter: TimelineFilter }): ReactNode {
   const streamMax = useRef(0);
   const fetching = useRef(false);
   const again = useRef(false);
+  /** A catch-up asked for before the first page was back (the socket opened meanwhile: it
+   * did not deliver what was published before, which the first page may have missed too). */
+  const deferred = useRef(false);
   const alive = useRef(true);
 
   const catchUp = useCallback(async (): Promise<void> => {
+    if (synced.current === null) {
+      deferred.current = true; // run once the first page is in
+      return;
+    }
     if (fetching.current) {
       again.current = true;
       return;
@@ -133,8 +140,7 @@ function TimelineList({ filter }: { filter: TimelineFilter }): ReactNode {
     };
     try {
       do {
-        const from = synced.current;
-        if (from === null) return;
+        const from = synced.current; // set once, never unset
         const reached = streamMax.current;
         let since = from;
         for (;;) {
@@ -148,7 +154,7 @@ function TimelineList({ filter }: { filter: TimelineFilter }): ReactNode {
         }
         // everything published before the first request is in: that includes what the
         // socket had delivered by then
-        synced.current = Math.max(synced.current ?? 0, since, reached);
+        synced.current = Math.max(synced.current, since, reached);
       } while (more());
     } catch (caught) {
       if (alive.current) setError(asApiError(caught));
@@ -161,8 +167,12 @@ function TimelineList({ filter }: { filter: TimelineFilter }): ReactNode {
     listRef.current = list;
     if (synced.current === null && list.newest !== null) {
       synced.current = list.newest;
-      // events the socket delivered before the first page came back: fetch what it missed
-      if (streamMax.current > list.newest) void catchUp();
+      // events the socket delivered before the first page came back, or a socket that opened
+      // meanwhile: fetch what the first page missed
+      if (streamMax.current > list.newest || deferred.current) {
+        deferred.current = false;
+        void catchUp();
+      }
     }
   });
 
