@@ -59,8 +59,11 @@ describe("ScopePage", () => {
     // the check runs by itself once the selection settles
     const sources = await screen.findByRole("table", { name: "Signal sources" });
     expect(within(sources).getByRole("row", { name: /6064h:00/ }).textContent).toContain("TPDO2");
-    const plans = fetch.calls.filter((c) => c.path === "/api/scope/plan");
-    expect(JSON.parse(plans.at(-1)?.body ?? "{}")).toMatchObject({
+    // on a busy machine the check may run between the two picks too: the last one has both
+    const lastPlan = (): unknown =>
+      JSON.parse(fetch.calls.filter((c) => c.path === "/api/scope/plan").at(-1)?.body ?? "{}");
+    await waitFor(() => expect(lastPlan()).toHaveProperty("signals.length", 2));
+    expect(lastPlan()).toMatchObject({
       signals: [
         { node: 1, index: 0x6064, subindex: 0 },
         { node: 1, index: 0x606c, subindex: 0 },
