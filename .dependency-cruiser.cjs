@@ -9,7 +9,7 @@
 //   shared   components/ (shared UI), session/, live/ (the WebSocket store), nav/paths.ts (the
 //            app's URLs, a leaf that imports nothing, so any page can link to any other).
 //   bottom   api/ (the generated client, the API's types and route calls), lib/ (pure helpers
-//            and hooks), styles/ (the global CSS).
+//            and hooks), i18n/ (the languages and their catalogues), styles/ (the global CSS).
 //
 // Test code, that is *.test.ts(x), the pages' fixtures.ts and the helpers in test/, sits beside
 // what it tests and keeps to the same layers; any test may also import test/ (render, fetch
@@ -19,7 +19,7 @@
 // Paths are as depcruise prints them, from the repository root. dependency-cruiser stays on
 // 17.x (package.json): 18 needs Node 22, and the app builds on Node 20.19 and later.
 
-const BOTTOM = "^frontend/src/(api|lib|styles)/";
+const BOTTOM = "^frontend/src/(api|i18n|lib|styles)/";
 const SHARED = ["^frontend/src/(components|session|live)/", "^frontend/src/nav/paths[.]ts$"];
 const PAGES = "^frontend/src/pages/";
 const TOP = ["^frontend/src/nav/", "^frontend/src/App[.]tsx$", "^frontend/src/main[.]tsx$"];
@@ -44,7 +44,7 @@ module.exports = {
       name: "bottom-imports-bottom",
       severity: "error",
       comment:
-        "api/, lib/ and styles/ are the bottom layer: they import only each other, never " +
+        "api/, i18n/, lib/ and styles/ are the bottom layer: they import only each other, never " +
         "components/, session/, live/, nav/, the pages or the app.",
       from: { path: BOTTOM },
       to: { path: SRC, pathNot: [BOTTOM, TEST_SUPPORT] },

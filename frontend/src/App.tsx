@@ -2,16 +2,18 @@ import type { ReactNode } from "react";
 import { Link, Navigate, Route, Routes } from "react-router";
 
 import { FaultBanner } from "./components/FaultBanner";
+import { useTranslation } from "./i18n";
 import { NodeLayout, NodeTabElement } from "./nav/NodeLayout";
 import { NODE_TABS, TOP_PAGES } from "./nav/routes";
 import { Sidebar } from "./nav/Sidebar";
 
 function NotFound(): ReactNode {
+  const { t } = useTranslation();
   return (
     <section className="page">
-      <h1>Page not found</h1>
+      <h1>{t("nav.notFound")}</h1>
       <p>
-        <Link to="/">Back to the network</Link>
+        <Link to="/">{t("nav.backToNetwork")}</Link>
       </p>
     </section>
   );

@@ -2,6 +2,7 @@ import { StrictMode } from "react";
 import { createRoot } from "react-dom/client";
 import { BrowserRouter } from "react-router";
 
+import "./i18n"; // the language is chosen before the first render
 import { App } from "./App";
 import { LiveProvider } from "./live/LiveProvider";
 import { SessionGate } from "./session/SessionGate";

@@ -1,5 +1,6 @@
 // One error type for every failed API call, built from the backend's single error shape
 // (docs/api.md, "Errors"): {error: kind, message, abort_code?, ...}.
+import { i18n } from "../i18n";
 
 export type ApiErrorKind =
   | "sdo_abort"
@@ -141,11 +142,16 @@ export function toApiError(status: number, body: unknown, statusText = ""): ApiE
 export function asApiError(error: unknown): ApiError {
   if (error instanceof ApiError) return error;
   if (error instanceof DOMException && error.name === "AbortError") {
-    return new ApiError(0, "network", "Request cancelled", null);
+    return new ApiError(0, "network", i18n.t("errors.cancelled"), null);
   }
   if (error instanceof Error) {
     // fetch rejects with a TypeError when the server is unreachable.
-    return new ApiError(0, "network", `Server unreachable: ${error.message}`, null);
+    return new ApiError(
+      0,
+      "network",
+      i18n.t("errors.unreachable", { reason: error.message }),
+      null,
+    );
   }
   return new ApiError(0, "error", String(error), null);
 }

@@ -2,6 +2,7 @@ import { useEffect, type ReactNode } from "react";
 
 import { api, call } from "../api/client";
 import type { components } from "../api/schema";
+import { i18n, useTranslation } from "../i18n";
 import { formatBytes } from "../lib/format";
 import { useApi } from "../lib/useApi";
 
@@ -14,30 +15,34 @@ const NEARLY = 0.9; // of a quota: say so before the oldest start to go
 /** Words for what the data directory holds (pure, table-tested). `warn`: the user should act
  * (the quota is nearly used up, or the disk is nearly full and captures would end). */
 export function usageWords(data: Usage, kind?: UsageKind): { text: string; warn: boolean } {
-  const free = `${formatBytes(data.free_bytes)} free on the disk`;
+  const free = i18n.t("usage.free", { size: formatBytes(data.free_bytes) });
   const lowDisk = data.free_bytes < 2 * data.min_free_bytes;
   const diskNote = lowDisk
-    ? `; below ${formatBytes(data.min_free_bytes)} free, captures end to leave room for the audit log`
+    ? i18n.t("usage.lowDisk", { size: formatBytes(data.min_free_bytes) })
     : "";
   if (kind === undefined) {
-    const parts = [
-      `decoded logs ${formatBytes(data.logs_bytes)}`,
-      `captures ${formatBytes(data.captures_bytes)}`,
-      `recordings ${formatBytes(data.recordings_bytes)}`,
-    ].join(", ");
+    const parts = i18n.t("usage.parts", {
+      logs: formatBytes(data.logs_bytes),
+      captures: formatBytes(data.captures_bytes),
+      recordings: formatBytes(data.recordings_bytes),
+    });
     return {
-      text: `Data directory: ${formatBytes(data.total_bytes)} (${parts}) · ${free}${diskNote}`,
+      text: i18n.t("usage.total", {
+        total: formatBytes(data.total_bytes),
+        parts,
+        free,
+        lowDisk: diskNote,
+      }),
       warn: lowDisk,
     };
   }
-  const [label, used, keep] =
+  const [used, keep] =
     kind === "logs"
-      ? ["Decoded logs", data.logs_bytes, data.logs_keep_bytes]
-      : ["Captures", data.captures_bytes, data.captures_keep_bytes];
+      ? [data.logs_bytes, data.logs_keep_bytes]
+      : [data.captures_bytes, data.captures_keep_bytes];
+  const values = { used: formatBytes(used), keep: formatBytes(keep), free, lowDisk: diskNote };
   return {
-    text:
-      `${label} take ${formatBytes(used)} of the ${formatBytes(keep)} kept; ` +
-      `beyond that the oldest are deleted · ${free}${diskNote}`,
+    text: kind === "logs" ? i18n.t("usage.logs", values) : i18n.t("usage.captures", values),
     warn: used >= NEARLY * keep || lowDisk,
   };
 }
@@ -53,6 +58,7 @@ export function DataUsageLine({
   version?: number;
   pollMs?: number;
 }): ReactNode {
+  useTranslation(); // the words are built below: re-render on a language switch
   const health = useApi((signal) => call(api.GET("/api/health", { signal })), `usage-${version}`);
   const { reload } = health;
   useEffect(() => {

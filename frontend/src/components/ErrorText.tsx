@@ -2,6 +2,7 @@ import { useState, type ReactNode } from "react";
 
 import { api, call } from "../api/client";
 import { asApiError, type ApiError } from "../api/errors";
+import { useTranslation } from "../i18n";
 import { useMay } from "../session/context";
 
 /** An error shown where it happened; SDO aborts read "0x06010002 — Attempt to write …".
@@ -31,6 +32,7 @@ export function ErrorText({
 }
 
 function StartButton({ node, onDone }: { node: number; onDone?: () => void }): ReactNode {
+  const { t } = useTranslation();
   const configure = useMay("configure");
   const [busy, setBusy] = useState(false);
   const [failed, setFailed] = useState<string | null>(null);
@@ -60,9 +62,9 @@ function StartButton({ node, onDone }: { node: number; onDone?: () => void }): R
         type="button"
         className="small"
         onClick={() => void preOperational()}
-        {...configure.gate("change the node's NMT state", { disabled: busy })}
+        {...configure.gate(t("nmt.gateChangeState"), { disabled: busy })}
       >
-        Set node {node} Pre-operational
+        {t("nmt.setPreOperational", { node })}
       </button>
       {failed && <span className="error-text small"> {failed}</span>}
     </>

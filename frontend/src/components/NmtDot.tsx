@@ -1,18 +1,21 @@
 import type { ReactNode } from "react";
 
 import type { NmtStateName } from "../api/types";
+import { useTranslation, type MessageKey } from "../i18n";
 
-export const NMT_LABELS: Readonly<Record<NmtStateName, string>> = {
-  operational: "Operational",
-  "pre-operational": "Pre-operational",
-  stopped: "Stopped",
-  initialising: "Initialising",
-  unknown: "Unknown",
+export const NMT_LABELS: Readonly<Record<NmtStateName, MessageKey>> = {
+  operational: "nmt.state.operational",
+  "pre-operational": "nmt.state.preOperational",
+  stopped: "nmt.state.stopped",
+  initialising: "nmt.state.initialising",
+  unknown: "nmt.state.unknown",
 };
 
 /** Colored dot for a node's NMT state; the state's name is its accessible label. */
 export function NmtDot({ state, online }: { state: NmtStateName; online: boolean }): ReactNode {
-  const label = online ? NMT_LABELS[state] : `Offline (${NMT_LABELS[state]})`;
+  const { t } = useTranslation();
+  const name = t(NMT_LABELS[state]);
+  const label = online ? name : t("nmt.offline", { state: name });
   return (
     <span
       className={`dot nmt-${online ? state : "offline"}`}
@@ -24,9 +27,11 @@ export function NmtDot({ state, online }: { state: NmtStateName; online: boolean
 }
 
 export function NmtBadge({ state, online }: { state: NmtStateName; online: boolean }): ReactNode {
+  const { t } = useTranslation();
+  const name = t(NMT_LABELS[state]);
   return (
     <span className={`badge nmt-${online ? state : "offline"}`}>
-      {online ? NMT_LABELS[state] : `Offline · ${NMT_LABELS[state]}`}
+      {online ? name : t("nmt.offlineBadge", { state: name })}
     </span>
   );
 }

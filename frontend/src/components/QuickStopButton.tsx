@@ -2,6 +2,7 @@ import { useState, type ReactNode } from "react";
 
 import type { DriveState, QuickStopResult } from "../api/drive";
 import { driveAction, quickStopAll } from "../api/driveApi";
+import { i18n, useTranslation } from "../i18n";
 import { useAction } from "../lib/useApi";
 import { ErrorText } from "./ErrorText";
 
@@ -16,6 +17,7 @@ export function QuickStopButton({
   onStopped?: (state: DriveState) => void;
   compact?: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   const stop = useAction(async () => {
     const state = await driveAction(node, "quick-stop");
     onStopped?.(state);
@@ -25,11 +27,11 @@ export function QuickStopButton({
       <button
         type="button"
         className={compact ? "quick-stop small" : "quick-stop"}
-        aria-label={`Quick stop node ${node}`}
-        title="Quick stop (controlword 0002h): brake on the quick-stop ramp now"
+        aria-label={t("quickStop.nodeLabel", { node })}
+        title={t("quickStop.title")}
         onClick={() => void stop.run()}
       >
-        {compact ? "Quick stop" : "■ Quick stop"}
+        {t(compact ? "quickStop.buttonCompact" : "quickStop.button")}
       </button>
       <ErrorText error={stop.error} inline />
     </span>
@@ -38,16 +40,24 @@ export function QuickStopButton({
 
 /** "Stopped nodes 1, 3; not reached: node 2 (timeout)". */
 export function quickStopSummary(result: QuickStopResult): string {
+  const separator = i18n.t("common.listSeparator");
   const failed = Object.entries(result.failed);
   const stopped = result.stopped.length
-    ? `Stopped node${result.stopped.length === 1 ? "" : "s"} ${result.stopped.join(", ")}`
-    : "No drive to stop";
+    ? i18n.t("quickStop.stopped", {
+        count: result.stopped.length,
+        nodes: result.stopped.join(separator),
+      })
+    : i18n.t("quickStop.none");
   if (!failed.length) return stopped;
-  return `${stopped}; not reached: ${failed.map(([n, why]) => `node ${n} (${why})`).join(", ")}`;
+  const notReached = failed
+    .map(([node, reason]) => i18n.t("quickStop.failedNode", { node, reason }))
+    .join(separator);
+  return i18n.t("quickStop.withFailed", { stopped, failed: notReached });
 }
 
 /** The Network page's "Quick stop all": every known drive at once. */
 export function QuickStopAllButton(): ReactNode {
+  const { t } = useTranslation();
   const [result, setResult] = useState<QuickStopResult | null>(null);
   const stop = useAction(async () => {
     setResult(null);
@@ -58,10 +68,10 @@ export function QuickStopAllButton(): ReactNode {
       <button
         type="button"
         className="quick-stop"
-        title="Quick stop every drive on the bus"
+        title={t("quickStop.allTitle")}
         onClick={() => void stop.run()}
       >
-        ■ Quick stop all
+        {t("quickStop.all")}
       </button>
       {result && (
         <span

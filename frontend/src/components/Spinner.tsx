@@ -1,5 +1,8 @@
 import type { ReactNode } from "react";
 
-export function Spinner({ label = "Working" }: { label?: string }): ReactNode {
-  return <span className="spinner" role="status" aria-label={label} />;
+import { useTranslation } from "../i18n";
+
+export function Spinner({ label }: { label?: string }): ReactNode {
+  const { t } = useTranslation();
+  return <span className="spinner" role="status" aria-label={label ?? t("common.working")} />;
 }

@@ -3,14 +3,22 @@
 import type { ReactNode } from "react";
 
 import type { RecordStatus, StepStatus } from "../api/commission";
+import { useTranslation, type MessageKey } from "../i18n";
 
-const STEP_STATUS_TEXT: Record<StepStatus, string> = {
-  to_do: "To do",
-  done: "Done",
-  failed: "Failed",
-  skipped: "Skipped",
+const STEP_STATUS: Record<StepStatus, MessageKey> = {
+  to_do: "status.step.toDo",
+  done: "status.step.done",
+  failed: "status.step.failed",
+  skipped: "status.step.skipped",
 };
 
+const RECORD_STATUS: Record<RecordStatus, MessageKey> = {
+  in_progress: "status.record.inProgress",
+  done: "status.record.done",
+  failed: "status.record.failed",
+};
+
+/** English words for the Commission tab's record line (that page is not translated yet). */
 export const RECORD_STATUS_TEXT: Record<RecordStatus, string> = {
   in_progress: "In progress",
   done: "Done",
@@ -19,10 +27,12 @@ export const RECORD_STATUS_TEXT: Record<RecordStatus, string> = {
 
 /** A step's status: to do / done / failed / skipped. */
 export function StepChip({ status }: { status: StepStatus }): ReactNode {
-  return <span className={`badge step-${status}`}>{STEP_STATUS_TEXT[status]}</span>;
+  const { t } = useTranslation();
+  return <span className={`badge step-${status}`}>{t(STEP_STATUS[status])}</span>;
 }
 
 /** A record's overall status: in progress / done / failed. */
 export function RecordChip({ status }: { status: RecordStatus }): ReactNode {
-  return <span className={`badge record-${status}`}>{RECORD_STATUS_TEXT[status]}</span>;
+  const { t } = useTranslation();
+  return <span className={`badge record-${status}`}>{t(RECORD_STATUS[status])}</span>;
 }

@@ -1,5 +1,6 @@
 // Small display helpers shared by the pages.
 import type { NodeInfo } from "../api/types";
+import { currentLocale, i18n } from "../i18n";
 
 /** 0x0000_02A0-style hex of an identity number; "—" when unknown. */
 export function hex(value: number | null | undefined, digits = 8): string {
@@ -33,6 +34,11 @@ export function formatClock(unixSeconds: number): string {
   const date = new Date(unixSeconds * 1000);
   const pad = (n: number, w = 2): string => String(n).padStart(w, "0");
   return `${pad(date.getHours())}:${pad(date.getMinutes())}:${pad(date.getSeconds())}.${pad(date.getMilliseconds(), 3)}`;
+}
+
+/** A count with the language's digit grouping: "1,234". */
+export function formatCount(value: number): string {
+  return value.toLocaleString(currentLocale());
 }
 
 export function formatValue(value: number | string | null | undefined): string {
@@ -90,6 +96,6 @@ export function formatRate(value: number | null | undefined): string {
 
 /** "1 · MDi-S1-C · DVS_CANOPEN": id, profile, the drive's own name (1008h). */
 export function nodeTitle(node: number, info: NodeInfo | undefined): string {
-  if (!info) return `${node} · unknown node`;
+  if (!info) return i18n.t("format.unknownNode", { node });
   return [String(node), info.profile_label, info.name].filter(Boolean).join(" · ");
 }

@@ -2,6 +2,7 @@ import type { ComponentType, ReactNode } from "react";
 import { NavLink, Outlet, useParams } from "react-router";
 
 import { NmtBadge } from "../components/NmtDot";
+import { useTranslation } from "../i18n";
 import { nodeTitle } from "../lib/format";
 import { useLive } from "../live/context";
 import { nodeUrl } from "./paths";
@@ -15,14 +16,15 @@ export function parseNodeId(text: string | undefined): number | null {
 
 /** Header with the node's name and live state, the tab bar, and the selected tab below. */
 export function NodeLayout(): ReactNode {
+  const { t } = useTranslation();
   const node = parseNodeId(useParams().node);
   const info = useLive((s) => s.infos.find((i) => i.node === node));
   const live = useLive((s) => (node === null ? undefined : s.nodes[node]));
   if (node === null) {
     return (
       <section className="page">
-        <h1>Unknown node</h1>
-        <p>Node ids run from 1 to 127.</p>
+        <h1>{t("nav.unknownNode")}</h1>
+        <p>{t("nav.nodeRange")}</p>
       </section>
     );
   }
@@ -36,14 +38,16 @@ export function NodeLayout(): ReactNode {
         />
         {info && (
           <span className="muted small">
-            Dictionary: {info.od_source === "upload" ? "imported" : "profile"} {info.od_filename}
+            {t(info.od_source === "upload" ? "nav.dictionaryImported" : "nav.dictionaryProfile", {
+              file: info.od_filename,
+            })}
           </span>
         )}
       </header>
-      <nav className="tabs" aria-label="Node pages">
+      <nav className="tabs" aria-label={t("nav.nodePages")}>
         {NODE_TABS.map((tab) => (
           <NavLink key={tab.path} to={nodeUrl(node, tab.path)} className="tab">
-            {tab.label}
+            {t(tab.labelKey)}
           </NavLink>
         ))}
       </nav>

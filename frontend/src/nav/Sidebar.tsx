@@ -2,7 +2,9 @@ import { memo, type ReactNode } from "react";
 import { NavLink, useLocation } from "react-router";
 
 import type { NodeInfo } from "../api/types";
+import { LanguageSelect } from "../components/LanguageSelect";
 import { NmtDot } from "../components/NmtDot";
+import { useTranslation, type MessageKey } from "../i18n";
 import { nodeTitle } from "../lib/format";
 import { useLive } from "../live/context";
 import type { LinkStatus } from "../live/store";
@@ -11,10 +13,11 @@ import { nodeUrl } from "./paths";
 import { NODE_TABS, TOP_PAGES, type TopPage } from "./routes";
 
 function TopLink({ page }: { page: TopPage }): ReactNode {
+  const { t } = useTranslation();
   return (
     <li>
       <NavLink to={page.path} end className="nav-link">
-        {page.label}
+        {t(page.labelKey)}
       </NavLink>
     </li>
   );
@@ -29,6 +32,7 @@ const NodeEntry = memo(function NodeEntry({
   node: number;
   info: NodeInfo | undefined;
 }): ReactNode {
+  const { t } = useTranslation(); // memo: the language is not a prop, so subscribe here
   const live = useLive((s) => s.nodes[node]);
   const { pathname } = useLocation();
   const active = pathname.startsWith(`/nodes/${node}/`);
@@ -51,7 +55,7 @@ const NodeEntry = memo(function NodeEntry({
           {NODE_TABS.map((tab) => (
             <li key={tab.path}>
               <NavLink to={nodeUrl(node, tab.path)} className="nav-link sub">
-                {tab.label}
+                {t(tab.labelKey)}
               </NavLink>
             </li>
           ))}
@@ -61,36 +65,39 @@ const NodeEntry = memo(function NodeEntry({
   );
 });
 
-function linkText(link: LinkStatus): string {
+function linkText(link: LinkStatus): { key: MessageKey; attempt?: number } {
   switch (link.state) {
     case "open":
-      return "Live: connected";
+      return { key: "live.connected" };
     case "connecting":
       return link.attempt > 0
-        ? `Live: reconnecting (try ${link.attempt + 1})`
-        : "Live: connecting…";
+        ? { key: "live.reconnecting", attempt: link.attempt + 1 }
+        : { key: "live.connecting" };
     case "closed":
-      return link.retryAt ? "Live: disconnected, retrying" : "Live: disconnected";
+      return { key: link.retryAt ? "live.retrying" : "live.disconnected" };
   }
 }
 
 function LinkIndicator(): ReactNode {
+  const { t } = useTranslation();
   const link = useLive((s) => s.link);
+  const { key, attempt } = linkText(link);
   return (
     <p className={`live-link live-${link.state}`} role="status" aria-live="polite">
       <span className="dot" aria-hidden="true" />
-      {linkText(link)}
+      {t(key, { attempt })}
     </p>
   );
 }
 
 export function Sidebar(): ReactNode {
+  const { t } = useTranslation();
   const infos = useLive((s) => s.infos);
   const liveIds = useLive((s) => s.liveIds);
   const byId = new Map(infos.map((i) => [i.node, i]));
   const ids = [...new Set([...byId.keys(), ...liveIds])].sort((a, b) => a - b);
   return (
-    <nav className="sidebar" aria-label="Main">
+    <nav className="sidebar" aria-label={t("nav.main")}>
       <div className="brand">
         <span className="brand-mark" aria-hidden="true">
           ◎
@@ -102,11 +109,11 @@ export function Sidebar(): ReactNode {
           <TopLink key={page.path} page={page} />
         ))}
       </ul>
-      <h2 className="nav-heading">Nodes</h2>
+      <h2 className="nav-heading">{t("nav.nodes")}</h2>
       {ids.length === 0 ? (
-        <p className="nav-empty">No nodes yet: connect and scan on the Network page.</p>
+        <p className="nav-empty">{t("nav.noNodes")}</p>
       ) : (
-        <ul className="nav-list" aria-label="Nodes">
+        <ul className="nav-list" aria-label={t("nav.nodes")}>
           {ids.map((id) => (
             <NodeEntry key={id} node={id} info={byId.get(id)} />
           ))}
@@ -119,6 +126,7 @@ export function Sidebar(): ReactNode {
       </ul>
       <LinkIndicator />
       <SessionBadge />
+      <LanguageSelect className="sidebar-language" />
     </nav>
   );
 }

@@ -4,6 +4,7 @@
 // to another through nav/paths.ts (.dependency-cruiser.cjs holds the layers).
 import type { ComponentType } from "react";
 
+import type { MessageKey } from "../i18n";
 import { AuditPage } from "../pages/audit/AuditPage";
 import { CommissionPage } from "../pages/commission/CommissionPage";
 import { DrivePage } from "../pages/drive/DrivePage";
@@ -20,7 +21,8 @@ import { FIRST_NODE_TAB } from "./paths";
 export interface TopPage {
   /** Absolute URL path. */
   path: string;
-  label: string;
+  /** Catalogue key of the page's name. */
+  labelKey: MessageKey;
   /** Where the sidebar lists it: above or below the per-node entries. */
   placement: "before-nodes" | "after-nodes";
   Component: ComponentType;
@@ -29,23 +31,24 @@ export interface TopPage {
 export interface NodeTab {
   /** Path under /nodes/:node/. */
   path: string;
-  label: string;
+  /** Catalogue key of the tab's name. */
+  labelKey: MessageKey;
   Component: ComponentType<{ node: number }>;
 }
 
 export const TOP_PAGES: readonly TopPage[] = [
-  { path: "/", label: "Network", placement: "before-nodes", Component: NetworkPage },
-  { path: "/scope", label: "Scope", placement: "after-nodes", Component: ScopePage },
-  { path: "/logs", label: "Logs", placement: "after-nodes", Component: LogsPage },
-  { path: "/audit", label: "Audit", placement: "after-nodes", Component: AuditPage },
-  { path: "/tools", label: "Tools", placement: "after-nodes", Component: ToolsPage },
+  { path: "/", labelKey: "nav.network", placement: "before-nodes", Component: NetworkPage },
+  { path: "/scope", labelKey: "nav.scope", placement: "after-nodes", Component: ScopePage },
+  { path: "/logs", labelKey: "nav.logs", placement: "after-nodes", Component: LogsPage },
+  { path: "/audit", labelKey: "nav.audit", placement: "after-nodes", Component: AuditPage },
+  { path: "/tools", labelKey: "nav.tools", placement: "after-nodes", Component: ToolsPage },
 ];
 
 export const NODE_TABS: readonly NodeTab[] = [
-  { path: FIRST_NODE_TAB, label: "Parameters", Component: ParamsPage },
-  { path: "od", label: "Object dictionary", Component: OdPage },
-  { path: "pdos", label: "PDOs", Component: PdoPage },
-  { path: "drive", label: "Drive", Component: DrivePage },
-  { path: "faults", label: "Faults", Component: FaultsPage },
-  { path: "commission", label: "Commission", Component: CommissionPage },
+  { path: FIRST_NODE_TAB, labelKey: "nav.parameters", Component: ParamsPage },
+  { path: "od", labelKey: "nav.od", Component: OdPage },
+  { path: "pdos", labelKey: "nav.pdos", Component: PdoPage },
+  { path: "drive", labelKey: "nav.drive", Component: DrivePage },
+  { path: "faults", labelKey: "nav.faults", Component: FaultsPage },
+  { path: "commission", labelKey: "nav.commission", Component: CommissionPage },
 ];

@@ -1,6 +1,8 @@
 import { useId, useState, type SubmitEvent, type ReactNode } from "react";
 
 import type { ApiError } from "../api/errors";
+import { LanguageSelect } from "../components/LanguageSelect";
+import { i18n, useTranslation } from "../i18n";
 import { useAction } from "../lib/useApi";
 import { logIn } from "./sessionApi";
 import type { SessionInfo } from "./types";
@@ -9,10 +11,9 @@ import type { SessionInfo } from "./types";
 export function loginErrorText(error: ApiError): string {
   if (error.kind === "rate_limited") {
     const wait = error.retryAfterS ?? 60;
-    return `Too many login attempts. Wait ${wait} s before trying again.`;
+    return i18n.t("session.login.rateLimited", { seconds: wait });
   }
-  if (error.status === 401)
-    return "Wrong token: the server does not know it. Check it and try again.";
+  if (error.status === 401) return i18n.t("session.login.wrongToken");
   return error.describe();
 }
 
@@ -23,6 +24,7 @@ export function LoginScreen({
 }: {
   onLoggedIn: (info: SessionInfo) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const [token, setToken] = useState("");
   const login = useAction(async (value: string) => {
@@ -43,12 +45,9 @@ export function LoginScreen({
           </span>
           ServoDesk
         </div>
-        <h1 id={`${id}-title`}>Log in</h1>
-        <p className="muted">
-          This server asks for an access token. Your token decides what you may do: view, operate
-          the drives, or change their configuration.
-        </p>
-        <label htmlFor={`${id}-token`}>Access token</label>
+        <h1 id={`${id}-title`}>{t("session.login.title")}</h1>
+        <p className="muted">{t("session.login.intro")}</p>
+        <label htmlFor={`${id}-token`}>{t("session.login.token")}</label>
         <input
           id={`${id}-token`}
           type="password"
@@ -67,9 +66,10 @@ export function LoginScreen({
         )}
         <div className="button-row">
           <button type="submit" className="primary" disabled={login.busy || !token.trim()}>
-            Log in
+            {t("session.login.submit")}
           </button>
         </div>
+        <LanguageSelect className="login-language" />
       </form>
     </div>
   );

@@ -3,6 +3,7 @@ import { useCallback, useEffect, useMemo, useState, type ReactNode } from "react
 import { asApiError, onUnauthorized, type ApiError } from "../api/errors";
 import { ErrorText } from "../components/ErrorText";
 import { Spinner } from "../components/Spinner";
+import { useTranslation } from "../i18n";
 import { SessionContext, type SessionControl } from "./context";
 import { LoginScreen } from "./LoginScreen";
 import { fetchSession, logOut } from "./sessionApi";
@@ -21,6 +22,7 @@ type GateState =
  * socket, mounts only with a session: a fresh login starts a fresh connection.
  */
 export function SessionGate({ children }: { children: ReactNode }): ReactNode {
+  const { t } = useTranslation();
   const [state, setState] = useState<GateState>({ status: "loading" });
   const [nonce, setNonce] = useState(0);
 
@@ -61,7 +63,7 @@ export function SessionGate({ children }: { children: ReactNode }): ReactNode {
     case "loading":
       return (
         <div className="session-screen">
-          <Spinner label="Connecting to ServoDesk" />
+          <Spinner label={t("session.connecting")} />
         </div>
       );
     case "failed":
@@ -71,7 +73,7 @@ export function SessionGate({ children }: { children: ReactNode }): ReactNode {
             <h1>ServoDesk</h1>
             <ErrorText error={state.error} />
             <button type="button" onClick={recheck}>
-              Try again
+              {t("session.tryAgain")}
             </button>
           </div>
         </div>

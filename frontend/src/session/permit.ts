@@ -1,5 +1,6 @@
 // Which controls a role may use, and the words for why not. The server enforces the same
 // rules (403); the app disables what would be refused and says so in the control's title.
+import { i18n, type MessageKey } from "../i18n";
 import type { Permission, Role, SessionInfo } from "./types";
 
 /** Everyone on a server without tokens: the loopback default. */
@@ -13,7 +14,7 @@ export const LOCAL_SESSION: SessionInfo = {
 export interface Permit {
   allowed: boolean;
   /** The reason a control is off, e.g. "Viewer role: read only — log in as …"; undefined when
-   * allowed. `doing` finishes the sentence: "enable the drive". */
+   * allowed. `doing` finishes the sentence, in the current language: "enable the drive". */
   because: (doing: string) => string | undefined;
   /** `disabled` and `title` for a control: off with the reason when not allowed, otherwise the
    * control's own state and title. */
@@ -23,21 +24,27 @@ export interface Permit {
   ) => { disabled: boolean; title: string | undefined };
 }
 
-const ROLE_LABEL: Record<Role, string> = {
-  viewer: "Viewer role: read only",
-  operator: "Operator role: runs the drives but does not change their configuration",
-  engineer: "Engineer role",
+const ROLE_LIMIT: Record<Role, MessageKey> = {
+  viewer: "session.roleLimit.viewer",
+  operator: "session.roleLimit.operator",
+  engineer: "session.roleLimit.engineer",
 };
 
-const WHO_MAY: Record<Permission, string> = {
-  operate: "an operator or engineer",
-  configure: "an engineer",
+const WHO_MAY: Record<Permission, MessageKey> = {
+  operate: "session.whoMay.operate",
+  configure: "session.whoMay.configure",
 };
 
 export function permit(session: SessionInfo, need: Permission): Permit {
   const allowed = session.may[need];
   const because = (doing: string): string | undefined =>
-    allowed ? undefined : `${ROLE_LABEL[session.role]} — log in as ${WHO_MAY[need]} to ${doing}`;
+    allowed
+      ? undefined
+      : i18n.t("session.because", {
+          role: i18n.t(ROLE_LIMIT[session.role]),
+          who: i18n.t(WHO_MAY[need]),
+          doing,
+        });
   return {
     allowed,
     because,

@@ -1,6 +1,7 @@
 import type { ReactNode } from "react";
 
 import { api, call } from "../../api/client";
+import { useTranslation } from "../../i18n";
 import { formatClock } from "../../lib/format";
 import { useApi } from "../../lib/useApi";
 import { useLive } from "../../live/context";
@@ -9,6 +10,7 @@ import { useLive } from "../../live/context";
  * say so, with the last boot-up ServoDesk knows of (another bus, an earlier run). Read again
  * when the node list changes (a boot-up adds a node). */
 export function BootUpNote(): ReactNode {
+  const { t } = useTranslation();
   const nodes = useLive((s) => s.infos.length);
   const boots = useApi(async (signal) => {
     const mine = await call(
@@ -25,14 +27,16 @@ export function BootUpNote(): ReactNode {
   }, `boot-up-note-${nodes}`);
   if (nodes === 0 || !boots.data) return null;
   const last = boots.data.last;
+  const text = last
+    ? t(last.bus ? "network.bootUp.lastOnBus" : "network.bootUp.last", {
+        node: String(last.node ?? "?"),
+        time: formatClock(last.time),
+        bus: last.bus,
+      })
+    : t("network.bootUp.none");
   return (
-    <p className="muted small" role="note" aria-label="No boot-up seen">
-      No boot-up on this bus since ServoDesk started listening: the drives booted before it.
-      {last
-        ? ` The last boot-up ServoDesk knows of: node ${String(last.node ?? "?")} at ${formatClock(
-            last.time,
-          )}${last.bus ? ` (${last.bus})` : ""}.`
-        : ""}
+    <p className="muted small" role="note" aria-label={t("network.bootUp.label")}>
+      {text}
     </p>
   );
 }

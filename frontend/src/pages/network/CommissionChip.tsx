@@ -2,6 +2,7 @@ import type { ReactNode } from "react";
 import { Link } from "react-router";
 
 import { RecordChip } from "../../components/StatusChip";
+import { useTranslation } from "../../i18n";
 import { nodeUrl } from "../../nav/paths";
 import type { LatestRecord } from "./latestRecords";
 
@@ -13,10 +14,11 @@ export function CommissionChip({
   node: number;
   latest: LatestRecord | null | undefined;
 }): ReactNode {
+  const { t } = useTranslation();
   if (latest === undefined) return <span className="muted">…</span>;
   if (latest === null) {
     return (
-      <Link to={nodeUrl(node, "commission")} aria-label={`Commission node ${node}: no record yet`}>
+      <Link to={nodeUrl(node, "commission")} aria-label={t("network.commission.none", { node })}>
         —
       </Link>
     );
@@ -25,8 +27,12 @@ export function CommissionChip({
     <Link
       to={nodeUrl(node, "commission")}
       className="commission-chip"
-      aria-label={`Commissioning of node ${node}: record #${latest.id}`}
-      title={`Record #${latest.id}${latest.title ? ` ${latest.title}` : ""}: open the Commission page`}
+      aria-label={t("network.commission.label", { node, id: latest.id })}
+      title={
+        latest.title
+          ? t("network.commission.titleNamed", { id: latest.id, title: latest.title })
+          : t("network.commission.title", { id: latest.id })
+      }
     >
       <RecordChip status={latest.status} />
     </Link>

@@ -4,6 +4,7 @@ import { api, call } from "../../api/client";
 import type { BusConfig, BusStatus } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { formatBitrate } from "../../lib/format";
 import { useAction, useApi } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
@@ -24,6 +25,7 @@ export function ConnectForm({
   bus: BusStatus | null;
   onConnected: () => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const ids = {
     iface: useId(),
     channel: useId(),
@@ -63,7 +65,7 @@ export function ConnectForm({
     setFormError(null);
     const bitrate = rateChoice === CUSTOM ? Number(customRate) : Number(rateChoice);
     if (!Number.isInteger(bitrate) || bitrate < 1000 || bitrate > 1_000_000) {
-      setFormError("Bitrate: a whole number of bit/s between 1000 and 1000000");
+      setFormError(t("network.connect.badBitrate"));
       return;
     }
     if (simulated) {
@@ -71,7 +73,7 @@ export function ConnectForm({
       return;
     }
     if (!chosen) {
-      setFormError("Choose an interface");
+      setFormError(t("network.connect.chooseInterface"));
       return;
     }
     const options = parseBusOptions(optionsText);
@@ -80,7 +82,12 @@ export function ConnectForm({
       return;
     }
     if (chosen.needs_channel && !channel.trim()) {
-      setFormError(`${chosen.label} needs a channel (e.g. ${chosen.example_channel})`);
+      setFormError(
+        t("network.connect.needsChannel", {
+          interface: chosen.label,
+          example: chosen.example_channel,
+        }),
+      );
       return;
     }
     void connect.run({
@@ -93,26 +100,21 @@ export function ConnectForm({
   }
 
   return (
-    <form className="connect-form" onSubmit={submit} aria-label="Connect">
-      <h3>Connect</h3>
+    <form className="connect-form" onSubmit={submit} aria-label={t("network.connect.heading")}>
+      <h3>{t("network.connect.heading")}</h3>
       <label className="check">
         <input
           type="checkbox"
           checked={simulated}
           onChange={(e) => setSimulated(e.target.checked)}
         />
-        Simulated drives
+        {t("network.connect.simulated")}
       </label>
-      {simulated && (
-        <p className="muted small">
-          The built-in drives (node 1 MDi-S1-C, node 2 Kinco, node 3 CiA 402) on a virtual bus
-          inside ServoDesk: no adapter, interface or channel.
-        </p>
-      )}
+      {simulated && <p className="muted small">{t("network.connect.simulatedNote")}</p>}
       <div className="form-grid">
         {!simulated && (
           <>
-            <label htmlFor={ids.iface}>Interface</label>
+            <label htmlFor={ids.iface}>{t("network.connect.interface")}</label>
             <select
               id={ids.iface}
               value={chosen?.name ?? ""}
@@ -124,7 +126,7 @@ export function ConnectForm({
                 </option>
               ))}
             </select>
-            <label htmlFor={ids.channel}>Channel</label>
+            <label htmlFor={ids.channel}>{t("network.connect.channel")}</label>
             <input
               id={ids.channel}
               value={channel}
@@ -133,7 +135,7 @@ export function ConnectForm({
             />
           </>
         )}
-        <label htmlFor={ids.bitrate}>Bitrate</label>
+        <label htmlFor={ids.bitrate}>{t("network.connect.bitrate")}</label>
         <span className="inline">
           <select
             id={ids.bitrate}
@@ -145,14 +147,14 @@ export function ConnectForm({
                 {formatBitrate(rate)}
               </option>
             ))}
-            <option value={CUSTOM}>Custom…</option>
+            <option value={CUSTOM}>{t("network.connect.custom")}</option>
           </select>
           {rateChoice === CUSTOM && (
             <input
               id={ids.custom}
               className="narrow"
               inputMode="numeric"
-              aria-label="Custom bitrate (bit/s)"
+              aria-label={t("network.connect.customLabel")}
               value={customRate}
               placeholder="bit/s"
               onChange={(e) => setCustomRate(e.target.value)}
@@ -161,12 +163,12 @@ export function ConnectForm({
         </span>
         {!simulated && (
           <>
-            <label htmlFor={ids.options}>Options</label>
+            <label htmlFor={ids.options}>{t("network.connect.options")}</label>
             <textarea
               id={ids.options}
               rows={2}
               value={optionsText}
-              placeholder={"key=value per line\nhost=127.0.0.1"}
+              placeholder={t("network.connect.optionsPlaceholder")}
               onChange={(e) => setOptionsText(e.target.value)}
             />
           </>
@@ -176,11 +178,11 @@ export function ConnectForm({
         <button
           type="submit"
           className="primary"
-          {...configure.gate("connect the bus", { disabled: connect.busy })}
+          {...configure.gate(t("network.gate.connect"), { disabled: connect.busy })}
         >
-          Connect
+          {t("network.connect.submit")}
         </button>
-        {connect.busy && <Spinner label="Connecting" />}
+        {connect.busy && <Spinner label={t("network.connect.busy")} />}
       </div>
       <ErrorText error={formError} />
       <ErrorText error={connect.error ?? interfaces.error} />

@@ -2,12 +2,14 @@ import { useState, type SubmitEvent, type ReactNode } from "react";
 
 import { api, call } from "../../api/client";
 import { ErrorText } from "../../components/ErrorText";
+import { useTranslation } from "../../i18n";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 
 /** The node's heartbeat producer time (1017h): read on show, written on Set. Below 10 ms the
  * server asks first (the node alone would put 100+ frames/s on the bus); "Set anyway" confirms. */
 export function HeartbeatEditor({ node }: { node: number }): ReactNode {
+  const { t } = useTranslation();
   const current = useApi(
     (signal) =>
       call(api.GET("/api/nodes/{node}/heartbeat", { params: { path: { node } }, signal })),
@@ -32,7 +34,7 @@ export function HeartbeatEditor({ node }: { node: number }): ReactNode {
     event.preventDefault();
     const value = Number(shown);
     if (!/^\d+$/.test(shown.trim()) || value > 65535) {
-      setInputError("0–65535 ms (0 turns the heartbeat off)");
+      setInputError(t("network.heartbeat.range"));
       return;
     }
     setInputError(null);
@@ -47,20 +49,22 @@ export function HeartbeatEditor({ node }: { node: number }): ReactNode {
       <input
         className="narrow num"
         inputMode="numeric"
-        aria-label={`Heartbeat producer time of node ${node} (ms)`}
+        aria-label={t("network.heartbeat.label", { node })}
         value={shown}
         placeholder={current.loading ? "…" : "—"}
         aria-invalid={error !== null}
-        title={error ?? "Heartbeat producer time (1017h), ms"}
+        title={error ?? t("network.heartbeat.title")}
         onChange={(e) => setText(e.target.value)}
       />
       <span className="unit">ms</span>
       <button
         type="submit"
         className="small"
-        {...configure.gate("change the heartbeat", { disabled: save.busy || text === null })}
+        {...configure.gate(t("network.gate.heartbeat"), {
+          disabled: save.busy || text === null,
+        })}
       >
-        Set
+        {t("network.heartbeat.set")}
       </button>
       {inputError ? (
         <ErrorText error={inputError} inline />
@@ -74,7 +78,7 @@ export function HeartbeatEditor({ node }: { node: number }): ReactNode {
           disabled={save.busy || !configure.allowed}
           onClick={() => void save.run(Number(shown), true)}
         >
-          Set anyway
+          {t("network.heartbeat.setAnyway")}
         </button>
       )}
     </form>

@@ -2,6 +2,7 @@ import { useEffect, type ReactNode } from "react";
 
 import { api, call } from "../../api/client";
 import type { components } from "../../api/schema";
+import { i18n, useTranslation } from "../../i18n";
 import { useApi } from "../../lib/useApi";
 
 type Lag = components["schemas"]["LoopLag"];
@@ -16,15 +17,14 @@ export function lagWords(lag: Lag): { text: string; busy: boolean } {
   const figures = `p50 ${lag.p50_ms.toFixed(1)} ms · p99 ${lag.p99_ms.toFixed(1)} ms · max ${lag.max_ms.toFixed(0)} ms`;
   const busy = lag.p99_ms > LAG_P99_MS || lag.max_ms > LAG_MAX_MS;
   return {
-    text: busy
-      ? `${figures}: the server was busy, stops and keep-alives may have been late`
-      : figures,
+    text: busy ? i18n.t("network.loopLag.busy", { figures }) : figures,
     busy,
   };
 }
 
 /** How late the server's event loop ran over the last minute (GET /api/health, every 5 s). */
 export function LoopLag(): ReactNode {
+  const { t } = useTranslation();
   const health = useApi((signal) => call(api.GET("/api/health", { signal })), "health");
   const { reload } = health;
   useEffect(() => {
@@ -38,9 +38,9 @@ export function LoopLag(): ReactNode {
     <p
       className={words.busy ? "small loop-lag busy" : "small muted loop-lag"}
       data-testid="loop-lag"
-      title={`Event-loop lag over the last ${lag.window_s.toFixed(0)} s (${lag.samples} samples): how late ServoDesk's own timers ran`}
+      title={t("network.loopLag.title", { window: lag.window_s.toFixed(0), count: lag.samples })}
     >
-      Server responsiveness (last minute): {words.text}
+      {t("network.loopLag.line", { text: words.text })}
     </p>
   );
 }

@@ -2,6 +2,7 @@ import { useState, type ReactNode } from "react";
 
 import { api, call } from "../../api/client";
 import type { ScanResult } from "../../api/types";
+import { useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
 import { BusCard } from "./BusCard";
@@ -11,6 +12,7 @@ import { NodesCard } from "./NodesCard";
 
 /** The bus, the nodes on it and what happened recently. */
 export function NetworkPage(): ReactNode {
+  const { t } = useTranslation();
   const store = useLiveStore();
   const [lastScan, setLastScan] = useState<ScanResult | null>(null);
   const commissioning = useLatestRecords();
@@ -23,7 +25,7 @@ export function NetworkPage(): ReactNode {
   return (
     <section className="page network-page">
       <header className="page-header">
-        <h1>Network</h1>
+        <h1>{t("network.title")}</h1>
       </header>
       {/* A fresh connection is scanned straight away: the next thing a user wants is the nodes. */}
       <BusCard onConnected={() => void scan.run()} />

@@ -1,14 +1,15 @@
 import { useRef, type ReactNode } from "react";
 
 import type { NmtCommandName } from "../../api/types";
+import { useTranslation, type MessageKey } from "../../i18n";
 import { useMay } from "../../session/context";
 
-export const NMT_COMMANDS: readonly { command: NmtCommandName; label: string }[] = [
-  { command: "start", label: "Start" },
-  { command: "stop", label: "Stop" },
-  { command: "pre-operational", label: "Pre-op" },
-  { command: "reset-node", label: "Reset node" },
-  { command: "reset-communication", label: "Reset comm" },
+export const NMT_COMMANDS: readonly { command: NmtCommandName; labelKey: MessageKey }[] = [
+  { command: "start", labelKey: "nmt.command.start" },
+  { command: "stop", labelKey: "nmt.command.stop" },
+  { command: "pre-operational", labelKey: "nmt.command.preOperational" },
+  { command: "reset-node", labelKey: "nmt.command.resetNode" },
+  { command: "reset-communication", labelKey: "nmt.command.resetCommunication" },
 ];
 
 interface Props {
@@ -20,9 +21,10 @@ interface Props {
 
 /** A compact dropdown of the five NMT commands (details/summary: keyboard works natively). */
 export function NmtMenu({ label, disabled = false, onCommand }: Props): ReactNode {
+  const { t } = useTranslation();
   const details = useRef<HTMLDetailsElement>(null);
   // NMT changes what the node does on the bus: an engineer's command
-  const gate = useMay("configure").gate("send NMT commands", { disabled });
+  const gate = useMay("configure").gate(t("network.gate.nmt"), { disabled });
   return (
     <details className="menu" ref={details}>
       <summary
@@ -33,7 +35,7 @@ export function NmtMenu({ label, disabled = false, onCommand }: Props): ReactNod
         NMT ▾
       </summary>
       <div className="menu-items" role="group" aria-label={label}>
-        {NMT_COMMANDS.map(({ command, label: text }) => (
+        {NMT_COMMANDS.map(({ command, labelKey }) => (
           <button
             key={command}
             type="button"
@@ -43,7 +45,7 @@ export function NmtMenu({ label, disabled = false, onCommand }: Props): ReactNod
               onCommand(command);
             }}
           >
-            {text}
+            {t(labelKey)}
           </button>
         ))}
       </div>

@@ -8,6 +8,7 @@ import { ErrorText } from "../../components/ErrorText";
 import { NmtBadge, NmtDot } from "../../components/NmtDot";
 import { QuickStopAllButton, QuickStopButton } from "../../components/QuickStopButton";
 import { Spinner } from "../../components/Spinner";
+import { Trans, useTranslation } from "../../i18n";
 import { formatAge, hex } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
@@ -34,16 +35,21 @@ function LiveDot({ info }: { info: NodeInfo }): ReactNode {
 
 /** The error register (1001h) of the node's active EMCY: lit while it is in fault. */
 function ErrorLamp({ info }: { info: NodeInfo }): ReactNode {
+  const { t } = useTranslation();
   const fault = useLive((s) => s.faults[info.node]);
   if (!fault) return null;
   const register = fault.error_register;
-  const bits = register === null || register === undefined ? "" : ` (1001h = ${hex(register, 2)})`;
+  const known = register !== null && register !== undefined;
+  const values = { node: info.node, register: known ? hex(register, 2) : "" };
   return (
     <Link
       to={nodeUrl(info.node, "faults")}
       className="error-lamp"
-      aria-label={`Node ${info.node} in fault${bits}: open its faults`}
-      title={`In fault${bits}`}
+      aria-label={t(known ? "network.nodes.faultLampRegister" : "network.nodes.faultLamp", values)}
+      title={t(
+        known ? "network.nodes.faultLampTitleRegister" : "network.nodes.faultLampTitle",
+        values,
+      )}
     >
       ⚠
     </Link>
@@ -57,6 +63,7 @@ function LiveAge({ info }: { info: NodeInfo }): ReactNode {
 
 /** A node that does not answer: where its drive answers now, if known, and Forget. */
 function GoneNote({ info }: { info: NodeInfo }): ReactNode {
+  const { t } = useTranslation();
   const online = useLive((s) => s.nodes[info.node]?.online ?? info.online);
   const store = useLiveStore();
   const configure = useMay("configure");
@@ -71,21 +78,22 @@ function GoneNote({ info }: { info: NodeInfo }): ReactNode {
   return (
     <span className="block small gone-note">
       {info.moved_to ? (
-        <>
-          Gone: the drive answers as <Link to={nodeUrl(info.moved_to)}>node {info.moved_to}</Link>{" "}
-          now.{" "}
-        </>
+        <Trans
+          i18nKey="network.nodes.goneMoved"
+          values={{ node: info.moved_to }}
+          components={{ node: <Link to={nodeUrl(info.moved_to)} /> }}
+        />
       ) : (
-        "Gone: it does not answer. "
+        t("network.nodes.gone")
       )}
       <button
         type="button"
         className="small"
-        {...configure.gate("forget a node", { disabled: forget.busy })}
-        aria-label={`Forget node ${info.node}`}
+        {...configure.gate(t("network.gate.forget"), { disabled: forget.busy })}
+        aria-label={t("network.nodes.forgetLabel", { node: info.node })}
         onClick={() => void forget.run()}
       >
-        Forget
+        {t("network.nodes.forget")}
       </button>
       {forget.error && <ErrorText error={forget.error} />}
     </span>
@@ -94,6 +102,7 @@ function GoneNote({ info }: { info: NodeInfo }): ReactNode {
 
 /** When no listed node sends a heartbeat, a lost node shows only when it is next asked. */
 function NoHeartbeatHint({ infos }: { infos: readonly NodeInfo[] }): ReactNode {
+  const { t } = useTranslation();
   const live = useLive((s) => s.nodes);
   const online = infos.filter((i) => live[i.node]?.online ?? i.online);
   const beating = online.some(
@@ -101,9 +110,8 @@ function NoHeartbeatHint({ infos }: { infos: readonly NodeInfo[] }): ReactNode {
   );
   if (online.length === 0 || beating) return null;
   return (
-    <p className="muted small" role="note" aria-label="No heartbeats">
-      No node sends a heartbeat (producer time 0), so ServoDesk notices a lost node only when it
-      next asks it something. Set a heartbeat producer time (100 ms is usual) in the column above.
+    <p className="muted small" role="note" aria-label={t("network.nodes.noHeartbeats")}>
+      {t("network.nodes.noHeartbeatsText")}
     </p>
   );
 }
@@ -118,6 +126,7 @@ const NodeRow = memo(function NodeRow({
   /** The node's latest commissioning record; null: none; undefined: not loaded. */
   commission: LatestRecord | null | undefined;
 }): ReactNode {
+  const { t } = useTranslation(); // memo: the language is not a prop, so subscribe here
   const navigate = useNavigate();
   const store = useLiveStore();
   const nmt = useAction(async (command: NmtCommandName) => {
@@ -140,7 +149,7 @@ const NodeRow = memo(function NodeRow({
     <tr className="clickable" onClick={open}>
       <td>
         <LiveDot info={info} />{" "}
-        <Link to={nodeUrl(info.node)} aria-label={`Open node ${info.node}`}>
+        <Link to={nodeUrl(info.node)} aria-label={t("network.nodes.open", { node: info.node })}>
           {info.node}
         </Link>{" "}
         <ErrorLamp info={info} />
@@ -148,22 +157,24 @@ const NodeRow = memo(function NodeRow({
       <td>{info.name ?? "—"}</td>
       <td>{info.profile_label}</td>
       <td className="mono small">
-        <span className="block" title="Vendor ID (1018h:01)">
+        <span className="block" title={t("network.nodes.vendorId")}>
           {hex(info.vendor_id)}
         </span>
-        <span className="block" title="Product code (1018h:02)">
+        <span className="block" title={t("network.nodes.productCode")}>
           {hex(info.product_code)}
         </span>
-        <span className="block muted" title="Revision (1018h:03) and serial number (1018h:04)">
-          rev {hex(info.revision)} · SN {hex(info.serial)}
+        <span className="block muted" title={t("network.nodes.revisionSerialTitle")}>
+          {t("network.nodes.revisionSerial", {
+            revision: hex(info.revision),
+            serial: hex(info.serial),
+          })}
         </span>
         {(info.software_version ?? info.hardware_version) && (
-          <span
-            className="block muted"
-            title="Firmware (100Ah manufacturer software version) and hardware (1009h)"
-          >
-            FW {info.software_version ?? "—"}
-            {info.hardware_version ? ` · HW ${info.hardware_version}` : ""}
+          <span className="block muted" title={t("network.nodes.versionsTitle")}>
+            {t("network.nodes.firmware", { version: info.software_version ?? "—" })}
+            {info.hardware_version
+              ? t("network.nodes.hardware", { version: info.hardware_version })
+              : ""}
           </span>
         )}
       </td>
@@ -179,7 +190,7 @@ const NodeRow = memo(function NodeRow({
       </td>
       <td>
         <NmtMenu
-          label={`NMT for node ${info.node}`}
+          label={t("network.nodes.nmtFor", { node: info.node })}
           disabled={nmt.busy}
           onCommand={(c) => void nmt.run(c)}
         />
@@ -196,23 +207,24 @@ const NodeRow = memo(function NodeRow({
 });
 
 function BroadcastNmt(): ReactNode {
+  const { t } = useTranslation();
   const configure = useMay("configure");
   const send = useAction((command: NmtCommandName) =>
     call(api.POST("/api/nmt", { body: { command } })),
   );
   return (
-    <div className="broadcast" role="group" aria-label="Broadcast NMT">
-      <span className="group-label">Broadcast NMT</span>
-      {NMT_COMMANDS.map(({ command, label }) => (
+    <div className="broadcast" role="group" aria-label={t("network.nodes.broadcast")}>
+      <span className="group-label">{t("network.nodes.broadcast")}</span>
+      {NMT_COMMANDS.map(({ command, labelKey }) => (
         <button
           key={command}
           type="button"
           className="small"
-          {...configure.gate("send NMT commands", { disabled: send.busy })}
-          aria-label={`Broadcast ${label}`}
+          {...configure.gate(t("network.gate.nmt"), { disabled: send.busy })}
+          aria-label={t("network.nodes.broadcastCommand", { command: t(labelKey) })}
           onClick={() => void send.run(command)}
         >
-          {label}
+          {t(labelKey)}
         </button>
       ))}
       <ErrorText error={send.error} />
@@ -229,25 +241,28 @@ interface ScanProps {
 
 /** Nodes on the bus: identity, live NMT state and heartbeat, NMT commands, scan. */
 export function NodesCard({ scan, lastScan, commissioning = null }: ScanProps): ReactNode {
+  const { t } = useTranslation();
   const infos = useLive((s) => s.infos);
   const infosError = useLive((s) => s.infosError);
   return (
     <section className="card" aria-labelledby="nodes-heading">
       <header className="card-header">
-        <h2 id="nodes-heading">Nodes</h2>
+        <h2 id="nodes-heading">{t("network.nodes.heading")}</h2>
         <button
           type="button"
           className="primary"
           disabled={scan.busy}
           onClick={() => void scan.run()}
         >
-          Scan
+          {t("network.nodes.scan")}
         </button>
-        {scan.busy && <Spinner label="Scanning" />}
+        {scan.busy && <Spinner label={t("network.nodes.scanning")} />}
         {lastScan && !scan.busy && (
           <span className="muted" role="status">
-            Found {lastScan.nodes.length} node{lastScan.nodes.length === 1 ? "" : "s"} in{" "}
-            {lastScan.duration_ms} ms
+            {t("network.nodes.found", {
+              count: lastScan.nodes.length,
+              ms: lastScan.duration_ms,
+            })}
           </span>
         )}
         <BroadcastNmt />
@@ -255,25 +270,25 @@ export function NodesCard({ scan, lastScan, commissioning = null }: ScanProps): 
       </header>
       <ErrorText error={scan.error ?? infosError} />
       {infos.length === 0 ? (
-        <p className="muted">No nodes known yet. Connect the bus, then Scan.</p>
+        <p className="muted">{t("network.nodes.empty")}</p>
       ) : (
         // No scroll container here: it would clip the NMT menus; the table fits a laptop screen.
         <div>
-          <table className="data-table nodes-table" aria-label="Nodes">
+          <table className="data-table nodes-table" aria-label={t("network.nodes.tableLabel")}>
             <thead>
               <tr>
-                <th scope="col">Node</th>
-                <th scope="col">Name</th>
-                <th scope="col">Profile</th>
-                <th scope="col">Identity</th>
-                <th scope="col">NMT state</th>
-                <th scope="col">Heartbeat age</th>
-                <th scope="col">Heartbeat producer</th>
-                <th scope="col">Actions</th>
-                <th scope="col" title="The node's latest commissioning record">
-                  Record
+                <th scope="col">{t("network.nodes.colNode")}</th>
+                <th scope="col">{t("network.nodes.colName")}</th>
+                <th scope="col">{t("network.nodes.colProfile")}</th>
+                <th scope="col">{t("network.nodes.colIdentity")}</th>
+                <th scope="col">{t("network.nodes.colNmt")}</th>
+                <th scope="col">{t("network.nodes.colHeartbeatAge")}</th>
+                <th scope="col">{t("network.nodes.colHeartbeatProducer")}</th>
+                <th scope="col">{t("network.nodes.colActions")}</th>
+                <th scope="col" title={t("network.nodes.colRecordTitle")}>
+                  {t("network.nodes.colRecord")}
                 </th>
-                <th scope="col">Motion</th>
+                <th scope="col">{t("network.nodes.colMotion")}</th>
               </tr>
             </thead>
             <tbody>

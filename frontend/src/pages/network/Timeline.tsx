@@ -6,6 +6,7 @@ import type { EventKind, TimelinePage } from "../../api/timeline";
 import { ErrorText } from "../../components/ErrorText";
 import { EventList } from "../../components/EventList";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { formatClock } from "../../lib/format";
 import { useApi } from "../../lib/useApi";
 import { usePoll } from "../../lib/usePoll";
@@ -18,6 +19,7 @@ import {
   addNewer,
   addOlder,
   firstPage,
+  kindBadgeKey,
   matchesFilter,
   timelineQuery,
   type Timeline as TimelineList,
@@ -37,13 +39,14 @@ function fetchPage(
 /** What happened on the bus and in the tool, newest first: filter by node and kind, page back
  * with "older…"; new events arrive on the WebSocket. */
 export function Timeline(): ReactNode {
+  const { t } = useTranslation();
   const nodes = useLive((s) => s.infos.map((i) => i.node).join(","));
   const [filter, setFilter] = useState<TimelineFilter>({ node: null, kind: null });
   return (
     <>
       <div className="inline timeline-filters">
         <label htmlFor="timeline-node" className="muted small">
-          Node
+          {t("network.timeline.node")}
         </label>
         <select
           id="timeline-node"
@@ -52,18 +55,18 @@ export function Timeline(): ReactNode {
             setFilter({ ...filter, node: e.target.value ? Number(e.target.value) : null })
           }
         >
-          <option value="">All nodes</option>
+          <option value="">{t("network.timeline.allNodes")}</option>
           {nodes
             .split(",")
             .filter(Boolean)
             .map((n) => (
               <option key={n} value={n}>
-                Node {n}
+                {t("network.timeline.nodeOption", { node: n })}
               </option>
             ))}
         </select>
         <label htmlFor="timeline-kind" className="muted small">
-          Kind
+          {t("network.timeline.kind")}
         </label>
         <select
           id="timeline-kind"
@@ -72,23 +75,20 @@ export function Timeline(): ReactNode {
             setFilter({ ...filter, kind: (e.target.value || null) as EventKind | null })
           }
         >
-          <option value="">All kinds</option>
+          <option value="">{t("network.timeline.allKinds")}</option>
           {(Object.keys(KIND_LABELS) as EventKind[]).map((kind) => (
             <option key={kind} value={kind}>
-              {KIND_LABELS[kind]}
+              {t(KIND_LABELS[kind])}
             </option>
           ))}
         </select>
-        <label
-          className="check small"
-          title="Events stored by another server sharing this data directory, or on a bus connected before"
-        >
+        <label className="check small" title={t("network.timeline.otherBusesTitle")}>
           <input
             type="checkbox"
             checked={filter.allBuses ?? false}
             onChange={(e) => setFilter({ ...filter, allBuses: e.target.checked })}
           />
-          Other buses too
+          {t("network.timeline.otherBuses")}
         </label>
       </div>
       <TimelineList
@@ -102,6 +102,7 @@ export function Timeline(): ReactNode {
 /** One filter's list: the first page, then the WebSocket's `timeline` events that match, a
  * `since` catch-up after a gap in their ids or a reconnect, and "older…" pages. */
 function TimelineList({ filter }: { filter: TimelineFilter }): ReactNode {
+  const { t } = useTranslation();
   const store = useLiveStore();
   const open = useLive((s) => s.link.state === "open");
   const first = useApi((signal) => fetchPage(timelineQuery(filter), signal), "timeline-first");
@@ -224,30 +225,32 @@ function TimelineList({ filter }: { filter: TimelineFilter }): ReactNode {
       <ErrorText error={error ?? first.error} onRetry={first.reload} />
       {list.events.length === 0 ? (
         <p className="muted">
-          {first.loading && !first.data
-            ? "Loading…"
-            : "Nothing yet. Boot-ups, NMT changes, heartbeat loss, SDO aborts, EMCYs, CiA 402 states and the tool's writes appear here."}
+          {first.loading && !first.data ? t("common.loading") : t("network.timeline.empty")}
         </p>
       ) : (
         <EventList
-          rows={list.events.map((e) => ({
-            key: e.id,
-            ...e,
-            // with other buses listed, each event says whose it is
-            text: filter.allBuses && e.bus ? `${e.message} [${e.bus}]` : e.message,
-          }))}
-          caption="Timeline"
+          rows={list.events.map((e) => {
+            const badge = kindBadgeKey(e.kind);
+            return {
+              key: e.id,
+              ...e,
+              kindText: badge ? t(badge) : e.kind,
+              // with other buses listed, each event says whose it is
+              text: filter.allBuses && e.bus ? `${e.message} [${e.bus}]` : e.message,
+            };
+          })}
+          caption={t("network.timeline.heading")}
           clock={formatClock}
         />
       )}
       <p className="inline small">
-        <span className="muted">{list.events.length} shown</span>
+        <span className="muted">{t("network.timeline.shown", { shown: list.events.length })}</span>
         {list.older !== null && (
           <button type="button" disabled={busy} onClick={() => void older()}>
-            Older…
+            {t("network.timeline.older")}
           </button>
         )}
-        {busy && <Spinner label="Loading older events" />}
+        {busy && <Spinner label={t("network.timeline.loadingOlder")} />}
       </p>
     </>
   );

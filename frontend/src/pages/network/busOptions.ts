@@ -2,6 +2,8 @@
 // bus arguments (docs/api.md BusConfig.options). Values that look like numbers or booleans
 // are sent as such, because python-can interfaces expect e.g. an int port, not "29536".
 
+import { i18n } from "../../i18n";
+
 export type OptionValue = string | number | boolean;
 
 export type ParsedOptions =
@@ -30,7 +32,7 @@ export function parseBusOptions(text: string): ParsedOptions {
     if (!/^[A-Za-z_][A-Za-z0-9_]*$/.test(key)) {
       return {
         ok: false,
-        error: `Line ${i + 1}: write options as key=value (e.g. host=127.0.0.1)`,
+        error: i18n.t("network.connect.badOption", { line: i + 1 }),
       };
     }
     options[key] = convert(trimmed.slice(eq + 1));

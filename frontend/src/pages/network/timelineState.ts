@@ -2,6 +2,7 @@
 // with `since` the newest id after a gap, and paged back for older ones (`before` the oldest).
 // Pure, so the merging is table-tested.
 import type { EventKind, TimelineEvent, TimelinePage } from "../../api/timeline";
+import type { MessageKey } from "../../i18n";
 
 export const TIMELINE_PAGE = 50;
 /** Keep the list bounded however long the page stays open. */
@@ -95,19 +96,42 @@ export function timelineQuery(
   };
 }
 
-/** The kinds a user filters by, in words. */
-export const KIND_LABELS: Record<EventKind, string> = {
-  "boot-up": "Boot-ups",
-  "node-lost": "Heartbeat lost",
-  "node-back": "Heartbeat back",
-  nmt: "NMT commands",
-  bus: "Bus",
-  emcy: "EMCYs",
-  "fault-cleared": "Faults cleared",
-  "fault-reset": "Fault resets",
-  "sdo-abort": "SDO aborts",
-  "cia402-state": "CiA 402 states",
-  "tool-write": "Tool writes",
-  recording: "Recording",
-  dropped: "Dropped events",
+/** The kinds a user filters by, in words (catalogue keys). */
+export const KIND_LABELS: Record<EventKind, MessageKey> = {
+  "boot-up": "network.timeline.filter.bootUp",
+  "node-lost": "network.timeline.filter.nodeLost",
+  "node-back": "network.timeline.filter.nodeBack",
+  nmt: "network.timeline.filter.nmt",
+  bus: "network.timeline.filter.bus",
+  emcy: "network.timeline.filter.emcy",
+  "fault-cleared": "network.timeline.filter.faultCleared",
+  "fault-reset": "network.timeline.filter.faultReset",
+  "sdo-abort": "network.timeline.filter.sdoAbort",
+  "cia402-state": "network.timeline.filter.cia402State",
+  "tool-write": "network.timeline.filter.toolWrite",
+  recording: "network.timeline.filter.recording",
+  dropped: "network.timeline.filter.dropped",
 };
+
+/** One event's kind on its badge (catalogue keys; English shows the kind's own id). */
+const KIND_BADGES: Record<EventKind, MessageKey> = {
+  "boot-up": "network.timeline.badge.bootUp",
+  "node-lost": "network.timeline.badge.nodeLost",
+  "node-back": "network.timeline.badge.nodeBack",
+  nmt: "network.timeline.badge.nmt",
+  bus: "network.timeline.badge.bus",
+  emcy: "network.timeline.badge.emcy",
+  "fault-cleared": "network.timeline.badge.faultCleared",
+  "fault-reset": "network.timeline.badge.faultReset",
+  "sdo-abort": "network.timeline.badge.sdoAbort",
+  "cia402-state": "network.timeline.badge.cia402State",
+  "tool-write": "network.timeline.badge.toolWrite",
+  recording: "network.timeline.badge.recording",
+  dropped: "network.timeline.badge.dropped",
+};
+
+/** The badge's key of an event's kind; null for a kind this app does not know yet (the server
+ * may add one): that shows as the server names it. */
+export function kindBadgeKey(kind: string): MessageKey | null {
+  return Object.hasOwn(KIND_BADGES, kind) ? KIND_BADGES[kind as EventKind] : null;
+}
