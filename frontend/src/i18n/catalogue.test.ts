@@ -6,12 +6,11 @@ import { fileURLToPath } from "node:url";
 
 import { describe, expect, it } from "vitest";
 
-import en from "./locales/en.json";
-import zhCN from "./locales/zh-CN.json";
+import { EN, ZH_CN } from "./catalogues";
 
 type Catalogue = Record<string, unknown>;
 
-const CATALOGUES: Record<string, Catalogue> = { en, "zh-CN": zhCN };
+const CATALOGUES: Record<string, Catalogue> = { en: EN, "zh-CN": ZH_CN };
 const SRC = fileURLToPath(new URL("..", import.meta.url));
 const PLURAL_SUFFIX = /_(zero|one|two|few|many|other)$/;
 
@@ -49,7 +48,7 @@ function sourceFiles(): { path: string; text: string }[] {
 }
 
 const FILES = sourceFiles();
-const NAMESPACES = Object.keys(en);
+const NAMESPACES = Object.keys(EN);
 /** Every key literal in the code: t("…") / i18n.t("…") / i18nKey="…", and any string literal
  * that starts with a catalogue namespace ("nmt.state.stopped" in a label table, the two keys
  * of a `t(cond ? "a" : "b")`). */

@@ -4,8 +4,7 @@
 import i18n, { type ParseKeys } from "i18next";
 import { initReactI18next } from "react-i18next";
 
-import en from "./locales/en.json";
-import zhCN from "./locales/zh-CN.json";
+import { EN, ZH_CN } from "./catalogues";
 
 export { Trans, useTranslation } from "react-i18next";
 export { i18n };
@@ -66,7 +65,7 @@ function showLanguage(language: string): void {
 i18n.on("languageChanged", showLanguage);
 
 void i18n.use(initReactI18next).init({
-  resources: { en: { translation: en }, "zh-CN": { translation: zhCN } },
+  resources: { en: { translation: EN }, "zh-CN": { translation: ZH_CN } },
   lng: pickLanguage(storedLanguage(), browserLanguages()),
   fallbackLng: "en",
   supportedLngs: LANGUAGES.map((l) => l.code),

@@ -1,0 +1,13 @@
+// The catalogues: a pair of files per page area beside the shell's (en.json, zh-CN.json), merged
+// here; an area's keys are its file's top-level names, which no other file uses.
+import drive from "./locales/drive.en.json";
+import driveZh from "./locales/drive.zh-CN.json";
+import en from "./locales/en.json";
+import faults from "./locales/faults.en.json";
+import faultsZh from "./locales/faults.zh-CN.json";
+import scope from "./locales/scope.en.json";
+import scopeZh from "./locales/scope.zh-CN.json";
+import zhCN from "./locales/zh-CN.json";
+
+export const EN = { ...en, ...drive, ...faults, ...scope };
+export const ZH_CN = { ...zhCN, ...driveZh, ...faultsZh, ...scopeZh };
