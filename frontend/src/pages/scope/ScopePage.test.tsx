@@ -94,8 +94,11 @@ describe("ScopePage", () => {
     ).toBeTruthy();
 
     await userEvent.click(screen.getByRole("button", { name: "■ Stop" }));
-    await waitFor(() => expect(screen.getByTestId("capture-state").textContent).toBe("Done"));
-    expect(screen.getByText("stopped by the user")).toBeTruthy();
+    // the stop's answer: done, with the reason among the notes
+    await waitFor(() => {
+      expect(screen.getByTestId("capture-state").textContent).toBe("Done");
+      expect(screen.getByText("stopped by the user")).toBeTruthy();
+    });
     expect(fetch.calls.some((c) => c.method === "DELETE")).toBe(true);
   });
 
