@@ -2,6 +2,7 @@ import type { ReactNode } from "react";
 
 import { takeControl } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
+import { useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import type { ControllerInfo } from "./types";
@@ -17,9 +18,10 @@ export function ControllerBar({
   controller: ControllerInfo | undefined;
   show: (info: ControllerInfo) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const operate = useMay("operate");
   const take = useAction(async (takeOver: boolean) => show(await takeControl(node, takeOver)));
-  if (!controller) return <span className="muted small">Control: …</span>;
+  if (!controller) return <span className="muted small">{t("drive.controller.pending")}</span>;
   const holder = controller.holder;
   const other = holder !== null && !controller.you;
   const protection = controller.protection;
@@ -30,22 +32,22 @@ export function ControllerBar({
         data-testid="controller"
       >
         {controller.you
-          ? "You control this drive"
+          ? t("drive.controller.you")
           : other
-            ? `Controlled by ${holder.name ?? holder.client_id}`
-            : "Nobody controls this drive"}
+            ? t("drive.controller.other", { name: holder.name ?? holder.client_id })
+            : t("drive.controller.nobody")}
       </span>
       {other && (
         <button
           type="button"
           className="small"
           onClick={() => void take.run(true)}
-          {...operate.gate("take control of the drive", {
+          {...operate.gate(t("drive.controller.gate"), {
             disabled: take.busy,
-            title: "Their jogs stop; your commands pass from now on",
+            title: t("drive.controller.takeOverTitle"),
           })}
         >
-          Take over
+          {t("drive.controller.takeOver")}
         </button>
       )}
       {!holder && (
@@ -53,9 +55,9 @@ export function ControllerBar({
           type="button"
           className="small"
           onClick={() => void take.run(false)}
-          {...operate.gate("take control of the drive", { disabled: take.busy })}
+          {...operate.gate(t("drive.controller.gate"), { disabled: take.busy })}
         >
-          Take control
+          {t("drive.controller.take")}
         </button>
       )}
       <span
@@ -63,7 +65,9 @@ export function ControllerBar({
         title={protection.message}
         data-testid="heartbeat-protection"
       >
-        Heartbeat protection {protection.active ? `on (${protection.consumer_ms} ms)` : "off"}
+        {protection.active
+          ? t("drive.controller.heartbeatOn", { ms: protection.consumer_ms })
+          : t("drive.controller.heartbeatOff")}
       </span>
       <ErrorText error={take.error} inline />
     </span>

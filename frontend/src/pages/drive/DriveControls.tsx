@@ -11,8 +11,9 @@ import type { ApiError } from "../../api/errors";
 import { asApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useMay } from "../../session/context";
-import { COMMANDS, STATE_LABELS, transitionsFor, type CommandInfo } from "./stateMachine";
+import { COMMANDS, stateLabel, transitionsFor, type CommandInfo } from "./stateMachine";
 import type { DriveState } from "./types";
 import { WhyBlocked } from "./WhyBlocked";
 
@@ -27,12 +28,19 @@ interface Props {
 
 /** Enable (the whole sequence), Disable, and one button per state-machine command. */
 export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: Props): ReactNode {
+  const { t } = useTranslation();
   const operate = useMay("operate");
   const [busy, setBusy] = useState<string | null>(null);
   const [error, setError] = useState<ApiError | null>(null);
   const [blocked, setBlocked] = useState<EnableBlockedError | null>(null);
-  // what the last refused request was, so "why" names it and the way out retries it
-  const [refused, setRefused] = useState<{ label: string; retry: () => void } | null>(null);
+  // what the last refused request was, so "why" names it and the way out retries it; `enable`
+  // tells the plain Enable apart whatever the language calls it
+  const [refused, setRefused] = useState<{
+    label: string;
+    enable: boolean;
+    retry: () => void;
+  } | null>(null);
+  const enableLabel = t("drive.controls.enableVerb");
 
   /** One request; true when it was answered with the drive state. */
   async function run(label: string, work: () => Promise<DriveState>): Promise<boolean> {
@@ -45,7 +53,7 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
     } catch (caught) {
       if (caught instanceof EnableBlockedError) {
         setBlocked(caught);
-        setRefused({ label, retry: () => void run(label, work) });
+        setRefused({ label, enable: label === enableLabel, retry: () => void run(label, work) });
         if (caught.state) show(caught.state);
       } else if (caught instanceof HeldByOtherError) {
         onHeldByOther(caught);
@@ -65,7 +73,9 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
   const enabled = drive.state === "operation_enabled";
   /** Two acts, each its own request (and audit entry): the fault reset, then the enable. */
   async function resetThenEnable(): Promise<void> {
-    if (await run("Fault reset", action("fault-reset"))) await run("enable", action("enable"));
+    if (await run(t("drive.command.fault_reset"), action("fault-reset"))) {
+      await run(enableLabel, action("enable"));
+    }
   }
 
   return (
@@ -74,64 +84,72 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
         <button
           type="button"
           className="primary"
-          onClick={() => void run("enable", action("enable"))}
-          {...operate.gate("enable the drive", {
+          onClick={() => void run(enableLabel, action("enable"))}
+          {...operate.gate(t("drive.controls.gateEnable"), {
             disabled: busy !== null || !mayCommand || enabled,
-            title: "Shutdown, switch on, enable operation: as far as the drive lets it",
+            title: t("drive.controls.enableTitle"),
           })}
         >
-          Enable
+          {t("drive.controls.enable")}
         </button>
         <button
           type="button"
-          onClick={() => void run("disable", action("disable"))}
-          {...operate.gate("disable the drive", {
+          onClick={() => void run(t("drive.controls.disableVerb"), action("disable"))}
+          {...operate.gate(t("drive.controls.gateDisable"), {
             disabled: busy !== null || !mayCommand,
-            title: "Power stage off (shutdown to Ready to switch on)",
+            title: t("drive.controls.disableTitle"),
           })}
         >
-          Disable
+          {t("drive.controls.disable")}
         </button>
-        {busy && <Spinner label={`Sending ${busy}`} />}
+        {busy && <Spinner label={t("drive.controls.sending", { what: busy })} />}
       </div>
       {blocked && (
         <WhyBlocked
           node={node}
           blocked={blocked}
           title={
-            refused && refused.label !== "enable"
-              ? `Why didn't ${refused.label} happen?`
-              : "Why won't it enable?"
+            refused && !refused.enable
+              ? t("drive.controls.whyNot", { what: refused.label })
+              : t("drive.controls.whyEnable")
           }
-          retry={refused && refused.label !== "enable" ? `send ${refused.label} again` : "enable"}
-          onRetry={refused ? refused.retry : () => void run("enable", action("enable"))}
+          retry={
+            refused && !refused.enable
+              ? t("drive.controls.sendAgain", { what: refused.label })
+              : enableLabel
+          }
+          onRetry={refused ? refused.retry : () => void run(enableLabel, action("enable"))}
           onResetFault={mayCommand && operate.allowed ? () => void resetThenEnable() : undefined}
         />
       )}
       <ErrorText error={error} />
-      <div className="transition-buttons" role="group" aria-label="State machine commands">
+      <div className="transition-buttons" role="group" aria-label={t("drive.controls.commands")}>
         {COMMANDS.map((info) => {
+          const label = t(info.label);
           const takes = transitionsFor(info.name, drive.state);
           // quick stop is everyone's, whatever the role or the lease
           const always = info.name === "quick_stop";
           const allowed = always || operate.allowed;
           const open = always || (mayCommand && allowed && takes.length > 0);
           const why = takes.length
-            ? `Controlword ${info.controlword.toString(16).toUpperCase().padStart(4, "0")}h: transition ${takes.map((t) => t.number).join(", ")}`
-            : `No transition from ${STATE_LABELS[drive.state]}`;
+            ? t("drive.controls.controlword", {
+                word: info.controlword.toString(16).toUpperCase().padStart(4, "0"),
+                numbers: takes.map((x) => x.number).join(t("common.listSeparator")),
+              })
+            : t("drive.controls.noTransition", { state: stateLabel(drive.state) });
           return (
             <button
               key={info.name}
               type="button"
               className="small"
               disabled={busy !== null || !open || takes.length === 0}
-              title={allowed ? why : operate.because("send drive commands")}
-              aria-label={info.label}
-              onClick={() => void run(info.label, command(info))}
+              title={allowed ? why : operate.because(t("drive.controls.gateCommands"))}
+              aria-label={label}
+              onClick={() => void run(label, command(info))}
             >
-              {info.label}
+              {label}
               {takes.length > 0 && (
-                <span className="muted"> ({takes.map((t) => t.number).join(", ")})</span>
+                <span className="muted"> ({takes.map((x) => x.number).join(", ")})</span>
               )}
             </button>
           );
@@ -140,7 +158,7 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
       {drive.fault && (
         <div className="drive-fault" role="alert">
           <strong>
-            Fault {drive.fault.code_hex}
+            {t("drive.controls.fault", { code: drive.fault.code_hex })}
             {drive.fault.name ? ` · ${drive.fault.name}` : ""}
           </strong>
           {drive.fault.text && <p>{drive.fault.text}</p>}

@@ -4,6 +4,7 @@ import type { HeldByOtherError } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
 import { QuickStopButton } from "../../components/QuickStopButton";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useLive } from "../../live/context";
 import { ControllerBar } from "./ControllerBar";
 import { DriveControls } from "./DriveControls";
@@ -13,13 +14,14 @@ import { JogPanel } from "./JogPanel";
 import { LimitsCard } from "./LimitsCard";
 import { manualFor } from "./manuals";
 import { StateDiagram } from "./StateDiagram";
-import { STATE_LABELS } from "./stateMachine";
+import { stateLabel } from "./stateMachine";
 import { StatusLamps } from "./StatusLamps";
 import { useController, useDrive } from "./useDrive";
 
 /** The CiA 402 drive panel: state machine, statusword, actual values, limits, control lease,
  * jog per mode and homing — with Quick stop always one click away. */
 export function DrivePage({ node }: { node: number }): ReactNode {
+  const { t } = useTranslation();
   const { drive, error, show } = useDrive(node);
   const controller = useController(node);
   const [heldBy, setHeldBy] = useState<HeldByOtherError | null>(null);
@@ -28,15 +30,17 @@ export function DrivePage({ node }: { node: number }): ReactNode {
 
   return (
     <div className="drive-page">
-      <div className="drive-bar" role="toolbar" aria-label="Drive control">
+      <div className="drive-bar" role="toolbar" aria-label={t("drive.page.toolbar")}>
         <QuickStopButton node={node} onStopped={show} />
         {drive && (
           <span className={`badge drive-state state-${drive.state}`} data-testid="drive-state">
-            {STATE_LABELS[drive.state]}
+            {stateLabel(drive.state)}
           </span>
         )}
         {drive && drive.nmt_state !== "operational" && (
-          <span className="badge drive-warn">NMT {drive.nmt_state}</span>
+          <span className="badge drive-warn">
+            {t("drive.page.nmtWarn", { state: drive.nmt_state })}
+          </span>
         )}
         <span className="spacer" />
         <ControllerBar node={node} controller={controller.controller} show={controller.show} />
@@ -45,24 +49,26 @@ export function DrivePage({ node }: { node: number }): ReactNode {
         <p className="error-text" role="alert">
           {heldBy.message}{" "}
           <button type="button" className="small" onClick={() => setHeldBy(null)}>
-            Dismiss
+            {t("drive.page.dismiss")}
           </button>
         </p>
       )}
       <ErrorText error={error ?? controller.error} />
       {!drive ? (
-        !error && <Spinner label="Reading the drive" />
+        !error && <Spinner label={t("drive.page.reading")} />
       ) : (
         <>
           <div className="drive-grid">
             <section className="card drive-machine" aria-labelledby="drive-machine-heading">
               <header className="card-header">
-                <h2 id="drive-machine-heading">State machine</h2>
+                <h2 id="drive-machine-heading">{t("drive.page.stateMachine")}</h2>
                 <span className="muted small">{manualFor(profile, "state_machine")}</span>
               </header>
               <StateDiagram state={drive.state} lastTransition={drive.last_transition} />
               {drive.last_transition && (
-                <p className="muted small">Last transition: {drive.last_transition}</p>
+                <p className="muted small">
+                  {t("drive.page.lastTransition", { transition: drive.last_transition })}
+                </p>
               )}
               <DriveControls
                 node={node}

@@ -1,6 +1,7 @@
 import { useMemo, useState, type ReactNode } from "react";
 
 import { jogKeepalive, startJog, stopJog, type JogRamp } from "../../api/driveApi";
+import { i18n, useTranslation, type MessageKey } from "../../i18n";
 import { useLive, useLiveStore } from "../../live/context";
 import { useMay } from "../../session/context";
 import { HoldButton } from "./HoldButton";
@@ -25,7 +26,8 @@ function useJogTransport(
       keepalive: (jogId: string) => {
         const stopped = store.getSnapshot().jogStopped;
         if (stopped?.jog_id === jogId) {
-          throw new Error(`Stopped by the server: ${stopped.stop_reason ?? "jog ended"}`);
+          const reason = stopped.stop_reason ?? i18n.t("drive.hold.jogEnded");
+          throw new Error(i18n.t("drive.hold.serverStopped", { reason }));
         }
         if (store.send({ type: "jog_keepalive", jog_id: jogId })) return undefined;
         return jogKeepalive(jogId);
@@ -39,30 +41,30 @@ function useJogTransport(
   );
 }
 
-const TEXT: Record<JogMode, { what: string; unit: string; initial: string }> = {
-  pv: { what: "Speed", unit: "rpm", initial: "60" },
-  pt: { what: "Torque", unit: "%", initial: "10" },
+const TEXT: Record<JogMode, { what: MessageKey; unit: string; initial: string }> = {
+  pv: { what: "drive.hold.speed", unit: "rpm", initial: "60" },
+  pt: { what: "drive.hold.torque", unit: "%", initial: "10" },
 };
 
 /** The ramp field of each mode: PV's acceleration (6083h/6084h), PT's torque slope (6087h,
  * counted in 0.1 %/ms: 100 %/s is its finest step). */
 const RAMP: Record<
   JogMode,
-  { label: string; initial: string; min: number; max: number; title: string }
+  { label: MessageKey; initial: string; min: number; max: number; title: MessageKey }
 > = {
   pv: {
-    label: "Acceleration (rpm/s)",
+    label: "drive.hold.acceleration",
     initial: "1000",
     min: 0,
     max: 1_000_000,
-    title: "Profile acceleration and deceleration 6083h/6084h: up to speed and back down",
+    title: "drive.hold.accelerationTitle",
   },
   pt: {
-    label: "Torque slope (%/s)",
+    label: "drive.hold.slope",
     initial: "100",
     min: 100,
     max: 100_000,
-    title: "Torque slope 6087h (0.1 %/ms: 100 %/s is one step)",
+    title: "drive.hold.slopeTitle",
   },
 };
 
@@ -81,6 +83,7 @@ export function HoldJog({
   drive: DriveState;
   mayCommand: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   const text = TEXT[mode];
   const rampText = RAMP[mode];
   const [amount, setAmount] = useState(text.initial);
@@ -97,6 +100,21 @@ export function HoldJog({
     max: rampText.max,
   });
   const capCheck = checkRange(capInput, { positive: true, max: speedLimit });
+  const enabled = drive.state === "operation_enabled";
+  const operate = useMay("operate");
+  // the reason first: t() takes the checks' texts before the memo below reads their values
+  const why =
+    operate.because(t("drive.hold.gate")) ??
+    (!mayCommand
+      ? t("drive.hold.otherClient")
+      : !enabled
+        ? t("drive.hold.enableFirst")
+        : (check.error ??
+          (rampCheck.error
+            ? t("drive.hold.fieldError", { field: t(rampText.label), error: rampCheck.error })
+            : mode === "pt" && capCheck.error
+              ? t("drive.hold.speedCapError", { error: capCheck.error })
+              : null)));
   const size = check.value ?? 0;
   const rampValue = rampCheck.value;
   const capValue = capCheck.value;
@@ -119,20 +137,6 @@ export function HoldJog({
     useMemo(() => () => -size, [size]),
     ramp,
   );
-  const enabled = drive.state === "operation_enabled";
-  const operate = useMay("operate");
-  const why =
-    operate.because("jog the drive") ??
-    (!mayCommand
-      ? "Another client controls this drive"
-      : !enabled
-        ? "Enable the drive first"
-        : (check.error ??
-          (rampCheck.error
-            ? `${rampText.label}: ${rampCheck.error}`
-            : mode === "pt" && capCheck.error
-              ? `Speed cap: ${capCheck.error}`
-              : null)));
   const id = `jog-${mode}-amount`;
   const cap = drive.pt_speed_limit;
   const status = jogStatus(
@@ -146,9 +150,7 @@ export function HoldJog({
     <div className="hold-jog">
       <div className="drive-form">
         <label htmlFor={id}>
-          <span>
-            {text.what} ({text.unit})
-          </span>
+          <span>{t(text.what)}</span>
           <input
             id={id}
             className="narrow"
@@ -160,46 +162,48 @@ export function HoldJog({
         </label>
         <NumberField
           id={`jog-${mode}-ramp`}
-          label={rampText.label}
+          label={t(rampText.label)}
           value={rampInput}
           onChange={setRampInput}
           error={rampCheck.error}
-          title={rampText.title}
+          title={t(rampText.title)}
         />
         {mode === "pt" && (
           <NumberField
             id="jog-pt-speed-cap"
-            label="Speed cap (rpm)"
+            label={t("drive.hold.speedCap")}
             value={capInput}
             onChange={setCapInput}
             error={capCheck.error}
-            title="ServoDesk stops the torque jog when the axis passes this speed"
+            title={t("drive.hold.speedCapTitle")}
           />
         )}
         <span className="muted small">
-          {mode === "pv"
-            ? `limit ${formatRpm(drive.limits.max_velocity_rpm)}`
-            : `limit ${formatPct(drive.limits.max_torque_pct)}`}
+          {t("drive.hold.limit", {
+            value:
+              mode === "pv"
+                ? formatRpm(drive.limits.max_velocity_rpm)
+                : formatPct(drive.limits.max_torque_pct),
+          })}
         </span>
       </div>
       {mode === "pt" && (
         <p className="muted small" data-testid="jog-pt-speed-limit">
-          With no load a small torque runs the axis up: ServoDesk stops the jog above the speed cap
           {cap?.rpm != null
-            ? `, and the drive itself holds the speed at ${cap.rpm.toFixed(0)} rpm (${cap.source}).`
-            : ` (the drive's own limit: ${cap?.source ?? "its max speed object"}).`}
+            ? t("drive.hold.ptHeld", { rpm: cap.rpm.toFixed(0), source: cap.source })
+            : t("drive.hold.ptOwn", { source: cap?.source ?? t("drive.hold.ptOwnDefault") })}
         </p>
       )}
       <div className="hold-row">
         <HoldButton
-          label={`◀ Hold −${size || ""} ${text.unit}`}
+          label={t("drive.hold.back", { size: size || "", unit: text.unit })}
           transport={backward}
           disabled={why !== null}
           title={why ?? undefined}
           onChange={setHold}
         />
         <HoldButton
-          label={`Hold +${size || ""} ${text.unit} ▶`}
+          label={t("drive.hold.forward", { size: size || "", unit: text.unit })}
           transport={forward}
           disabled={why !== null}
           title={why ?? undefined}
@@ -214,12 +218,15 @@ export function HoldJog({
           {" · "}
           {formatRpm(drive.velocity_rpm)}
           {mode === "pt" && ` · ${formatPct(drive.torque_pct)}`}
-          {drive.target_reached && mode === "pv" && hold?.phase === "running" && " · at speed"}
+          {drive.target_reached &&
+            mode === "pv" &&
+            hold?.phase === "running" &&
+            ` · ${t("drive.hold.atSpeed")}`}
         </span>
       </div>
       {status.reason && !hold?.error && (
         <p className="small" data-testid={`jog-${mode}-stop-reason`}>
-          Last jog stopped by itself: {status.reason}
+          {t("drive.hold.lastStopped", { reason: status.reason })}
         </p>
       )}
       {why && <p className="muted small">{why}</p>}
@@ -228,10 +235,7 @@ export function HoldJog({
           {hold.error}
         </p>
       )}
-      <p className="muted small">
-        Hold-to-run: the axis moves only while the button is held (keep-alive every 100 ms; the
-        server stops it {KEEPALIVE_TIMEOUT_MS} ms after the last one).
-      </p>
+      <p className="muted small">{t("drive.hold.note", { ms: KEEPALIVE_TIMEOUT_MS })}</p>
     </div>
   );
 }

@@ -1,5 +1,6 @@
 import type { ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import { arrowHead, describeStep, homingDrawing } from "./homingPath";
 import type { HomingMethodInfo } from "./types";
 
@@ -18,16 +19,17 @@ function joinPath(
 /** A method's path after the manual's figures: the switches on the axis, one arrow per step
  * (bold fast, thin dashed slow), the reversals as bends, the home position marked. */
 export function HomingDiagram({ method }: { method: HomingMethodInfo }): ReactNode {
+  const { t } = useTranslation();
   const d = homingDrawing(method.path);
   const words = method.path.length
-    ? method.path.map(describeStep).join("; then ")
-    : "no motion: the current position becomes the home position";
+    ? method.path.map(describeStep).join(t("drive.homing.then"))
+    : t("drive.homing.noMotion");
   return (
     <svg
       className="homing-diagram"
       viewBox={`0 0 ${d.width} ${d.height}`}
       role="img"
-      aria-label={`Method ${method.method} path: ${words}`}
+      aria-label={t("drive.homing.path", { method: method.method, words })}
       data-testid={`homing-diagram-${method.method}`}
     >
       {d.switches.map((s) => (
@@ -61,7 +63,7 @@ export function HomingDiagram({ method }: { method: HomingMethodInfo }): ReactNo
           y={d.axisY + 20}
           textAnchor={d.homeAnchor}
         >
-          home
+          {t("drive.homing.home")}
         </text>
       </g>
     </svg>

@@ -3,6 +3,7 @@ import { useEffect, useRef, useState, type ReactNode } from "react";
 import { home, homingMethods } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation, type MessageKey } from "../../i18n";
 import { useAction, useApi } from "../../lib/useApi";
 import { useLive } from "../../live/context";
 import { useMay } from "../../session/context";
@@ -15,12 +16,12 @@ import { addSample, type Sample } from "./timeline";
 import type { DriveState, HomeRequest } from "./types";
 import { checkRange, formatInc, formatRev } from "./units";
 
-const PHASE_TEXT = {
-  running: "Homing…",
-  attained: "Homing attained",
-  error: "Homing error",
-  interrupted: "Homing interrupted",
-} as const;
+const PHASE_TEXT: Record<"running" | "attained" | "error" | "interrupted", MessageKey> = {
+  running: "drive.homing.running",
+  attained: "drive.homing.attained",
+  error: "drive.homing.error",
+  interrupted: "drive.homing.interrupted",
+};
 
 /** Records the statusword while a run is on, for the timeline. */
 function useRunSamples(drive: DriveState, runStart: number | null): Sample[] {
@@ -48,6 +49,7 @@ export function HomingWizard({
   show: (state: DriveState) => void;
   mayCommand: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   const methods = useApi((signal) => homingMethods(node, signal), `homing:${node}`);
   const profile = useLive((s) => s.infos.find((i) => i.node === node)?.profile);
   const [picked, setPicked] = useState<number | null>(null);
@@ -78,13 +80,13 @@ export function HomingWizard({
   return (
     <section className="card drive-homing" aria-labelledby="drive-homing-heading">
       <header className="card-header">
-        <h2 id="drive-homing-heading">Homing</h2>
+        <h2 id="drive-homing-heading">{t("drive.homing.heading")}</h2>
         <span className="muted small">{manualFor(profile, "homing")}</span>
       </header>
       <ErrorText error={methods.error} onRetry={methods.reload} />
-      {methods.loading && !methods.data && <Spinner label="Loading homing methods" />}
+      {methods.loading && !methods.data && <Spinner label={t("drive.homing.loading")} />}
       {list.length > 0 && (
-        <div className="homing-methods" role="radiogroup" aria-label="Homing method">
+        <div className="homing-methods" role="radiogroup" aria-label={t("drive.homing.method")}>
           {list.map((m) => (
             <label
               key={m.method}
@@ -107,37 +109,37 @@ export function HomingWizard({
       )}
       <div className="drive-form">
         <NumberField
-          label="Fast (rpm)"
+          label={t("drive.homing.fast")}
           value={fast}
           onChange={setFast}
           error={f.error}
-          title="6099h:01 speed searching for the switch"
+          title={t("drive.homing.fastTitle")}
         />
         <NumberField
-          label="Slow (rpm)"
+          label={t("drive.homing.slow")}
           value={slow}
           onChange={setSlow}
           error={s.error}
-          title="6099h:02 speed searching for zero"
+          title={t("drive.homing.slowTitle")}
         />
         <NumberField
-          label="Acceleration (rpm/s)"
+          label={t("drive.homing.acceleration")}
           value={accel}
           onChange={setAccel}
           error={a.error}
-          title="609Ah homing acceleration"
+          title={t("drive.homing.accelerationTitle")}
         />
         <NumberField
-          label="Offset (inc)"
+          label={t("drive.homing.offset")}
           value={offset}
           onChange={setOffset}
           error={o.error}
-          title="607Ch home offset"
+          title={t("drive.homing.offsetTitle")}
         />
         <button
           type="button"
           className="primary"
-          {...operate.gate("home the drive", {
+          {...operate.gate(t("drive.homing.gate"), {
             disabled: !method || !valid || !enabled || !mayCommand || start.busy || running,
           })}
           onClick={() =>
@@ -151,10 +153,12 @@ export function HomingWizard({
             })
           }
         >
-          Start homing{method ? ` (method ${method.method})` : ""}
+          {method
+            ? t("drive.homing.startMethod", { method: method.method })
+            : t("drive.homing.start")}
         </button>
       </div>
-      {!enabled && <p className="muted small">Enable the drive to home it.</p>}
+      {!enabled && <p className="muted small">{t("drive.homing.enableToHome")}</p>}
       <ErrorText error={start.error} />
       {homing && (
         <div
@@ -162,13 +166,17 @@ export function HomingWizard({
           role="status"
           data-testid="homing-progress"
         >
-          <strong>{PHASE_TEXT[homing.phase]}</strong> · method {homing.method}
+          <strong>{t(PHASE_TEXT[homing.phase])}</strong> ·{" "}
+          {t("drive.homing.methodNumber", { method: homing.method })}
           {homing.message && <span> · {homing.message}</span>}
           {homing.phase === "attained" && (
             <span data-testid="homing-result">
               {" "}
-              · home at {formatInc(homing.position_inc ?? drive.position_inc)} (now{" "}
-              {formatRev(drive.position_rev)})
+              ·{" "}
+              {t("drive.homing.homeAt", {
+                position: formatInc(homing.position_inc ?? drive.position_inc),
+                now: formatRev(drive.position_rev),
+              })}
             </span>
           )}
           {homing.phase === "running" && (

@@ -4,6 +4,7 @@ import { ipStream } from "../../api/driveApi";
 import type { ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import type { DriveState, IpStreamResult, IpTrajectory } from "./types";
@@ -29,6 +30,7 @@ export function IpStreamPanel({
   show: (state: DriveState) => void;
   mayCommand: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   const [trajectory, setTrajectory] = useState<IpTrajectory>("point_to_point");
   const [period, setPeriod] = useState(10);
   const [distance, setDistance] = useState("2");
@@ -55,17 +57,17 @@ export function IpStreamPanel({
     <div className="ip-stream">
       <div className="drive-form">
         <label>
-          <span>Trajectory</span>
+          <span>{t("drive.ip.trajectory")}</span>
           <select
             value={trajectory}
             onChange={(e) => setTrajectory(e.target.value as IpTrajectory)}
           >
-            <option value="point_to_point">Point to point</option>
-            <option value="sine">Sine</option>
+            <option value="point_to_point">{t("drive.ip.pointToPoint")}</option>
+            <option value="sine">{t("drive.ip.sine")}</option>
           </select>
         </label>
         <fieldset className="inline">
-          <legend className="visually-hidden">SYNC period</legend>
+          <legend className="visually-hidden">{t("drive.ip.syncPeriod")}</legend>
           {[2, 10].map((ms) => (
             <label key={ms} className="check">
               <input
@@ -79,7 +81,7 @@ export function IpStreamPanel({
           ))}
         </fieldset>
         <label>
-          <span>Distance (rev)</span>
+          <span>{t("drive.ip.distance")}</span>
           <input
             className="narrow"
             inputMode="decimal"
@@ -89,7 +91,7 @@ export function IpStreamPanel({
           />
         </label>
         <label>
-          <span>Duration (s)</span>
+          <span>{t("drive.ip.duration")}</span>
           <input
             className="narrow"
             inputMode="decimal"
@@ -101,23 +103,23 @@ export function IpStreamPanel({
         <button
           type="button"
           className="primary"
-          {...operate.gate("stream a trajectory", { disabled: !ok || run.busy })}
+          {...operate.gate(t("drive.ip.gate"), { disabled: !ok || run.busy })}
           onClick={() => void run.run()}
         >
-          Run stream
+          {t("drive.ip.run")}
         </button>
-        {run.busy && <Spinner label="Streaming" />}
+        {run.busy && <Spinner label={t("drive.ip.streaming")} />}
       </div>
-      {!enabled && <p className="muted small">Enable the drive to stream.</p>}
+      {!enabled && <p className="muted small">{t("drive.ip.enableToStream")}</p>}
       {syncUnsafe(run.error) ? (
         <div className="ip-result bad" role="alert" data-testid="ip-refused">
           <p>
-            <strong>Stream not started: SYNC timing unsafe on this computer</strong>
+            <strong>{t("drive.ip.refused")}</strong>
           </p>
           <p>{run.error?.message}</p>
           {period === 2 && (
             <button type="button" onClick={() => setPeriod(10)}>
-              Use 10 ms instead
+              {t("drive.ip.use10")}
             </button>
           )}
         </div>
@@ -130,33 +132,33 @@ export function IpStreamPanel({
           role={failed(result) ? "alert" : "status"}
         >
           <p>
-            <strong>{failed(result) ? "Stream failed" : "Stream completed"}</strong>
+            <strong>{failed(result) ? t("drive.ip.failed") : t("drive.ip.completed")}</strong>
           </p>
           <p>{result.message}</p>
           <dl className="drive-facts">
             <div>
-              <dt>Max lag</dt>
+              <dt>{t("drive.ip.maxLag")}</dt>
               <dd className="num">
                 {formatInc(result.max_lag_inc)}
                 <span className="muted small block">{formatRev(result.max_lag_rev)}</span>
               </dd>
             </div>
             <div>
-              <dt>Final error</dt>
+              <dt>{t("drive.ip.finalError")}</dt>
               <dd className="num">{formatInc(result.final_error_inc)}</dd>
             </div>
             <div>
-              <dt>SYNC jitter</dt>
+              <dt>{t("drive.ip.syncJitter")}</dt>
               <dd className="num" data-testid="sync-jitter">
                 {formatMs(result.sync_jitter_ms)}
               </dd>
             </div>
             <div>
-              <dt>Longest SYNC interval</dt>
+              <dt>{t("drive.ip.longestSync")}</dt>
               <dd className="num">{formatMs(result.sync_interval_max_ms)}</dd>
             </div>
             <div>
-              <dt>Set-points / SYNCs</dt>
+              <dt>{t("drive.ip.setPoints")}</dt>
               <dd className="num">
                 {result.points} / {result.syncs}
               </dd>
@@ -164,7 +166,7 @@ export function IpStreamPanel({
           </dl>
           {result.fault && (
             <p className="error-text">
-              Fault {result.fault.code_hex}
+              {t("drive.controls.fault", { code: result.fault.code_hex })}
               {result.fault.name ? ` · ${result.fault.name}` : ""}
             </p>
           )}

@@ -1,5 +1,6 @@
 import { useState, type ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import { HoldJog } from "./HoldJog";
 import { IpStreamPanel } from "./IpStreamPanel";
 import { PpJog } from "./PpJog";
@@ -21,6 +22,7 @@ export function JogPanel({
   show: (state: DriveState) => void;
   mayCommand: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   const modes = JOG_MODES.filter((m) => drive.supported_modes.includes(m));
   const [picked, setPicked] = useState<JogTab | null>(null);
   const tab = picked && modes.includes(picked) ? picked : (modes[0] ?? null);
@@ -28,8 +30,8 @@ export function JogPanel({
   return (
     <section className="card drive-jog" aria-labelledby="drive-jog-heading">
       <header className="card-header">
-        <h2 id="drive-jog-heading">Jog</h2>
-        <div className="tabs mode-tabs" role="tablist" aria-label="Jog mode">
+        <h2 id="drive-jog-heading">{t("drive.jog.heading")}</h2>
+        <div className="tabs mode-tabs" role="tablist" aria-label={t("drive.jog.modes")}>
           {modes.map((m) => (
             <button
               key={m}
@@ -44,7 +46,7 @@ export function JogPanel({
           ))}
         </div>
       </header>
-      {tab === null && <p className="muted">The drive announces no mode to jog in (6502h).</p>}
+      {tab === null && <p className="muted">{t("drive.jog.noMode")}</p>}
       {tab === "pp" && <PpJog {...props} show={show} />}
       {tab === "pv" && <HoldJog {...props} mode="pv" />}
       {tab === "pt" && <HoldJog {...props} mode="pt" />}

@@ -2,6 +2,7 @@ import { useState, type ReactNode } from "react";
 
 import { putLimits } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
+import { useTranslation, type MessageKey } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import { limitsInsideSwitches, rangeText, travelRows } from "./motionWords";
@@ -10,11 +11,11 @@ import { checkRange, formatPct, formatRpm } from "./units";
 
 type Field = "max_velocity_rpm" | "max_torque_pct" | "min_position_rev" | "max_position_rev";
 
-const FIELDS: readonly { key: Field; label: string; unit: string; optional: boolean }[] = [
-  { key: "max_velocity_rpm", label: "Max velocity", unit: "rpm", optional: false },
-  { key: "max_torque_pct", label: "Max torque", unit: "%", optional: false },
-  { key: "min_position_rev", label: "Min position", unit: "rev", optional: true },
-  { key: "max_position_rev", label: "Max position", unit: "rev", optional: true },
+const FIELDS: readonly { key: Field; label: MessageKey; optional: boolean }[] = [
+  { key: "max_velocity_rpm", label: "drive.limits.maxVelocityField", optional: false },
+  { key: "max_torque_pct", label: "drive.limits.maxTorqueField", optional: false },
+  { key: "min_position_rev", label: "drive.limits.minPositionField", optional: true },
+  { key: "max_position_rev", label: "drive.limits.maxPositionField", optional: true },
 ];
 
 function text(value: number | null | undefined): string {
@@ -32,6 +33,7 @@ export function LimitsCard({
   drive: DriveState;
   mayCommand: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   const limits = drive.limits;
   const own = drive.drive_limits;
   const [draft, setDraft] = useState<Record<Field, string> | null>(null);
@@ -52,11 +54,11 @@ export function LimitsCard({
     return (
       <section className="card drive-limits" aria-labelledby="drive-limits-heading">
         <header className="card-header">
-          <h2 id="drive-limits-heading">Limits in force</h2>
+          <h2 id="drive-limits-heading">{t("drive.limits.heading")}</h2>
           <button
             type="button"
             className="small"
-            {...operate.gate("change the limits", { disabled: !mayCommand })}
+            {...operate.gate(t("drive.limits.gate"), { disabled: !mayCommand })}
             onClick={() =>
               setDraft({
                 max_velocity_rpm: text(limits.max_velocity_rpm),
@@ -66,38 +68,40 @@ export function LimitsCard({
               })
             }
           >
-            Edit
+            {t("drive.limits.edit")}
           </button>
         </header>
         <dl className="drive-facts">
           <div>
-            <dt>Max velocity</dt>
+            <dt>{t("drive.limits.maxVelocity")}</dt>
             <dd className="num" data-testid="limit-velocity">
               {formatRpm(limits.max_velocity_rpm)}
             </dd>
             {own && (
               <dd className="muted small" title={own.velocity_source}>
-                drive&apos;s own {formatRpm(own.max_velocity_rpm)}
+                {t("drive.limits.driveOwn", { value: formatRpm(own.max_velocity_rpm) })}
               </dd>
             )}
           </div>
           <div>
-            <dt>Max torque</dt>
+            <dt>{t("drive.limits.maxTorque")}</dt>
             <dd className="num">{formatPct(limits.max_torque_pct)}</dd>
             {own && (
               <dd className="muted small" title={own.torque_source}>
-                drive&apos;s own {formatPct(own.max_torque_pct)}
+                {t("drive.limits.driveOwn", { value: formatPct(own.max_torque_pct) })}
               </dd>
             )}
           </div>
         </dl>
         {own && (
           <p className="muted small" data-testid="drive-limits-source">
-            The limits in force stay under the drive&apos;s own ({own.velocity_source};{" "}
-            {own.torque_source}), read again while this page is open.
+            {t("drive.limits.source", {
+              velocity: own.velocity_source,
+              torque: own.torque_source,
+            })}
           </p>
         )}
-        <h3 id="drive-travel-heading">Where the travel ends</h3>
+        <h3 id="drive-travel-heading">{t("drive.travel.heading")}</h3>
         <table className="data-table" aria-labelledby="drive-travel-heading" data-testid="travel">
           <tbody>
             {travelRows(drive).map((row) => (
@@ -107,7 +111,7 @@ export function LimitsCard({
                   {row.key === "switches" && (
                     <>
                       {" "}
-                      <span className="badge drive-warn">simulator</span>
+                      <span className="badge drive-warn">{t("drive.travel.simulator")}</span>
                     </>
                   )}
                 </th>
@@ -121,9 +125,9 @@ export function LimitsCard({
             ))}
             {drive.travel && !drive.travel.software_limit && (
               <tr data-travel="no_software_limit">
-                <th scope="row">Drive&apos;s software limit</th>
+                <th scope="row">{t("drive.travel.softwareLimit")}</th>
                 <td className="num">—</td>
-                <td className="muted small">no 607Dh Software position limit in its dictionary</td>
+                <td className="muted small">{t("drive.travel.noSoftwareLimit")}</td>
               </tr>
             )}
           </tbody>
@@ -133,14 +137,17 @@ export function LimitsCard({
             <button
               type="button"
               className="small"
-              {...operate.gate("change the limits", { disabled: !mayCommand || save.busy })}
+              {...operate.gate(t("drive.limits.gate"), { disabled: !mayCommand || save.busy })}
               onClick={() => void save.run(offer)}
             >
-              Set ServoDesk&apos;s travel limits to{" "}
-              {rangeText(offer.min_position_rev, offer.max_position_rev)}
+              {t("drive.limits.setTravel", {
+                range: rangeText(offer.min_position_rev, offer.max_position_rev),
+              })}
             </button>
             <span className="muted small">
-              {drive.travel?.switches ? "0.1 rev inside the limit switches" : "the drive's own"}
+              {drive.travel?.switches
+                ? t("drive.limits.insideSwitches")
+                : t("drive.limits.driveOwnRange")}
             </span>
             <ErrorText error={save.error} inline />
           </div>
@@ -158,24 +165,23 @@ export function LimitsCard({
   ) as Record<Field, { value: number | null; error: string | null }>;
   const min = checks.min_position_rev.value;
   const max = checks.max_position_rev.value;
-  const rangeError = min !== null && max !== null && min >= max ? "Min must be below max" : null;
+  const rangeError =
+    min !== null && max !== null && min >= max ? t("drive.limits.rangeError") : null;
   const ok = FIELDS.every((f) => checks[f.key].error === null) && rangeError === null;
 
   return (
     <section className="card drive-limits" aria-labelledby="drive-limits-heading">
       <header className="card-header">
-        <h2 id="drive-limits-heading">Limits in force</h2>
+        <h2 id="drive-limits-heading">{t("drive.limits.heading")}</h2>
       </header>
       <div className="drive-form">
         {FIELDS.map((f) => (
           <label key={f.key}>
-            <span>
-              {f.label} ({f.unit})
-            </span>
+            <span>{t(f.label)}</span>
             <input
               className="narrow"
               inputMode="decimal"
-              placeholder={f.optional ? "none" : undefined}
+              placeholder={f.optional ? t("drive.limits.none") : undefined}
               aria-invalid={checks[f.key].error !== null}
               title={checks[f.key].error ?? undefined}
               value={draft[f.key]}
@@ -189,7 +195,7 @@ export function LimitsCard({
         <button
           type="button"
           className="primary"
-          {...operate.gate("change the limits", { disabled: !ok || save.busy })}
+          {...operate.gate(t("drive.limits.gate"), { disabled: !ok || save.busy })}
           onClick={() =>
             void save.run({
               max_velocity_rpm: checks.max_velocity_rpm.value ?? limits.max_velocity_rpm,
@@ -199,10 +205,10 @@ export function LimitsCard({
             })
           }
         >
-          Save limits
+          {t("drive.limits.save")}
         </button>
         <button type="button" onClick={() => setDraft(null)}>
-          Cancel
+          {t("drive.limits.cancel")}
         </button>
         <ErrorText error={save.error} inline />
       </div>

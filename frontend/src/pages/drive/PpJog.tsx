@@ -2,6 +2,7 @@ import { useState, type ReactNode } from "react";
 
 import { move, moveQueue } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
+import { i18n, useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import { moveText } from "./motionWords";
@@ -9,8 +10,8 @@ import type { DriveState, MoveRequest } from "./types";
 import { checkRange, formatRev } from "./units";
 
 function describeMove(m: MoveRequest): string {
-  const where = m.relative ? `by ${formatRev(m.position_rev)}` : `to ${formatRev(m.position_rev)}`;
-  return `${where} at ${m.velocity_rpm} rpm`;
+  const words = { position: formatRev(m.position_rev), rpm: m.velocity_rpm };
+  return m.relative ? i18n.t("drive.pp.by", words) : i18n.t("drive.pp.to", words);
 }
 
 /** Profile position: step ±, go to a position (absolute or relative), and a queued sequence. */
@@ -25,6 +26,7 @@ export function PpJog({
   show: (state: DriveState) => void;
   mayCommand: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   const [position, setPosition] = useState("1");
   const [relative, setRelative] = useState(true);
   const [velocity, setVelocity] = useState("120");
@@ -44,7 +46,7 @@ export function PpJog({
   const enabled = drive.state === "operation_enabled";
   const allowed = valid && enabled && mayCommand && !go.busy;
   const operate = useMay("operate");
-  const moveGate = operate.gate("move the drive", { disabled: !allowed });
+  const moveGate = operate.gate(t("drive.pp.gate"), { disabled: !allowed });
 
   const request = (positionRev: number, rel: boolean): MoveRequest => ({
     mode: "pp",
@@ -61,7 +63,7 @@ export function PpJog({
     <div className="pp-jog">
       <div className="drive-form">
         <label>
-          <span>Position (rev)</span>
+          <span>{t("drive.pp.position")}</span>
           <input
             className="narrow"
             inputMode="decimal"
@@ -76,10 +78,10 @@ export function PpJog({
             checked={relative}
             onChange={(e) => setRelative(e.target.checked)}
           />
-          relative
+          {t("drive.pp.relative")}
         </label>
         <label>
-          <span>Velocity (rpm)</span>
+          <span>{t("drive.pp.velocity")}</span>
           <input
             className="narrow"
             inputMode="decimal"
@@ -90,7 +92,7 @@ export function PpJog({
           />
         </label>
         <label>
-          <span>Acceleration (rpm/s)</span>
+          <span>{t("drive.hold.acceleration")}</span>
           <input
             className="narrow"
             inputMode="decimal"
@@ -105,15 +107,15 @@ export function PpJog({
             checked={immediately}
             onChange={(e) => setImmediately(e.target.checked)}
           />
-          change immediately
+          {t("drive.pp.immediately")}
         </label>
       </div>
       <div className="button-row">
         <button type="button" {...moveGate} onClick={() => void go.run(request(-step, true))}>
-          ◀ Step −{step}
+          {t("drive.pp.stepBack", { step })}
         </button>
         <button type="button" {...moveGate} onClick={() => void go.run(request(step, true))}>
-          Step +{step} ▶
+          {t("drive.pp.stepForward", { step })}
         </button>
         <button
           type="button"
@@ -121,18 +123,20 @@ export function PpJog({
           {...moveGate}
           onClick={() => void go.run(request(pos.value ?? 0, relative))}
         >
-          {relative ? "Move by" : "Go to"} {formatRev(pos.value)}
+          {relative
+            ? t("drive.pp.moveBy", { position: formatRev(pos.value) })
+            : t("drive.pp.goTo", { position: formatRev(pos.value) })}
         </button>
         <button
           type="button"
           disabled={!valid || queue.length >= 64}
           onClick={() => setQueue([...queue, request(pos.value ?? 0, relative)])}
         >
-          Add to sequence
+          {t("drive.pp.add")}
         </button>
         <ErrorText error={go.error} inline />
       </div>
-      {!enabled && <p className="muted small">Enable the drive to move it.</p>}
+      {!enabled && <p className="muted small">{t("drive.pp.enableToMove")}</p>}
       {moved && (
         <p className={`small move-${moved.tone}`} role="status" data-testid="pp-move">
           {moved.text}
@@ -140,17 +144,17 @@ export function PpJog({
       )}
       {queue.length > 0 && (
         <div className="pp-queue">
-          <ol aria-label="Move sequence">
+          <ol aria-label={t("drive.pp.sequence")}>
             {queue.map((m, i) => (
               <li key={i}>
                 {describeMove(m)}
                 <button
                   type="button"
                   className="link-button small"
-                  aria-label={`Remove move ${i + 1}`}
+                  aria-label={t("drive.pp.removeLabel", { number: i + 1 })}
                   onClick={() => setQueue(queue.filter((_, j) => j !== i))}
                 >
-                  remove
+                  {t("drive.pp.remove")}
                 </button>
               </li>
             ))}
@@ -159,15 +163,15 @@ export function PpJog({
             <button
               type="button"
               className="primary"
-              {...operate.gate("move the drive", {
+              {...operate.gate(t("drive.pp.gate"), {
                 disabled: !enabled || !mayCommand || runQueue.busy,
               })}
               onClick={() => void runQueue.run()}
             >
-              Run sequence ({queue.length})
+              {t("drive.pp.runSequence", { count: queue.length })}
             </button>
             <button type="button" onClick={() => setQueue([])}>
-              Clear
+              {t("drive.pp.clear")}
             </button>
             <ErrorText error={runQueue.error} inline />
           </div>

@@ -1,11 +1,13 @@
 import type { ReactNode } from "react";
 
+import { currentLocale, i18n, useTranslation } from "../../i18n";
 import {
   ARROWS,
+  commandLabel,
   DIAGRAM,
   polylinePath,
   STATE_BOXES,
-  STATE_LABELS,
+  stateLabel,
   TRANSITIONS,
   transitionNumber,
 } from "./stateMachine";
@@ -20,9 +22,17 @@ const POWERED: ReadonlySet<DriveStateName> = new Set(["operation_enabled", "quic
 function transitionTitle(number: number): string {
   const t = TRANSITIONS.find((x) => x.number === number);
   if (!t) return String(number);
-  const from = t.from === "start" ? "Start" : t.from === "any" ? "any state" : STATE_LABELS[t.from];
-  const how = t.command ? t.command.replace(/_/g, " ") : "by the drive";
-  return `Transition ${number}: ${from} → ${STATE_LABELS[t.to]} (${how})`;
+  const from =
+    t.from === "start"
+      ? i18n.t("drive.diagram.start")
+      : t.from === "any"
+        ? i18n.t("drive.diagram.anyState")
+        : stateLabel(t.from);
+  // the command as a word in the sentence: "shutdown", "switch on" (a no-op for Chinese)
+  const how = t.command
+    ? commandLabel(t.command).toLocaleLowerCase(currentLocale())
+    : i18n.t("drive.diagram.byDrive");
+  return i18n.t("drive.diagram.transition", { number, from, to: stateLabel(t.to), how });
 }
 
 /** The CiA 402 state machine (MDi-S1-C CANopen manual §3.2.1) with the drive's state and the
@@ -34,11 +44,14 @@ export function StateDiagram({
   state: DriveStateName | null;
   lastTransition: string | null;
 }): ReactNode {
+  const { t } = useTranslation();
   const last = transitionNumber(lastTransition);
   const { width, height, boxWidth, boxHeight } = DIAGRAM;
-  const label = state
-    ? `CiA 402 state diagram: ${STATE_LABELS[state]}${last !== null ? `, after transition ${last}` : ""}`
-    : "CiA 402 state diagram";
+  const label = !state
+    ? t("drive.diagram.label")
+    : last !== null
+      ? t("drive.diagram.labelAfter", { state: stateLabel(state), number: last })
+      : t("drive.diagram.labelState", { state: stateLabel(state) });
   return (
     <svg
       className="state-diagram"
@@ -74,10 +87,10 @@ export function StateDiagram({
         </marker>
       </defs>
       <text x={STATE_BOXES.not_ready_to_switch_on.x + boxWidth / 2 - 40} y={11} className="sd-note">
-        Start
+        {t("drive.diagram.start")}
       </text>
       <text x={STATE_BOXES.fault.x + boxWidth / 2 - 62} y={11} className="sd-note">
-        Fault (any state)
+        {t("drive.diagram.faultAny")}
       </text>
       {ARROWS.map((arrow) => {
         const active = arrow.number === last;
@@ -109,7 +122,7 @@ export function StateDiagram({
           <g key={name} className={classes.join(" ")} data-state={name}>
             <rect x={box.x} y={box.y} width={boxWidth} height={boxHeight} rx={6} />
             <text x={box.x + boxWidth / 2} y={box.y + boxHeight / 2 + 5} textAnchor="middle">
-              {STATE_LABELS[name]}
+              {stateLabel(name)}
             </text>
           </g>
         );

@@ -3,6 +3,7 @@ import type { ReactNode } from "react";
 import { api, call } from "../../api/client";
 import type { EnableBlockedError } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
+import { useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 
@@ -16,8 +17,8 @@ export function WhyBlocked({
   blocked,
   onRetry,
   onResetFault,
-  title = "Why won't it enable?",
-  retry = "enable",
+  title,
+  retry,
 }: {
   node: number;
   blocked: EnableBlockedError;
@@ -29,6 +30,7 @@ export function WhyBlocked({
   /** What the NMT way out does after starting the node ("enable", "send Shutdown again"). */
   retry?: string;
 }): ReactNode {
+  const { t } = useTranslation();
   const start = useAction(async () => {
     await call(
       api.POST("/api/nodes/{node}/nmt", { params: { path: { node } }, body: { command: "start" } }),
@@ -40,7 +42,7 @@ export function WhyBlocked({
   const fault = blocked.reasons.some((r) => r.code === "fault");
   return (
     <section className="why-blocked" role="alert" aria-labelledby="why-blocked-heading">
-      <h3 id="why-blocked-heading">{title}</h3>
+      <h3 id="why-blocked-heading">{title ?? t("drive.controls.whyEnable")}</h3>
       {blocked.reasons.length === 0 ? (
         <p>{blocked.message}</p>
       ) : (
@@ -57,23 +59,19 @@ export function WhyBlocked({
           <button
             type="button"
             onClick={() => void start.run()}
-            {...configure.gate("start the node", { disabled: start.busy })}
+            {...configure.gate(t("drive.why.gateStart"), { disabled: start.busy })}
           >
-            Start node {node} (NMT Operational) and {retry}
+            {t("drive.why.startNode", { node, retry: retry ?? t("drive.controls.enableVerb") })}
           </button>
           <ErrorText error={start.error} inline />
         </div>
       )}
       {fault && onResetFault && (
         <div className="button-row">
-          <button
-            type="button"
-            onClick={onResetFault}
-            title="Fault reset (controlword bit 7, 0 → 1), then enable: two requests, each in the audit log"
-          >
-            Reset fault, then enable
+          <button type="button" onClick={onResetFault} title={t("drive.why.resetTitle")}>
+            {t("drive.why.reset")}
           </button>
-          <span className="muted small">once the fault's cause is removed</span>
+          <span className="muted small">{t("drive.why.resetWhen")}</span>
         </div>
       )}
     </section>

@@ -2,6 +2,7 @@
 // §3.7.3): the axis with its switches, one arrow per step, each step a row lower than the one
 // before, fast steps bold, slow ones thin, a reversal drawn as a bend between rows. Pure
 // geometry from the server's `path`; the component only turns it into SVG.
+import { i18n } from "../../i18n";
 import type { PathStep } from "./types";
 
 export type SwitchName = "negative_limit" | "home" | "positive_limit";
@@ -180,5 +181,13 @@ export function arrowHead(x: number, y: number, direction: PathStep["direction"]
 
 /** A step in words, for the drawing's caption and its screen-reader text. */
 export function describeStep(step: PathStep): string {
-  return `${step.speed} ${step.direction === "positive" ? "positive" : "negative"} until ${step.until}`;
+  const until = step.until;
+  if (step.speed === "fast") {
+    return step.direction === "positive"
+      ? i18n.t("drive.homing.fastPositive", { until })
+      : i18n.t("drive.homing.fastNegative", { until });
+  }
+  return step.direction === "positive"
+    ? i18n.t("drive.homing.slowPositive", { until })
+    : i18n.t("drive.homing.slowNegative", { until });
 }

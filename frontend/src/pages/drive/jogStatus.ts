@@ -2,6 +2,7 @@
 // server's jog (running → stopping → stopped) and the drive's velocity say what the axis does.
 // The page never says "Stopped" while the axis moves: a released torque jog, or a stop on a
 // slow ramp, reads "Stopping" until the speed is at rest.
+import { i18n, type MessageKey } from "../../i18n";
 import type { HoldPhase } from "./holdToRun";
 import type { JogInfo } from "./types";
 
@@ -20,9 +21,9 @@ export interface JogStatus {
 }
 
 /** The limit inputs of 60FDh (the server's `inputs` keys) as the page names them. */
-const LIMIT_SWITCHES: readonly (readonly [string, string])[] = [
-  ["positive_limit", "positive limit switch (P-OT)"],
-  ["negative_limit", "negative limit switch (N-OT)"],
+const LIMIT_SWITCHES: readonly (readonly [string, MessageKey])[] = [
+  ["positive_limit", "drive.hold.positiveLimit"],
+  ["negative_limit", "drive.hold.negativeLimit"],
 ];
 
 /** A running jog at rest on an active limit input: a drive whose limit inputs are drive
@@ -37,17 +38,18 @@ export function jogStatus(
   if (phase === "running") {
     const limit = LIMIT_SWITCHES.find(([key]) => inputs[key] === true);
     if (limit && Math.abs(velocityRpm ?? 0) < REST_RPM) {
-      const text = `Held at the ${limit[1]}: the drive refuses this direction — release, then jog the other way`;
+      const text = i18n.t("drive.hold.heldAt", { limit: i18n.t(limit[1]) });
       return { text, stopping: false, reason: null };
     }
-    return { text: "Moving — release to stop", stopping: false, reason: null };
+    return { text: i18n.t("drive.hold.moving"), stopping: false, reason: null };
   }
-  if (phase === "starting") return { text: "Starting…", stopping: false, reason: null };
+  if (phase === "starting")
+    return { text: i18n.t("drive.hold.starting"), stopping: false, reason: null };
   const why = last?.stop_reason ?? null;
   const reason = why !== null && !PLAIN_STOPS.has(why) ? why : null;
   const moving = Math.abs(velocityRpm ?? 0) >= REST_RPM;
   if (moving || last?.state === "stopping") {
-    return { text: "Stopping — the axis is still moving", stopping: true, reason };
+    return { text: i18n.t("drive.hold.stopping"), stopping: true, reason };
   }
-  return { text: "Stopped", stopping: false, reason };
+  return { text: i18n.t("drive.hold.stopped"), stopping: false, reason };
 }

@@ -1,6 +1,7 @@
 // What the Drive page says about motion, from the drive state (pure): the last PP move, where
 // the travel ends, and ServoDesk's travel limits proposed inside the limit switches.
-import { STATE_LABELS } from "./stateMachine";
+import { i18n } from "../../i18n";
+import { stateLabel } from "./stateMachine";
 import type { DriveState, MotionLimits, TravelEnds } from "./types";
 import { formatInc, formatRev } from "./units";
 
@@ -11,32 +12,54 @@ export type MoveTone = "busy" | "ok" | "bad" | "warn";
 export function moveText(drive: DriveState): { text: string; tone: MoveTone } | null {
   const move = drive.move;
   if (!move) return null;
-  const target = `Move to ${formatInc(move.target_inc)}`;
-  const queued = move.queued > 0 ? ` · ${move.queued} queued` : "";
+  const target = formatInc(move.target_inc);
+  const count = move.queued;
   switch (move.phase) {
     case "reached":
-      return { text: `${target}: reached${queued}`, tone: "ok" };
+      return {
+        text:
+          count > 0
+            ? i18n.t("drive.move.reachedQueued", { target, count })
+            : i18n.t("drive.move.reached", { target }),
+        tone: "ok",
+      };
     case "error":
-      return { text: `${target}: error — ${move.message ?? "following error"}`, tone: "bad" };
+      return {
+        text: i18n.t("drive.move.error", {
+          target,
+          message: move.message ?? i18n.t("drive.move.followingError"),
+        }),
+        tone: "bad",
+      };
     case "interrupted":
       return {
-        text: `${target}: not reached — ${move.message ?? "stopped before its target"}`,
+        text: i18n.t("drive.move.interrupted", {
+          target,
+          message: move.message ?? i18n.t("drive.move.stoppedBefore"),
+        }),
         tone: "warn",
       };
     case "moving":
       if (drive.state !== "operation_enabled") {
         return {
-          text: `${target}: not reached — stopped: the drive is ${STATE_LABELS[drive.state]}`,
+          text: i18n.t("drive.move.stoppedState", { target, state: stateLabel(drive.state) }),
           tone: "warn",
         };
       }
-      return { text: `${target}: moving${queued}`, tone: "busy" };
+      return {
+        text:
+          count > 0
+            ? i18n.t("drive.move.movingQueued", { target, count })
+            : i18n.t("drive.move.moving", { target }),
+        tone: "busy",
+      };
   }
 }
 
 /** "−5.000 rev … 5.000 rev" (kept on one line), an open side as "no end". */
 export function rangeText(min: number | null | undefined, max: number | null | undefined): string {
-  const end = (value: number | null | undefined) => (value == null ? "no end" : formatRev(value));
+  const end = (value: number | null | undefined) =>
+    value == null ? i18n.t("drive.travel.noEnd") : formatRev(value);
   return `${end(min)} … ${end(max)}`.replace(/ /g, "\u00a0");
 }
 
@@ -60,21 +83,19 @@ export function travelRows(drive: DriveState): TravelRow[] {
     note: ends.note,
   });
   if (travel?.switches) {
-    rows.push(row("switches", "Limit switches", travel.switches));
+    rows.push(row("switches", i18n.t("drive.travel.switches"), travel.switches));
   }
   if (travel?.software_limit) {
-    rows.push(row("software_limit", "Drive's software limit", travel.software_limit));
+    rows.push(row("software_limit", i18n.t("drive.travel.softwareLimit"), travel.software_limit));
   }
   const { min_position_rev: min, max_position_rev: max } = drive.limits;
   const none = min == null && max == null;
   rows.push({
     key: "servodesk",
-    label: "ServoDesk's travel limits",
-    range: none ? "none" : rangeText(min, max),
+    label: i18n.t("drive.travel.servodesk"),
+    range: none ? i18n.t("drive.travel.none") : rangeText(min, max),
     source: "ServoDesk",
-    note: none
-      ? "PP moves are not checked against a travel range"
-      : "PP moves beyond these are refused before anything is sent",
+    note: none ? i18n.t("drive.travel.unchecked") : i18n.t("drive.travel.refused"),
   });
   return rows;
 }

@@ -1,18 +1,24 @@
 // The CiA 402 device-control state machine (MDi-S1-C CANopen manual §3.2.1, figure 3.1;
 // §3.2.2 figure 3.2 for the commands) as data: the eight states, the numbered transitions with
 // the controlword that takes each, and the diagram's geometry. Pure: the SVG only draws this.
+import { i18n, type MessageKey } from "../../i18n";
 import type { DriveStateName } from "./types";
 
-export const STATE_LABELS: Readonly<Record<DriveStateName, string>> = {
-  not_ready_to_switch_on: "Not ready to switch on",
-  switch_on_disabled: "Switch on disabled",
-  ready_to_switch_on: "Ready to switch on",
-  switched_on: "Switched on",
-  operation_enabled: "Operation enabled",
-  quick_stop_active: "Quick stop active",
-  fault_reaction_active: "Fault reaction active",
-  fault: "Fault",
+const STATE_KEYS: Readonly<Record<DriveStateName, MessageKey>> = {
+  not_ready_to_switch_on: "drive.state.not_ready_to_switch_on",
+  switch_on_disabled: "drive.state.switch_on_disabled",
+  ready_to_switch_on: "drive.state.ready_to_switch_on",
+  switched_on: "drive.state.switched_on",
+  operation_enabled: "drive.state.operation_enabled",
+  quick_stop_active: "drive.state.quick_stop_active",
+  fault_reaction_active: "drive.state.fault_reaction_active",
+  fault: "drive.state.fault",
 };
+
+/** A state's name in the current language (looked up per call: the language can change). */
+export function stateLabel(state: DriveStateName): string {
+  return i18n.t(STATE_KEYS[state]);
+}
 
 /** The statusword pattern of each state (CiA 402; MDi-S1-C CANopen manual §3.2.3). */
 const STATE_PATTERNS: readonly { mask: number; value: number; state: DriveStateName }[] = [
@@ -71,20 +77,27 @@ export const TRANSITIONS: readonly Transition[] = [
 
 export interface CommandInfo {
   name: CommandName;
-  label: string;
+  /** Its button's name, a catalogue key. */
+  label: MessageKey;
   /** Controlword 6040h bits 0–3 and 7 (figure 3.2). */
   controlword: number;
 }
 
 export const COMMANDS: readonly CommandInfo[] = [
-  { name: "shutdown", label: "Shutdown", controlword: 0x0006 },
-  { name: "switch_on", label: "Switch on", controlword: 0x0007 },
-  { name: "enable_operation", label: "Enable operation", controlword: 0x000f },
-  { name: "disable_operation", label: "Disable operation", controlword: 0x0007 },
-  { name: "disable_voltage", label: "Disable voltage", controlword: 0x0000 },
-  { name: "quick_stop", label: "Quick stop", controlword: 0x0002 },
-  { name: "fault_reset", label: "Fault reset", controlword: 0x0080 },
+  { name: "shutdown", label: "drive.command.shutdown", controlword: 0x0006 },
+  { name: "switch_on", label: "drive.command.switch_on", controlword: 0x0007 },
+  { name: "enable_operation", label: "drive.command.enable_operation", controlword: 0x000f },
+  { name: "disable_operation", label: "drive.command.disable_operation", controlword: 0x0007 },
+  { name: "disable_voltage", label: "drive.command.disable_voltage", controlword: 0x0000 },
+  { name: "quick_stop", label: "drive.command.quick_stop", controlword: 0x0002 },
+  { name: "fault_reset", label: "drive.command.fault_reset", controlword: 0x0080 },
 ];
+
+/** A command's name in the current language. */
+export function commandLabel(name: CommandName): string {
+  const info = COMMANDS.find((c) => c.name === name);
+  return info ? i18n.t(info.label) : name;
+}
 
 /** The transitions a command takes from `state` (empty: the command does nothing there). */
 export function transitionsFor(command: CommandName, state: DriveStateName): Transition[] {

@@ -1,55 +1,56 @@
 // Statusword 6041h bit by bit (CiA 402; MDi-S1-C CANopen manual §3.2.3): the generic names,
 // the mode-specific meaning of bits 10, 12 and 13, and a tone for each lamp.
+import { currentLanguage, i18n, type MessageKey } from "../../i18n";
 import type { StatusBit } from "./types";
 
 export type LampTone = "ok" | "bad" | "warn" | "info";
 
 interface BitDef {
   bit: number;
-  name: string;
+  name: MessageKey;
   /** The tone of the lamp when lit. */
   tone: LampTone;
 }
 
 const GENERIC: readonly BitDef[] = [
-  { bit: 0, name: "Ready to switch on", tone: "ok" },
-  { bit: 1, name: "Switched on", tone: "ok" },
-  { bit: 2, name: "Operation enabled", tone: "ok" },
-  { bit: 3, name: "Fault", tone: "bad" },
-  { bit: 4, name: "Voltage enabled", tone: "ok" },
-  { bit: 5, name: "Quick stop (0 = active)", tone: "ok" },
-  { bit: 6, name: "Switch on disabled", tone: "info" },
-  { bit: 7, name: "Warning", tone: "warn" },
-  { bit: 8, name: "Manufacturer specific", tone: "info" },
-  { bit: 9, name: "Remote", tone: "ok" },
-  { bit: 10, name: "Target reached", tone: "ok" },
-  { bit: 11, name: "Internal limit active", tone: "warn" },
-  { bit: 12, name: "Operation mode specific", tone: "info" },
-  { bit: 13, name: "Operation mode specific", tone: "info" },
-  { bit: 14, name: "Manufacturer specific", tone: "info" },
-  { bit: 15, name: "Manufacturer specific", tone: "info" },
+  { bit: 0, name: "drive.bit.readyToSwitchOn", tone: "ok" },
+  { bit: 1, name: "drive.bit.switchedOn", tone: "ok" },
+  { bit: 2, name: "drive.bit.operationEnabled", tone: "ok" },
+  { bit: 3, name: "drive.bit.fault", tone: "bad" },
+  { bit: 4, name: "drive.bit.voltageEnabled", tone: "ok" },
+  { bit: 5, name: "drive.bit.quickStop", tone: "ok" },
+  { bit: 6, name: "drive.bit.switchOnDisabled", tone: "info" },
+  { bit: 7, name: "drive.bit.warning", tone: "warn" },
+  { bit: 8, name: "drive.bit.manufacturer", tone: "info" },
+  { bit: 9, name: "drive.bit.remote", tone: "ok" },
+  { bit: 10, name: "drive.bit.targetReached", tone: "ok" },
+  { bit: 11, name: "drive.bit.internalLimit", tone: "warn" },
+  { bit: 12, name: "drive.bit.modeSpecific", tone: "info" },
+  { bit: 13, name: "drive.bit.modeSpecific", tone: "info" },
+  { bit: 14, name: "drive.bit.manufacturer", tone: "info" },
+  { bit: 15, name: "drive.bit.manufacturer", tone: "info" },
 ];
 
 /** Bits 12 and 13 (and 10) per mode, as the manual's table under §3.2.3 names them. */
 const MODE_SPECIFIC: Readonly<Record<string, Partial<Record<number, BitDef>>>> = {
   pp: {
-    12: { bit: 12, name: "Set-point acknowledge", tone: "info" },
-    13: { bit: 13, name: "Following error", tone: "bad" },
+    12: { bit: 12, name: "drive.bit.setPointAck", tone: "info" },
+    13: { bit: 13, name: "drive.bit.followingError", tone: "bad" },
   },
   pv: {
-    12: { bit: 12, name: "Speed is zero", tone: "info" },
-    13: { bit: 13, name: "Max slippage / speed limit", tone: "warn" },
+    12: { bit: 12, name: "drive.bit.speedZero", tone: "info" },
+    13: { bit: 13, name: "drive.bit.maxSlippage", tone: "warn" },
   },
   hm: {
-    12: { bit: 12, name: "Homing attained", tone: "ok" },
-    13: { bit: 13, name: "Homing error", tone: "bad" },
+    12: { bit: 12, name: "drive.bit.homingAttained", tone: "ok" },
+    13: { bit: 13, name: "drive.bit.homingError", tone: "bad" },
   },
   ip: {
-    12: { bit: 12, name: "Interpolation active", tone: "ok" },
+    12: { bit: 12, name: "drive.bit.interpolationActive", tone: "ok" },
   },
   csp: {
-    12: { bit: 12, name: "Drive follows the command", tone: "ok" },
-    13: { bit: 13, name: "Following error", tone: "bad" },
+    12: { bit: 12, name: "drive.bit.followsCommand", tone: "ok" },
+    13: { bit: 13, name: "drive.bit.followingError", tone: "bad" },
   },
 };
 
@@ -58,6 +59,15 @@ export interface Lamp {
   name: string;
   on: boolean;
   tone: LampTone;
+}
+
+/** Whether the server's name for a bit is shown: in English always (as the drive names it),
+ * in another language only where it says more than the table's English name (any case), which
+ * is then shown translated. */
+function ownName(server: string, key: MessageKey): boolean {
+  const name = server.trim().toLowerCase();
+  if (name === "") return false;
+  return currentLanguage() === "en" || name !== i18n.t(key, { lng: "en" }).toLowerCase();
 }
 
 /** The 16 lamps of a statusword. Names the server sends win over the table's; without them
@@ -73,7 +83,7 @@ export function statusLamps(
     const server = serverBits.find((b) => b.bit === def.bit);
     return {
       bit: def.bit,
-      name: server && server.name.trim() !== "" ? server.name : def.name,
+      name: server && ownName(server.name, def.name) ? server.name : i18n.t(def.name),
       on: ((statusword >> def.bit) & 1) === 1,
       tone: def.tone,
     };
@@ -94,9 +104,9 @@ export function homingStatus(statusword: number): {
   const reached = (statusword >> 10) & 1;
   const attained = (statusword >> 12) & 1;
   const error = (statusword >> 13) & 1;
-  if (error) return { text: "Homing error", tone: "bad" };
-  if (attained && reached) return { text: "Homing attained", tone: "ok" };
-  if (attained) return { text: "Homing attained, axis still moving", tone: "info" };
-  if (reached) return { text: "Homing interrupted or not started", tone: "warn" };
-  return { text: "Homing in progress", tone: "info" };
+  if (error) return { text: i18n.t("drive.homing.error"), tone: "bad" };
+  if (attained && reached) return { text: i18n.t("drive.homing.attained"), tone: "ok" };
+  if (attained) return { text: i18n.t("drive.homing.attainedMoving"), tone: "info" };
+  if (reached) return { text: i18n.t("drive.homing.notStarted"), tone: "warn" };
+  return { text: i18n.t("drive.homing.inProgress"), tone: "info" };
 }

@@ -8,9 +8,9 @@ export interface Sample {
 }
 
 export const TIMELINE_BITS = [
-  { bit: 10, label: "10 target reached" },
-  { bit: 12, label: "12 attained" },
-  { bit: 13, label: "13 error" },
+  { bit: 10, label: "drive.homing.bit10" },
+  { bit: 12, label: "drive.homing.bit12" },
+  { bit: 13, label: "drive.homing.bit13" },
 ] as const;
 
 export const MAX_SAMPLES = 600;

@@ -1,5 +1,7 @@
 // Number formatting for the drive's values: fixed decimals per unit, a real minus sign, "—"
-// for what the drive does not report.
+// for what the drive does not report. Units and decimals stay as engineers write them in any
+// language (zh-CN uses the same digits and decimal point).
+import { i18n, type MessageKey } from "../../i18n";
 
 function fixed(value: number, decimals: number): string {
   const text = value.toFixed(decimals);
@@ -46,27 +48,30 @@ export function checkRange(
   { min, max, positive = false }: { min?: number | null; max?: number | null; positive?: boolean },
 ): { value: number | null; error: string | null } {
   const value = parseNumber(text);
-  if (value === null) return { value: null, error: "Enter a number" };
-  if (positive && value <= 0) return { value: null, error: "Must be above 0" };
-  if (min != null && value < min) return { value: null, error: `At least ${min}` };
-  if (max != null && value > max) return { value: null, error: `At most ${max}` };
+  if (value === null) return { value: null, error: i18n.t("drive.check.enterNumber") };
+  if (positive && value <= 0) return { value: null, error: i18n.t("drive.check.aboveZero") };
+  if (min != null && value < min)
+    return { value: null, error: i18n.t("drive.check.atLeast", { min }) };
+  if (max != null && value > max)
+    return { value: null, error: i18n.t("drive.check.atMost", { max }) };
   return { value, error: null };
 }
 
 /** Mode short names as engineers say them. */
-export const MODE_LABELS: Readonly<Record<string, string>> = {
-  pp: "Profile position (PP)",
-  vl: "Velocity (VL)",
-  pv: "Profile velocity (PV)",
-  pt: "Profile torque (PT)",
-  hm: "Homing (HM)",
-  ip: "Interpolated position (IP)",
-  csp: "Cyclic sync position (CSP)",
-  csv: "Cyclic sync velocity (CSV)",
-  cst: "Cyclic sync torque (CST)",
+export const MODE_LABELS: Readonly<Record<string, MessageKey>> = {
+  pp: "drive.mode.pp",
+  vl: "drive.mode.vl",
+  pv: "drive.mode.pv",
+  pt: "drive.mode.pt",
+  hm: "drive.mode.hm",
+  ip: "drive.mode.ip",
+  csp: "drive.mode.csp",
+  csv: "drive.mode.csv",
+  cst: "drive.mode.cst",
 };
 
 export function modeLabel(mode: string | null | undefined): string {
-  if (mode == null || mode === "") return "none";
-  return MODE_LABELS[mode] ?? mode;
+  if (mode == null || mode === "") return i18n.t("drive.mode.none");
+  const key = MODE_LABELS[mode];
+  return key ? i18n.t(key) : mode;
 }
