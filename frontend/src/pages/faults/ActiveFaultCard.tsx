@@ -6,6 +6,7 @@ import { HeldByOtherError } from "../../api/driveApi";
 import { errorCode, resetFault } from "../../api/faultsApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { Trans, useTranslation } from "../../i18n";
 import { errorCodeParts, faultCode, faultName } from "../../lib/faultText";
 import { useThrottled } from "../../lib/useThrottled";
 import { useAction, useApi } from "../../lib/useApi";
@@ -36,18 +37,19 @@ function ErrorCodeLine({
   node: number;
   active: Fault | null | undefined;
 }): ReactNode {
+  const { t } = useTranslation();
   // read again when the active fault's code changes (not for each EMCY of the same fault)
   const version = useThrottled(active ? String(active.code) : String(active), ERROR_CODE_READ_MS);
   const code = useApi((signal) => errorCode(node, signal), `603f-${node}-${version}`);
   return (
     <p className="small error-code-line">
-      <span className="muted">Error code 603Fh on the drive: </span>
+      <span className="muted">{t("faults.active.errorCode")}</span>
       {code.data ? (
         <ErrorCodeValue {...errorCodeParts(code.data.value, active)} />
       ) : code.error ? (
         <ErrorText error={code.error} inline />
       ) : (
-        <Spinner label="Reading 603Fh" />
+        <Spinner label={t("faults.active.reading603F")} />
       )}
     </p>
   );
@@ -62,6 +64,7 @@ export function ActiveFaultCard({
   node: number;
   active: Fault | null | undefined;
 }): ReactNode {
+  const { t } = useTranslation();
   const store = useLiveStore();
   const [result, setResult] = useState<string | null>(null);
   const operate = useMay("operate");
@@ -70,7 +73,9 @@ export function ActiveFaultCard({
     const version = store.faultVersion();
     const answer = await resetFault(node);
     store.setNodeFault(node, answer.active, version);
-    setResult(answer.ok ? answer.message : `Not reset: ${answer.message}`);
+    setResult(
+      answer.ok ? answer.message : t("faults.active.notReset", { message: answer.message }),
+    );
   });
   return (
     <section
@@ -80,21 +85,21 @@ export function ActiveFaultCard({
       <header className="card-header">
         <h2 id="fault-active-heading">
           {active === undefined
-            ? "Active fault"
+            ? t("faults.active.heading")
             : active
-              ? `In fault: ${faultCode(active)} ${faultName(active)}`
-              : "No active fault"}
+              ? t("faults.active.inFault", { code: faultCode(active), name: faultName(active) })
+              : t("faults.active.none")}
         </h2>
         <span className="spacer" />
         <button
           type="button"
           className={active ? "primary" : undefined}
-          {...operate.gate("reset faults", { disabled: reset.busy })}
+          {...operate.gate(t("faults.active.gateReset"), { disabled: reset.busy })}
           onClick={() => void reset.run()}
         >
-          Fault reset
+          {t("faults.active.reset")}
         </button>
-        {reset.busy && <Spinner label="Resetting" />}
+        {reset.busy && <Spinner label={t("faults.active.resetting")} />}
       </header>
       {result && (
         <p className="note" role="status">
@@ -103,9 +108,17 @@ export function ActiveFaultCard({
       )}
       {reset.error instanceof HeldByOtherError ? (
         <p className="error" role="alert">
-          Not reset: node {node} is controlled by{" "}
-          {reset.error.holder?.name ?? reset.error.holder?.client_id ?? "another client"}. Take over
-          control on <Link to={nodeUrl(node, "drive")}>its Drive page</Link>, then reset here.
+          <Trans
+            i18nKey="faults.active.heldByOther"
+            values={{
+              node,
+              holder:
+                reset.error.holder?.name ??
+                reset.error.holder?.client_id ??
+                t("faults.active.anotherClient"),
+            }}
+            components={{ page: <Link to={nodeUrl(node, "drive")} /> }}
+          />
         </p>
       ) : (
         <ErrorText error={reset.error} />
@@ -113,9 +126,7 @@ export function ActiveFaultCard({
       {active ? (
         <FaultDetails fault={active} />
       ) : (
-        active === null && (
-          <p className="muted">The drive reports no fault. Past faults are listed below.</p>
-        )
+        active === null && <p className="muted">{t("faults.active.noFault")}</p>
       )}
       <ErrorCodeLine node={node} active={active} />
     </section>

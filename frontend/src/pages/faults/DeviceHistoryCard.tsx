@@ -5,23 +5,25 @@ import { clearDeviceHistory, deviceHistory } from "../../api/faultsApi";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { i18n, useTranslation } from "../../i18n";
 import { errorRegisterText, faultCode, faultName, hasNoObject } from "../../lib/faultText";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import type { DeviceHistoryEntry } from "./types";
 
 function HistoryTable({ entries }: { entries: readonly DeviceHistoryEntry[] }): ReactNode {
+  const { t } = useTranslation();
   return (
     <div className="table-scroll">
       <table className="data-table fault-table">
-        <caption className="visually-hidden">Drive&apos;s error history</caption>
+        <caption className="visually-hidden">{t("faults.device.caption")}</caption>
         <thead>
           <tr>
             <th scope="col">1003h</th>
-            <th scope="col">Entry</th>
-            <th scope="col">Code</th>
-            <th scope="col">Meaning</th>
-            <th scope="col">Error register</th>
+            <th scope="col">{t("faults.device.entry")}</th>
+            <th scope="col">{t("faults.device.code")}</th>
+            <th scope="col">{t("faults.device.meaning")}</th>
+            <th scope="col">{t("faults.device.errorRegister")}</th>
           </tr>
         </thead>
         <tbody>
@@ -29,7 +31,7 @@ function HistoryTable({ entries }: { entries: readonly DeviceHistoryEntry[] }): 
             <tr key={number}>
               <td className="num">
                 :{String(number).padStart(2, "0")}
-                {number === 1 && <span className="muted small"> newest</span>}
+                {number === 1 && <span className="muted small">{t("faults.device.newest")}</span>}
               </td>
               <td className="mono">{value_hex}</td>
               <td className="mono">{faultCode(fault)}</td>
@@ -47,13 +49,14 @@ function HistoryTable({ entries }: { entries: readonly DeviceHistoryEntry[] }): 
 function readError(node: number, error: ApiError | null): ReactNode {
   if (!error) return null;
   if (hasNoObject(error.abortCode)) {
-    return <p className="muted">Node {node} keeps no error history of its own (no 1003h).</p>;
+    return <p className="muted">{i18n.t("faults.device.noHistory", { node })}</p>;
   }
   return <ErrorText error={error} />;
 }
 
 /** The drive's own error history 1003h, decoded; cleared only after the user confirms. */
 export function DeviceHistoryCard({ node }: { node: number }): ReactNode {
+  const { t } = useTranslation();
   const history = useApi((signal) => deviceHistory(node, signal), `device-history-${node}`);
   const [asking, setAsking] = useState(false);
   const [message, setMessage] = useState<string | null>(null);
@@ -70,17 +73,19 @@ export function DeviceHistoryCard({ node }: { node: number }): ReactNode {
   return (
     <section className="card" aria-labelledby="device-history-heading">
       <header className="card-header">
-        <h2 id="device-history-heading">Drive&apos;s error history 1003h</h2>
-        {data && supported && <span className="muted small">{data.count} stored</span>}
+        <h2 id="device-history-heading">{t("faults.device.heading")}</h2>
+        {data && supported && (
+          <span className="muted small">{t("faults.device.count", { count: data.count })}</span>
+        )}
         <span className="spacer" />
         <button type="button" disabled={history.loading} onClick={history.reload}>
-          Read 1003h
+          {t("faults.device.read")}
         </button>
         {data && supported && (
           <button
             type="button"
             className="danger"
-            {...configure.gate("clear the error history", {
+            {...configure.gate(t("faults.device.gateClear"), {
               disabled: entries.length === 0 || clear.busy,
             })}
             onClick={() => {
@@ -89,10 +94,10 @@ export function DeviceHistoryCard({ node }: { node: number }): ReactNode {
               setAsking(true);
             }}
           >
-            Clear history…
+            {t("faults.device.clear")}
           </button>
         )}
-        {history.loading && <Spinner label="Reading 1003h" />}
+        {history.loading && <Spinner label={t("faults.device.reading")} />}
       </header>
       {message && (
         <p className="note" role="status">
@@ -101,24 +106,22 @@ export function DeviceHistoryCard({ node }: { node: number }): ReactNode {
       )}
       {readError(node, history.error)}
       {data?.note && <p className="muted small">{data.note}</p>}
-      {data && !supported && (
-        <p className="muted">Node {node} keeps no error history of its own (no 1003h).</p>
-      )}
+      {data && !supported && <p className="muted">{t("faults.device.noHistory", { node })}</p>}
       {data &&
         supported &&
         (entries.length === 0 ? (
-          <p className="muted">The drive&apos;s history is empty.</p>
+          <p className="muted">{t("faults.device.empty")}</p>
         ) : (
           <HistoryTable entries={entries} />
         ))}
       {asking && (
         <Dialog
-          title={`Clear node ${node}'s error history?`}
+          title={t("faults.device.confirmTitle", { node })}
           onClose={() => setAsking(false)}
           actions={
             <>
               <button type="button" onClick={() => setAsking(false)}>
-                Cancel
+                {t("faults.device.cancel")}
               </button>
               <button
                 type="button"
@@ -126,17 +129,13 @@ export function DeviceHistoryCard({ node }: { node: number }): ReactNode {
                 disabled={clear.busy}
                 onClick={() => void clear.run()}
               >
-                Clear 1003h
+                {t("faults.device.confirm")}
               </button>
               {clear.busy && <Spinner />}
             </>
           }
         >
-          <p>
-            Writes 0 to 1003h:00: the drive forgets its {entries.length} stored error
-            {entries.length === 1 ? "" : "s"}. This cannot be undone; ServoDesk&apos;s own fault
-            history stays.
-          </p>
+          <p>{t("faults.device.confirmText", { count: entries.length })}</p>
           <ErrorText error={clear.error} />
         </Dialog>
       )}

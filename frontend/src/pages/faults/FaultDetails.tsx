@@ -1,5 +1,6 @@
 import type { ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import {
   checkParts,
   errorRegisterText,
@@ -12,17 +13,18 @@ import type { Fault } from "./types";
 
 /** One fault in words: names, source layer, what to check, error register, raw bytes. */
 export function FaultDetails({ fault }: { fault: Fault }): ReactNode {
+  const { t } = useTranslation();
   const parts = checkParts(fault.check);
   return (
     <dl className="facts fault-facts">
-      <dt>Code</dt>
+      <dt>{t("faults.details.code")}</dt>
       <dd>
         <span className="mono">{faultCode(fault)}</span>
         {fault.code_hex !== faultCode(fault) && (
           <span className="muted small"> ({fault.code_hex})</span>
         )}
       </dd>
-      <dt>Meaning</dt>
+      <dt>{t("faults.details.meaning")}</dt>
       <dd>
         <span className="fault-name-en">{fault.name_en}</span>
         {fault.name_zh && (
@@ -31,11 +33,11 @@ export function FaultDetails({ fault }: { fault: Fault }): ReactNode {
           </span>
         )}
       </dd>
-      <dt>Decoded from</dt>
+      <dt>{t("faults.details.decodedFrom")}</dt>
       <dd>{sourceLabel(fault.source)}</dd>
       {parts.length > 0 && (
         <>
-          <dt>What to check</dt>
+          <dt>{t("faults.details.whatToCheck")}</dt>
           <dd>
             <ul className="fault-check">
               {parts.map((part, i) => (
@@ -48,27 +50,27 @@ export function FaultDetails({ fault }: { fault: Fault }): ReactNode {
           </dd>
         </>
       )}
-      <dt>Error register 1001h</dt>
+      <dt>{t("faults.details.errorRegister")}</dt>
       <dd>
         {fault.error_register == null ? (
-          <span className="muted">not in this drive&apos;s EMCY</span>
+          <span className="muted">{t("faults.details.notInEmcy")}</span>
         ) : (
           errorRegisterText(fault.error_register)
         )}
       </dd>
       {fault.manufacturer_hex && (
         <>
-          <dt>Manufacturer bytes</dt>
+          <dt>{t("faults.details.manufacturerBytes")}</dt>
           <dd className="mono">{fault.manufacturer_hex}</dd>
         </>
       )}
-      <dt>EMCY data</dt>
+      <dt>{t("faults.details.emcyData")}</dt>
       <dd className="mono">{fault.raw_hex || "—"}</dd>
-      <dt>Received</dt>
+      <dt>{t("faults.details.received")}</dt>
       <dd>{formatDateTime(fault.time)}</dd>
       {(fault.state_before ?? fault.state_after) && (
         <>
-          <dt>Drive state</dt>
+          <dt>{t("faults.details.driveState")}</dt>
           <dd>{stateChange(fault)}</dd>
         </>
       )}

@@ -1,7 +1,7 @@
 import { useState, type ReactNode } from "react";
 
 import { Spinner } from "../../components/Spinner";
-
+import { i18n, useTranslation } from "../../i18n";
 import {
   errorRegisterText,
   faultCode,
@@ -27,6 +27,7 @@ export function FaultTable({
   /** Whether each row names the bus it came from (other buses' faults are listed too). */
   buses?: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   const [open, setOpen] = useState<number | null>(null);
   const rows = newestFirst(faults);
   const shown = open === null ? undefined : rows[open];
@@ -37,12 +38,12 @@ export function FaultTable({
           <caption className="visually-hidden">{caption}</caption>
           <thead>
             <tr>
-              <th scope="col">Time</th>
-              <th scope="col">Code</th>
-              <th scope="col">Meaning</th>
-              <th scope="col">Error register</th>
-              {states && <th scope="col">State before → after</th>}
-              {buses && <th scope="col">Bus</th>}
+              <th scope="col">{t("faults.history.time")}</th>
+              <th scope="col">{t("faults.history.code")}</th>
+              <th scope="col">{t("faults.history.meaning")}</th>
+              <th scope="col">{t("faults.history.errorRegister")}</th>
+              {states && <th scope="col">{t("faults.history.states")}</th>}
+              {buses && <th scope="col">{t("faults.history.bus")}</th>}
             </tr>
           </thead>
           <tbody>
@@ -72,7 +73,7 @@ export function FaultTable({
         </table>
       </div>
       {shown && (
-        <div className="fault-row-details" aria-label="Selected fault">
+        <div className="fault-row-details" aria-label={t("faults.history.selected")}>
           <FaultDetails fault={shown} />
         </div>
       )}
@@ -82,8 +83,8 @@ export function FaultTable({
 
 /** "1 EMCY stored", "120 EMCYs stored, the newest 100 shown". */
 export function historyCount(total: number, shown: number): string {
-  const stored = `${total} EMCY${total === 1 ? "" : "s"} stored`;
-  return shown < total ? `${stored}, the newest ${shown} shown` : stored;
+  const stored = i18n.t("faults.history.stored", { count: total });
+  return shown < total ? i18n.t("faults.history.storedShown", { stored, shown }) : stored;
 }
 
 /** Every EMCY ServoDesk received from the node on this bus (resets included), newest first;
@@ -105,40 +106,36 @@ export function FaultHistoryCard({
   /** A read of the list is under way (the list shown is the previous one). */
   loading?: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   return (
     <section className="card" aria-labelledby="fault-history-heading">
       <header className="card-header">
-        <h2 id="fault-history-heading">Fault history</h2>
+        <h2 id="fault-history-heading">{t("faults.history.heading")}</h2>
         <span className="muted small">{historyCount(total, history.length)}</span>
         {onAllBuses && (
-          <label
-            className="check small"
-            title="Faults stored by another server sharing this data directory, or on a bus connected before (node numbers there are other drives)"
-          >
+          <label className="check small" title={t("faults.history.otherBusesTitle")}>
             <input
               type="checkbox"
               checked={allBuses}
               onChange={(e) => onAllBuses(e.target.checked)}
             />
-            Other buses too
+            {t("faults.history.otherBuses")}
           </label>
         )}
       </header>
       {history.length === 0 ? (
         <p className="muted">
-          {allBuses
-            ? "No EMCY from this node number on any bus yet."
-            : "No EMCY from this node on this bus yet."}
+          {allBuses ? t("faults.history.emptyAllBuses") : t("faults.history.empty")}
         </p>
       ) : (
-        <FaultTable faults={history} caption="Fault history" buses={allBuses} />
+        <FaultTable faults={history} caption={t("faults.history.heading")} buses={allBuses} />
       )}
       {onOlder && (
         <p className="inline small">
           <button type="button" disabled={loading} onClick={onOlder}>
-            Older…
+            {t("faults.history.older")}
           </button>
-          {loading && <Spinner label="Reading the fault history" />}
+          {loading && <Spinner label={t("faults.history.reading")} />}
         </p>
       )}
     </section>

@@ -1,6 +1,7 @@
 import type { ReactNode } from "react";
 
 import { ErrorText } from "../../components/ErrorText";
+import { useTranslation } from "../../i18n";
 import { useLive } from "../../live/context";
 import { ActiveFaultCard } from "./ActiveFaultCard";
 import { DeviceHistoryCard } from "./DeviceHistoryCard";
@@ -10,14 +11,14 @@ import { useActiveFault, useFaultHistory } from "./useFaultHistory";
 /** While the live channel is down the page cannot follow the drive: it says so (and reads the
  * faults again once the channel is back). Not during the first connection of a page load. */
 function LinkDownNote(): ReactNode {
+  const { t } = useTranslation();
   const down = useLive(
     (s) => s.link.state === "closed" || (s.link.state === "connecting" && s.link.attempt > 0),
   );
   if (!down) return null;
   return (
     <p className="note link-down-note" role="status">
-      Live updates paused: the connection to the server is lost. The active fault and the history
-      may be out of date; they are read again when it is back.
+      {t("faults.linkDown")}
     </p>
   );
 }

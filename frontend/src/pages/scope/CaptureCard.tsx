@@ -3,6 +3,7 @@ import { useId, type ReactNode } from "react";
 import type { ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { currentLocale, useTranslation, type MessageKey } from "../../i18n";
 import { formatClock, odAddress } from "../../lib/format";
 import { useMay } from "../../session/context";
 import { formatReading, isActive, signalKey, triggerText } from "./model";
@@ -12,12 +13,12 @@ import type { Capture } from "./types";
 
 // arming: the bus is still being set up, or the trigger's signal has not sent a sample yet:
 // something that happens now would not trigger the capture
-export const STATE_TEXT: Record<Capture["state"], string> = {
-  arming: "Arming… (not armed yet)",
-  armed: "Armed: waiting for the trigger",
-  running: "Recording",
-  done: "Done",
-  failed: "Failed",
+export const STATE_TEXT: Record<Capture["state"], MessageKey> = {
+  arming: "scope.state.arming",
+  armed: "scope.state.armed",
+  running: "scope.state.running",
+  done: "scope.state.done",
+  failed: "scope.state.failed",
 };
 
 /** Seconds recorded so far (from the trigger, or the start while armed), at most the duration. */
@@ -45,6 +46,7 @@ export function CaptureCard({
   stopping: boolean;
   error: ApiError | null;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const operate = useMay("operate");
   const active = isActive(capture);
@@ -55,74 +57,87 @@ export function CaptureCard({
     <section className="card scope-capture" aria-labelledby={`${id}-h`}>
       <header className="card-header">
         <h2 id={`${id}-h`}>
-          Capture {capture.id}
-          {capture.name ? ` · ${capture.name}` : ""}
+          {capture.name
+            ? t("scope.capture.headingNamed", { id: capture.id, name: capture.name })
+            : t("scope.capture.heading", { id: capture.id })}
         </h2>
         <span
           className={`badge scope-state scope-state-${capture.state}`}
           role="status"
           data-testid="capture-state"
         >
-          {STATE_TEXT[capture.state]}
+          {t(STATE_TEXT[capture.state])}
         </span>
         <span className="spacer" />
         {active && (
           <button
             type="button"
             className="danger"
-            {...operate.gate("stop the capture", { disabled: stopping })}
+            {...operate.gate(t("scope.capture.gateStop"), { disabled: stopping })}
             onClick={onStop}
           >
-            ■ Stop
+            {t("scope.capture.stop")}
           </button>
         )}
-        {stopping && <Spinner label="Stopping" />}
+        {stopping && <Spinner label={t("scope.capture.stopping")} />}
       </header>
       <ErrorText error={error} />
-      <dl className="counters" aria-label="Capture progress">
+      <dl className="counters" aria-label={t("scope.capture.progress")}>
         <div className="counter">
-          <dt>Samples</dt>
+          <dt>{t("scope.capture.samples")}</dt>
           <dd className="num" data-testid="capture-samples">
-            {capture.samples.toLocaleString("en-US")}
+            {capture.samples.toLocaleString(currentLocale())}
           </dd>
         </div>
         <div className="counter">
-          <dt>Recorded</dt>
+          <dt>{t("scope.capture.recorded")}</dt>
           <dd className="num">
-            {seconds === null ? "—" : `${seconds.toFixed(1)} of ${capture.duration_s} s`}
+            {seconds === null
+              ? "—"
+              : t("scope.capture.recordedOf", {
+                  seconds: seconds.toFixed(1),
+                  duration: capture.duration_s,
+                })}
           </dd>
         </div>
         <div className="counter">
-          <dt>Trigger</dt>
+          <dt>{t("scope.capture.trigger")}</dt>
           <dd className="num">
-            {capture.trigger_time ? formatClock(capture.trigger_time) : active ? "waiting" : "—"}
+            {capture.trigger_time
+              ? formatClock(capture.trigger_time)
+              : active
+                ? t("scope.capture.waiting")
+                : "—"}
           </dd>
         </div>
         {capture.bus_load_percent != null && (
           <div className="counter">
-            <dt>Bus load</dt>
+            <dt>{t("scope.capture.busLoad")}</dt>
             <dd className="num">{capture.bus_load_percent} %</dd>
           </div>
         )}
         {capture.lost > 0 && (
           <div className="counter scope-lost">
-            <dt>Lost frames</dt>
-            <dd className="num">{capture.lost.toLocaleString("en-US")}</dd>
+            <dt>{t("scope.capture.lost")}</dt>
+            <dd className="num">{capture.lost.toLocaleString(currentLocale())}</dd>
           </div>
         )}
       </dl>
       <p className="muted small">
-        Trigger: {triggerText(capture.trigger)} · SYNC every {capture.sync_period_us} µs
+        {t("scope.capture.triggerLine", {
+          trigger: triggerText(capture.trigger),
+          period: capture.sync_period_us,
+        })}
       </p>
       <div className="table-scroll">
-        <table className="data-table scope-readouts" aria-label="Live readouts">
+        <table className="data-table scope-readouts" aria-label={t("scope.capture.readouts")}>
           <thead>
             <tr>
-              <th>Signal</th>
-              <th className="num">Value</th>
-              <th>Last readings</th>
-              <th className="num">Rate</th>
-              <th className="num">Samples</th>
+              <th>{t("scope.capture.signal")}</th>
+              <th className="num">{t("scope.capture.value")}</th>
+              <th>{t("scope.capture.lastReadings")}</th>
+              <th className="num">{t("scope.capture.rate")}</th>
+              <th className="num">{t("scope.capture.samples")}</th>
             </tr>
           </thead>
           <tbody>
@@ -144,7 +159,7 @@ export function CaptureCard({
                   <td className="num small">
                     {signal.rate_hz == null ? "—" : `${Math.round(signal.rate_hz)} Hz`}
                   </td>
-                  <td className="num small">{signal.samples.toLocaleString("en-US")}</td>
+                  <td className="num small">{signal.samples.toLocaleString(currentLocale())}</td>
                 </tr>
               );
             })}
@@ -153,7 +168,7 @@ export function CaptureCard({
       </div>
       {capture.error && <ErrorText error={capture.error} />}
       {notes.length > 0 && (
-        <ul className="scope-notes muted small" aria-label="Capture notes">
+        <ul className="scope-notes muted small" aria-label={t("scope.capture.notes")}>
           {notes.map((note, i) => (
             <li key={i}>{note}</li>
           ))}

@@ -5,29 +5,44 @@ import { DataUsageLine } from "../../components/DataUsage";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { currentLocale, i18n, useTranslation, type MessageKey } from "../../i18n";
 import { odAddress } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
-import { formatBytes, formatDateTime, isActive, triggerText } from "./model";
+import { formatBytes, formatDateTime, isActive, STATE_WORD, triggerText } from "./model";
 import { exportUrl, stopOrDeleteCapture } from "./scopeApi";
 import type { Capture, ExportFormat, ExportLayout } from "./types";
 
-const EXPORTS: { format: ExportFormat; layout?: ExportLayout; label: string; title: string }[] = [
-  { format: "csv", label: "CSV", title: "one row per sample" },
+// `label` is a format's name (the same in every language) or a key when it needs words
+const EXPORTS: {
+  format: ExportFormat;
+  layout?: ExportLayout;
+  label: string;
+  labelKey?: MessageKey;
+  title: MessageKey;
+}[] = [
+  { format: "csv", label: "CSV", title: "scope.list.export.csv" },
   {
     format: "csv",
     layout: "wide",
     label: "Wide CSV",
-    title: "for spreadsheets: one row per time stamp, a column per signal",
+    labelKey: "scope.list.export.wideCsvLabel",
+    title: "scope.list.export.wideCsv",
   },
-  { format: "parquet", label: "Parquet", title: "Apache Parquet table" },
-  { format: "mf4", label: "MF4", title: "ASAM MDF 4, one channel per signal" },
-  { format: "rrd", label: ".rrd", title: "the rerun recording, for rerun's desktop viewer" },
+  { format: "parquet", label: "Parquet", title: "scope.list.export.parquet" },
+  { format: "mf4", label: "MF4", title: "scope.list.export.mf4" },
+  { format: "rrd", label: ".rrd", title: "scope.list.export.rrd" },
 ];
 
 function signalList(capture: Capture): string {
   return capture.signals
-    .map((s) => `node ${s.node} ${odAddress(s.index, s.subindex)} ${s.name}`)
+    .map((s) =>
+      i18n.t("scope.list.signalLine", {
+        node: s.node,
+        address: odAddress(s.index, s.subindex),
+        name: s.name,
+      }),
+    )
     .join("\n");
 }
 
@@ -52,6 +67,7 @@ export function CaptureList({
   onOpen: (capture: Capture) => void;
   onDeleted: (id: number) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const operate = useMay("operate");
   const [asking, setAsking] = useState<Capture | null>(null);
@@ -63,32 +79,34 @@ export function CaptureList({
   return (
     <section className="card scope-list" aria-labelledby={`${id}-h`}>
       <header className="card-header">
-        <h2 id={`${id}-h`}>Captures</h2>
-        {captures && <span className="muted small">{captures.length} kept</span>}
-        {loading && <Spinner label="Loading the captures" />}
+        <h2 id={`${id}-h`}>{t("scope.list.heading")}</h2>
+        {captures && (
+          <span className="muted small">{t("scope.list.kept", { count: captures.length })}</span>
+        )}
+        {loading && <Spinner label={t("scope.list.loading")} />}
         <span className="spacer" />
         <button type="button" className="small" onClick={onReload}>
-          Refresh
+          {t("scope.list.refresh")}
         </button>
       </header>
       <DataUsageLine kind="captures" version={usageVersion(captures)} />
       <ErrorText error={error} onRetry={onReload} />
-      {captures?.length === 0 && <p className="muted">No captures yet.</p>}
+      {captures?.length === 0 && <p className="muted">{t("scope.list.empty")}</p>}
       {captures && captures.length > 0 && (
         <div className="table-scroll scope-list-scroll">
-          <table className="data-table scope-list-table" aria-label="Captures">
+          <table className="data-table scope-list-table" aria-label={t("scope.list.heading")}>
             <thead>
               <tr>
                 <th className="num">#</th>
-                <th>Name</th>
-                <th>State</th>
-                <th>Nodes</th>
-                <th className="num">Signals</th>
-                <th>Trigger</th>
-                <th>Time</th>
-                <th className="num">Samples</th>
-                <th className="num">Size</th>
-                <th>Open · export · delete</th>
+                <th>{t("scope.list.name")}</th>
+                <th>{t("scope.list.state")}</th>
+                <th>{t("scope.list.nodes")}</th>
+                <th className="num">{t("scope.list.signals")}</th>
+                <th>{t("scope.list.trigger")}</th>
+                <th>{t("scope.list.time")}</th>
+                <th className="num">{t("scope.list.samples")}</th>
+                <th className="num">{t("scope.list.size")}</th>
+                <th>{t("scope.list.actions")}</th>
               </tr>
             </thead>
             <tbody>
@@ -102,7 +120,7 @@ export function CaptureList({
                     </td>
                     <td>
                       <span className={`badge scope-state scope-state-${capture.state}`}>
-                        {capture.state}
+                        {t(STATE_WORD[capture.state])}
                       </span>
                       {capture.error && (
                         <span className="block error-text small">{capture.error}</span>
@@ -114,7 +132,7 @@ export function CaptureList({
                     </td>
                     <td className="small scope-wrap">{triggerText(capture.trigger)}</td>
                     <td className="small num scope-wrap">{formatDateTime(capture.created)}</td>
-                    <td className="num">{capture.samples.toLocaleString("en-US")}</td>
+                    <td className="num">{capture.samples.toLocaleString(currentLocale())}</td>
                     <td className="num">{active ? "—" : formatBytes(capture.size_bytes)}</td>
                     <td className="scope-wrap scope-actions-cell">
                       <span className="scope-actions">
@@ -122,16 +140,16 @@ export function CaptureList({
                           type="button"
                           className="small"
                           disabled={active}
-                          title={active ? "The live view shows it while it records" : undefined}
-                          aria-label={`Open capture ${capture.id} in the viewer`}
+                          title={active ? t("scope.list.openWhileLive") : undefined}
+                          aria-label={t("scope.list.openLabel", { id: capture.id })}
                           onClick={() => onOpen(capture)}
                         >
-                          Open in viewer
+                          {t("scope.list.open")}
                         </button>
-                        {EXPORTS.map(({ format, layout, label, title }) =>
+                        {EXPORTS.map(({ format, layout, label, labelKey, title }) =>
                           active ? (
                             <span key={label} className="muted small">
-                              {label}
+                              {labelKey ? t(labelKey) : label}
                             </span>
                           ) : (
                             <a
@@ -139,27 +157,30 @@ export function CaptureList({
                               className="button-link small"
                               href={exportUrl(capture.id, format, layout)}
                               download
-                              title={`Export ${title}`}
-                              aria-label={`Export capture ${capture.id} as ${label}`}
+                              title={t("scope.list.exportTitle", { what: t(title) })}
+                              aria-label={t("scope.list.exportLabel", {
+                                id: capture.id,
+                                format: labelKey ? t(labelKey) : label,
+                              })}
                             >
-                              {label}
+                              {labelKey ? t(labelKey) : label}
                             </a>
                           ),
                         )}
                         <button
                           type="button"
                           className="small danger"
-                          {...operate.gate("delete a capture", {
+                          {...operate.gate(t("scope.list.gateDelete"), {
                             disabled: active,
-                            title: active ? "Stop it first" : undefined,
+                            title: active ? t("scope.list.stopFirst") : undefined,
                           })}
-                          aria-label={`Delete capture ${capture.id}`}
+                          aria-label={t("scope.list.deleteLabel", { id: capture.id })}
                           onClick={() => {
                             remove.clearError();
                             setAsking(capture);
                           }}
                         >
-                          Delete
+                          {t("scope.list.delete")}
                         </button>
                       </span>
                     </td>
@@ -172,12 +193,12 @@ export function CaptureList({
       )}
       {asking && (
         <Dialog
-          title={`Delete capture ${asking.id}?`}
+          title={t("scope.list.confirmTitle", { id: asking.id })}
           onClose={() => setAsking(null)}
           actions={
             <>
               <button type="button" onClick={() => setAsking(null)}>
-                Cancel
+                {t("scope.list.cancel")}
               </button>
               <button
                 type="button"
@@ -185,15 +206,22 @@ export function CaptureList({
                 disabled={remove.busy}
                 onClick={() => void remove.run(asking)}
               >
-                Delete capture {asking.id}
+                {t("scope.list.confirm", { id: asking.id })}
               </button>
             </>
           }
         >
           <p>
-            Capture {asking.id}
-            {asking.name ? ` (${asking.name})` : ""} of {formatDateTime(asking.created)} and its
-            files (.rrd and samples) are deleted. Exports already downloaded stay.
+            {asking.name
+              ? t("scope.list.confirmTextNamed", {
+                  id: asking.id,
+                  name: asking.name,
+                  time: formatDateTime(asking.created),
+                })
+              : t("scope.list.confirmText", {
+                  id: asking.id,
+                  time: formatDateTime(asking.created),
+                })}
           </p>
           <ErrorText error={remove.error} />
         </Dialog>

@@ -1,6 +1,7 @@
 import { useId, type ReactNode } from "react";
 
 import type { NodeInfo } from "../../api/types";
+import { i18n, useTranslation, type MessageKey } from "../../i18n";
 import { odAddress } from "../../lib/format";
 import {
   CIA402_STATES,
@@ -13,22 +14,26 @@ import {
 } from "./model";
 import type { CaptureSignal, Edge, TriggerKind } from "./types";
 
-const KINDS: { kind: TriggerKind; label: string }[] = [
-  { kind: "none", label: "None: record at once" },
-  { kind: "level", label: "Level of a signal" },
-  { kind: "bit", label: "Bit of an object" },
-  { kind: "emcy", label: "EMCY (a drive's fault)" },
-  { kind: "state", label: "CiA 402 state" },
+const KINDS: { kind: TriggerKind; label: MessageKey }[] = [
+  { kind: "none", label: "scope.settings.kind.none" },
+  { kind: "level", label: "scope.settings.kind.level" },
+  { kind: "bit", label: "scope.settings.kind.bit" },
+  { kind: "emcy", label: "scope.settings.kind.emcy" },
+  { kind: "state", label: "scope.settings.kind.state" },
 ];
 
-const EDGES: { edge: Edge; label: string }[] = [
-  { edge: "rising", label: "Rising" },
-  { edge: "falling", label: "Falling" },
-  { edge: "either", label: "Either" },
+const EDGES: { edge: Edge; label: MessageKey }[] = [
+  { edge: "rising", label: "scope.settings.edge.rising" },
+  { edge: "falling", label: "scope.settings.edge.falling" },
+  { edge: "either", label: "scope.settings.edge.either" },
 ];
 
 function signalLabel(signal: SignalChoice): string {
-  return `node ${signal.node} · ${odAddress(signal.index, signal.subindex)} ${signal.name}`;
+  return i18n.t("scope.settings.signalOption", {
+    node: signal.node,
+    address: odAddress(signal.index, signal.subindex),
+    name: signal.name,
+  });
 }
 
 /** SYNC period, duration, name and the trigger. */
@@ -44,6 +49,7 @@ export function CaptureSettings({
   planned: readonly CaptureSignal[];
   onChange: (form: ScopeForm) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const trigger = form.trigger;
   const setTrigger = (patch: Partial<TriggerForm>): void =>
@@ -61,12 +67,18 @@ export function CaptureSettings({
         }
       >
         {(anyNode || trigger.node === null) && (
-          <option value="">{anyNode ? "Any node" : "Choose a node"}</option>
+          <option value="">
+            {anyNode ? t("scope.settings.anyNode") : t("scope.settings.chooseNode")}
+          </option>
         )}
         {nodes.map((info) => (
           <option key={info.node} value={info.node}>
-            Node {info.node}
-            {info.profile_label ? ` · ${info.profile_label}` : ""}
+            {info.profile_label
+              ? t("scope.settings.nodeOptionProfile", {
+                  node: info.node,
+                  profile: info.profile_label,
+                })
+              : t("scope.settings.nodeOption", { node: info.node })}
           </option>
         ))}
       </select>
@@ -74,7 +86,7 @@ export function CaptureSettings({
   );
   const edgeSelect = (
     <>
-      <label htmlFor={`${id}-edge`}>Edge</label>
+      <label htmlFor={`${id}-edge`}>{t("scope.settings.edgeLabel")}</label>
       <select
         id={`${id}-edge`}
         value={trigger.edge}
@@ -82,7 +94,7 @@ export function CaptureSettings({
       >
         {EDGES.map(({ edge, label }) => (
           <option key={edge} value={edge}>
-            {label}
+            {t(label)}
           </option>
         ))}
       </select>
@@ -96,10 +108,10 @@ export function CaptureSettings({
   return (
     <section className="card scope-settings" aria-labelledby={`${id}-h`}>
       <header className="card-header">
-        <h2 id={`${id}-h`}>Capture</h2>
+        <h2 id={`${id}-h`}>{t("scope.settings.heading")}</h2>
       </header>
       <div className="scope-fields">
-        <label htmlFor={`${id}-sync`}>SYNC period</label>
+        <label htmlFor={`${id}-sync`}>{t("scope.settings.sync")}</label>
         <span className="inline">
           <input
             id={`${id}-sync`}
@@ -111,12 +123,9 @@ export function CaptureSettings({
             onChange={(e) => onChange({ ...form, syncPeriodUs: e.target.value })}
           />
           <span>µs</span>
-          <span className="muted small">
-            one sample per SYNC; at least 500 µs, 1 ms or more advised (MDi-S1-C CANopen manual
-            §2.6)
-          </span>
+          <span className="muted small">{t("scope.settings.syncHint")}</span>
         </span>
-        <label htmlFor={`${id}-duration`}>Duration</label>
+        <label htmlFor={`${id}-duration`}>{t("scope.settings.duration")}</label>
         <span className="inline">
           <input
             id={`${id}-duration`}
@@ -129,19 +138,19 @@ export function CaptureSettings({
           />
           <span>s</span>
         </span>
-        <label htmlFor={`${id}-name`}>Name</label>
+        <label htmlFor={`${id}-name`}>{t("scope.settings.name")}</label>
         <input
           id={`${id}-name`}
           maxLength={80}
-          placeholder="optional, e.g. axis 1 tuning"
+          placeholder={t("scope.settings.namePlaceholder")}
           value={form.name}
           onChange={(e) => onChange({ ...form, name: e.target.value })}
         />
       </div>
       <fieldset className="scope-trigger">
-        <legend>Trigger</legend>
+        <legend>{t("scope.settings.trigger")}</legend>
         <div className="scope-fields">
-          <label htmlFor={`${id}-kind`}>Start on</label>
+          <label htmlFor={`${id}-kind`}>{t("scope.settings.startOn")}</label>
           <select
             id={`${id}-kind`}
             value={trigger.kind}
@@ -154,26 +163,28 @@ export function CaptureSettings({
           >
             {KINDS.map(({ kind, label }) => (
               <option key={kind} value={kind}>
-                {label}
+                {t(label)}
               </option>
             ))}
           </select>
           {trigger.kind === "level" && (
             <>
-              <label htmlFor={`${id}-signal`}>Signal</label>
+              <label htmlFor={`${id}-signal`}>{t("scope.settings.signal")}</label>
               <select
                 id={`${id}-signal`}
                 value={trigger.signal}
                 onChange={(e) => setTrigger({ signal: e.target.value })}
               >
-                {trigger.signal === "" && <option value="">Choose a signal</option>}
+                {trigger.signal === "" && (
+                  <option value="">{t("scope.settings.chooseSignal")}</option>
+                )}
                 {form.signals.map((signal) => (
                   <option key={signalKey(signal)} value={signalKey(signal)}>
                     {signalLabel(signal)}
                   </option>
                 ))}
               </select>
-              <label htmlFor={`${id}-level`}>Level</label>
+              <label htmlFor={`${id}-level`}>{t("scope.settings.level")}</label>
               <span className="inline">
                 <input
                   id={`${id}-level`}
@@ -183,7 +194,7 @@ export function CaptureSettings({
                   onChange={(e) => setTrigger({ level: e.target.value })}
                 />
                 <span className="muted small">
-                  {levelHint(trigger.level, watched) ?? "raw value, in the object's own units"}
+                  {levelHint(trigger.level, watched) ?? t("scope.settings.levelRaw")}
                 </span>
               </span>
               {edgeSelect}
@@ -191,21 +202,21 @@ export function CaptureSettings({
           )}
           {trigger.kind === "bit" && (
             <>
-              {nodeSelect("Node", false)}
-              <label htmlFor={`${id}-object`}>Object</label>
+              {nodeSelect(t("scope.settings.node"), false)}
+              <label htmlFor={`${id}-object`}>{t("scope.settings.object")}</label>
               <select
                 id={`${id}-object`}
                 value={trigger.bitObject}
                 onChange={(e) => setTrigger({ bitObject: e.target.value })}
               >
-                <option value="">6041h Statusword</option>
+                <option value="">{t("scope.settings.statusword")}</option>
                 {bitObjects.map((signal) => (
                   <option key={signalKey(signal)} value={`${signal.index}:${signal.subindex}`}>
                     {odAddress(signal.index, signal.subindex)} {signal.name}
                   </option>
                 ))}
               </select>
-              <label htmlFor={`${id}-bit`}>Bit</label>
+              <label htmlFor={`${id}-bit`}>{t("scope.settings.bit")}</label>
               <input
                 id={`${id}-bit`}
                 className="narrow"
@@ -218,20 +229,20 @@ export function CaptureSettings({
               {edgeSelect}
             </>
           )}
-          {trigger.kind === "emcy" && nodeSelect("From", true)}
+          {trigger.kind === "emcy" && nodeSelect(t("scope.settings.from"), true)}
           {trigger.kind === "state" && (
             <>
-              {nodeSelect("Node", false)}
-              <label htmlFor={`${id}-state`}>State</label>
+              {nodeSelect(t("scope.settings.node"), false)}
+              <label htmlFor={`${id}-state`}>{t("scope.settings.state")}</label>
               <select
                 id={`${id}-state`}
                 value={trigger.state}
                 onChange={(e) => setTrigger({ state: e.target.value })}
               >
-                <option value="">Any change of state</option>
+                <option value="">{t("scope.settings.anyState")}</option>
                 {CIA402_STATES.map((state) => (
                   <option key={state} value={state}>
-                    Enters {state}
+                    {t("scope.settings.enters", { state })}
                   </option>
                 ))}
               </select>
@@ -239,7 +250,7 @@ export function CaptureSettings({
           )}
           {trigger.kind !== "none" && (
             <>
-              <label htmlFor={`${id}-pre`}>Pre-trigger</label>
+              <label htmlFor={`${id}-pre`}>{t("scope.settings.pre")}</label>
               <span className="inline">
                 <input
                   id={`${id}-pre`}
@@ -251,10 +262,10 @@ export function CaptureSettings({
                   onChange={(e) => setTrigger({ preS: e.target.value })}
                 />
                 <span>s</span>
-                <span className="muted small">of the duration recorded before the trigger</span>
+                <span className="muted small">{t("scope.settings.preHint")}</span>
               </span>
-              <span>Mode</span>
-              <span className="inline" role="radiogroup" aria-label="Trigger mode">
+              <span>{t("scope.settings.mode")}</span>
+              <span className="inline" role="radiogroup" aria-label={t("scope.settings.modeLabel")}>
                 <label className="check">
                   <input
                     type="radio"
@@ -262,7 +273,7 @@ export function CaptureSettings({
                     checked={trigger.mode === "single"}
                     onChange={() => setTrigger({ mode: "single" })}
                   />
-                  Single
+                  {t("scope.settings.single")}
                 </label>
                 <label className="check">
                   <input
@@ -271,17 +282,17 @@ export function CaptureSettings({
                     checked={trigger.mode === "normal"}
                     onChange={() => setTrigger({ mode: "normal" })}
                   />
-                  Normal: re-arm after each capture
+                  {t("scope.settings.normal")}
                 </label>
                 {trigger.mode === "normal" && (
                   <label className="check">
-                    keep the last
+                    {t("scope.settings.keepLast")}
                     <input
                       className="tiny"
                       type="number"
                       min={1}
                       max={100}
-                      aria-label="Captures kept"
+                      aria-label={t("scope.settings.keptLabel")}
                       value={trigger.keep}
                       onChange={(e) => setTrigger({ keep: e.target.value })}
                     />

@@ -1,5 +1,6 @@
 import type { ReactNode } from "react";
 
+import { useTranslation, type MessageKey } from "../../i18n";
 import { CONTROLWORD_BITS, STATUSWORD_BITS, toggleBit, type Lanes } from "./lanes";
 
 function BitRow({
@@ -9,10 +10,11 @@ function BitRow({
   onChange,
 }: {
   title: string;
-  bits: readonly (readonly [number, string])[];
+  bits: readonly (readonly [number, MessageKey])[];
   chosen: readonly number[];
   onChange: (bits: number[]) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   return (
     <fieldset className="scope-lanes">
       <legend>{title}</legend>
@@ -23,7 +25,7 @@ function BitRow({
             checked={chosen.includes(bit)}
             onChange={() => onChange(toggleBit(chosen, bit))}
           />
-          {bit} {name}
+          {bit} {t(name)}
         </label>
       ))}
     </fieldset>
@@ -39,23 +41,26 @@ export function LaneSettings({
   lanes: Lanes;
   onChange: (lanes: Lanes) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   return (
     <details className="card scope-lane-settings">
       <summary>
-        <strong>Word lanes</strong>{" "}
+        <strong>{t("scope.lanes.summary")}</strong>{" "}
         <span className="muted small">
-          statusword 6041h: the CiA 402 state and bits {lanes.statusword_bits.join(", ") || "none"};
-          controlword 6040h: the command and bits {lanes.controlword_bits.join(", ") || "none"}
+          {t("scope.lanes.hint", {
+            status: lanes.statusword_bits.join(", ") || t("scope.lanes.none"),
+            control: lanes.controlword_bits.join(", ") || t("scope.lanes.none"),
+          })}
         </span>
       </summary>
       <BitRow
-        title="Statusword 6041h bits"
+        title={t("scope.lanes.statusBits")}
         bits={STATUSWORD_BITS}
         chosen={lanes.statusword_bits}
         onChange={(statusword_bits) => onChange({ ...lanes, statusword_bits })}
       />
       <BitRow
-        title="Controlword 6040h bits"
+        title={t("scope.lanes.controlBits")}
         bits={CONTROLWORD_BITS}
         chosen={lanes.controlword_bits}
         onChange={(controlword_bits) => onChange({ ...lanes, controlword_bits })}

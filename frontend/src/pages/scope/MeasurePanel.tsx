@@ -3,6 +3,7 @@ import { useEffect, useId, useRef, useState, type KeyboardEvent, type ReactNode 
 import { asApiError, type ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { odAddress } from "../../lib/format";
 import { useApi } from "../../lib/useApi";
 import {
@@ -33,6 +34,7 @@ const DEBOUNCE_MS = 120; // a drag asks the server at most this often
  * the values at A and B, Δ, min, max, mean): set by dragging on the overview of one signal,
  * by ←/→ on a focused cursor, or by typing the times. */
 export function MeasurePanel({ capture }: { capture: Capture }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const [position, setPosition] = useState(0);
   const trace = useApi(
@@ -42,29 +44,34 @@ export function MeasurePanel({ capture }: { capture: Capture }): ReactNode {
   const span: Span | null = trace.data ? { start: trace.data.start, end: trace.data.end } : null;
   const [cursors, setCursors] = useState<{ capture: number; at: Cursors } | null>(null);
   const at = cursors?.capture === capture.id ? cursors.at : span ? initialCursors(span) : null;
-  const move = (name: CursorName, t: number): void => {
+  const move = (name: CursorName, time: number): void => {
     if (!at) return;
-    setCursors({ capture: capture.id, at: { ...at, [name]: t } });
+    setCursors({ capture: capture.id, at: { ...at, [name]: time } });
   };
   const measurement = useMeasurement(capture.id, at);
 
   return (
     <section className="card scope-measure" aria-labelledby={`${id}-h`}>
       <header className="card-header">
-        <h2 id={`${id}-h`}>Cursors</h2>
+        <h2 id={`${id}-h`}>{t("scope.measure.heading")}</h2>
         <span className="muted small">
-          {capture.name ?? `Capture ${capture.id}`} · drag on the overview, or focus a cursor and
-          use ← →
+          {t("scope.measure.hint", {
+            name: capture.name ?? t("scope.measure.captureN", { id: capture.id }),
+          })}
         </span>
-        {(trace.loading || measurement.busy) && <Spinner label="Measuring" />}
+        {(trace.loading || measurement.busy) && <Spinner label={t("scope.measure.measuring")} />}
       </header>
       <div className="scope-measure-controls">
         <label>
-          Overview of{" "}
+          {t("scope.measure.overviewOf")}{" "}
           <select value={position} onChange={(e) => setPosition(Number(e.target.value))}>
             {capture.signals.map((s, i) => (
               <option key={`${s.node}:${s.index}:${s.subindex}`} value={i}>
-                node {s.node} {odAddress(s.index, s.subindex)} {s.name}
+                {t("scope.measure.signalOption", {
+                  node: s.node,
+                  address: odAddress(s.index, s.subindex),
+                  name: s.name,
+                })}
               </option>
             ))}
           </select>
@@ -85,7 +92,9 @@ export function MeasurePanel({ capture }: { capture: Capture }): ReactNode {
           path={envelopePath(trace.data, span, WIDTH, HEIGHT)}
           span={span}
           cursors={at}
-          label={`${capture.signals[position]?.name ?? "signal"} over the capture`}
+          label={t("scope.measure.overviewLabel", {
+            signal: capture.signals[position]?.name ?? t("scope.measure.signalFallback"),
+          })}
           onMove={move}
         />
       )}
@@ -195,6 +204,7 @@ function Overview({
   label: string;
   onMove: (name: CursorName, t: number) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const svg = useRef<SVGSVGElement>(null);
   const dragging = useRef<CursorName | null>(null);
   const timeOf = (clientX: number): number => {
@@ -217,11 +227,11 @@ function Overview({
       role="group"
       aria-label={label}
       onPointerDown={(e) => {
-        const t = timeOf(e.clientX);
-        const name = nearestCursor(cursors, t);
+        const time = timeOf(e.clientX);
+        const name = nearestCursor(cursors, time);
         dragging.current = name;
         e.currentTarget.setPointerCapture(e.pointerId);
-        onMove(name, t);
+        onMove(name, time);
       }}
       onPointerMove={(e) => {
         if (dragging.current) onMove(dragging.current, timeOf(e.clientX));
@@ -239,7 +249,7 @@ function Overview({
             className={`scope-cursor cursor-${name}`}
             tabIndex={0}
             role="slider"
-            aria-label={`Cursor ${name.toUpperCase()}`}
+            aria-label={t("scope.measure.cursor", { name: name.toUpperCase() })}
             aria-valuemin={span.start}
             aria-valuemax={span.end}
             aria-valuenow={cursors[name]}
@@ -259,20 +269,21 @@ function Overview({
 }
 
 function Readout({ measurement }: { measurement: Measurement }): ReactNode {
+  const { t } = useTranslation();
   return (
     <div className="table-scroll">
-      <table className="data-table scope-readout" aria-label="Readout between the cursors">
+      <table className="data-table scope-readout" aria-label={t("scope.measure.readout")}>
         <thead>
           <tr>
-            <th>Signal</th>
-            <th>Unit</th>
-            <th>at A</th>
-            <th>at B</th>
-            <th>Δ (B − A)</th>
-            <th>min</th>
-            <th>max</th>
-            <th>mean</th>
-            <th>samples</th>
+            <th>{t("scope.measure.signal")}</th>
+            <th>{t("scope.measure.unit")}</th>
+            <th>{t("scope.measure.atA")}</th>
+            <th>{t("scope.measure.atB")}</th>
+            <th>{t("scope.measure.delta")}</th>
+            <th>{t("scope.measure.min")}</th>
+            <th>{t("scope.measure.max")}</th>
+            <th>{t("scope.measure.mean")}</th>
+            <th>{t("scope.measure.samples")}</th>
           </tr>
         </thead>
         <tbody>

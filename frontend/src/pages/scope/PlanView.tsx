@@ -4,6 +4,7 @@ import type { ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { LoadBar } from "../../components/LoadBar";
 import { Spinner } from "../../components/Spinner";
+import { currentLocale, useTranslation } from "../../i18n";
 import { formatBitrate, odAddress } from "../../lib/format";
 import { signalKey, sourceText } from "./model";
 import type { ScopePlan } from "./types";
@@ -28,33 +29,34 @@ export function PlanView({
   /** The start button row. */
   children?: ReactNode;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const load = plan?.bus_load;
   return (
     <section className="card scope-plan" aria-labelledby={`${id}-h`} aria-busy={checking}>
       <header className="card-header">
-        <h2 id={`${id}-h`}>Check</h2>
-        {checking && <Spinner label="Checking the capture" />}
+        <h2 id={`${id}-h`}>{t("scope.plan.heading")}</h2>
+        {checking && <Spinner label={t("scope.plan.checkingLabel")} />}
         <span className="muted small">
           {checking
-            ? "checking…"
+            ? t("scope.plan.checking")
             : paused
-              ? "not re-checked while a capture records"
-              : "checked as you change the selection"}
+              ? t("scope.plan.paused")
+              : t("scope.plan.live")}
         </span>
       </header>
-      {problem && <p className="muted">{problem}.</p>}
+      {problem && <p className="muted">{t("scope.problem.shown", { problem })}</p>}
       <ErrorText error={error} />
       {plan && !problem && (
         <div className={checking ? "scope-stale" : undefined}>
           <div className="table-scroll">
-            <table className="data-table scope-plan-table" aria-label="Signal sources">
+            <table className="data-table scope-plan-table" aria-label={t("scope.plan.sources")}>
               <thead>
                 <tr>
-                  <th>Signal</th>
-                  <th>Source</th>
-                  <th>Unit</th>
-                  <th>Note</th>
+                  <th>{t("scope.plan.signal")}</th>
+                  <th>{t("scope.plan.source")}</th>
+                  <th>{t("scope.plan.unit")}</th>
+                  <th>{t("scope.plan.note")}</th>
                 </tr>
               </thead>
               <tbody>
@@ -77,26 +79,32 @@ export function PlanView({
           {load && (
             <div className="scope-load">
               <div className="load-rows">
-                <span>Bus load</span>
+                <span>{t("scope.plan.busLoad")}</span>
                 <LoadBar
                   percent={load.percent}
                   threshold={load.threshold_percent}
-                  label="Bus load during the capture"
+                  label={t("scope.plan.busLoadLabel")}
                 />
                 <span className="muted small num">
-                  {Math.round(load.total_bits_per_s).toLocaleString("en-US")} bit/s of{" "}
-                  {formatBitrate(load.bitrate)}
+                  {t("scope.plan.bitsOf", {
+                    bits: Math.round(load.total_bits_per_s).toLocaleString(currentLocale()),
+                    bitrate: formatBitrate(load.bitrate),
+                  })}
                 </span>
                 {load.nodes.map((n) => (
                   <Fragment key={n.node}>
-                    <span className="muted small">node {n.node}</span>
+                    <span className="muted small">
+                      {t("scope.plan.nodeLoad", { node: n.node })}
+                    </span>
                     <LoadBar
                       percent={n.percent}
                       threshold={load.threshold_percent}
-                      label={`Node ${n.node} load`}
+                      label={t("scope.plan.nodeLoadLabel", { node: n.node })}
                     />
                     <span className="muted small num">
-                      {Math.round(n.bits_per_s).toLocaleString("en-US")} bit/s
+                      {t("scope.plan.bits", {
+                        bits: Math.round(n.bits_per_s).toLocaleString(currentLocale()),
+                      })}
                     </span>
                   </Fragment>
                 ))}
@@ -104,7 +112,7 @@ export function PlanView({
             </div>
           )}
           {plan.problems.length > 0 && (
-            <ul className="scope-problems" aria-label="Problems">
+            <ul className="scope-problems" aria-label={t("scope.plan.problems")}>
               {plan.problems.map((text, i) => (
                 <li key={i} className="error-text">
                   {text}
@@ -113,7 +121,7 @@ export function PlanView({
             </ul>
           )}
           {plan.notes.length > 0 && (
-            <ul className="scope-notes muted small" aria-label="Notes">
+            <ul className="scope-notes muted small" aria-label={t("scope.plan.notes")}>
               {plan.notes.map((text, i) => (
                 <li key={i}>{text}</li>
               ))}
@@ -121,7 +129,7 @@ export function PlanView({
           )}
           {load && load.notes.length > 0 && (
             <details className="scope-load-notes">
-              <summary>How the load is estimated</summary>
+              <summary>{t("scope.plan.howLoad")}</summary>
               <ul className="muted small">
                 {load.notes.map((text, i) => (
                   <li key={i}>{text}</li>

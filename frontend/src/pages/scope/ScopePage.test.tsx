@@ -139,6 +139,43 @@ describe("ScopePage", () => {
     expect(screen.getByTestId("capture-state").textContent).toBe("Done");
   });
 
+  it("keeps 'Done' when a poll sent while the stop was on its way answers after it", async () => {
+    let releasePoll: () => void = () => undefined;
+    let releaseStop: () => void = () => undefined;
+    let stopping = false;
+    const fetch = render({
+      "POST /api/scope/captures": capture(),
+      "GET /api/scope/captures/7": async () => {
+        if (stopping) {
+          // sent after the stop, answered after the stop's answer: still recording
+          await new Promise<void>((resolve) => (releasePoll = resolve));
+        }
+        return capture();
+      },
+      "DELETE /api/scope/captures/7": async () => {
+        stopping = true;
+        await new Promise<void>((resolve) => (releaseStop = resolve));
+        return capture({ state: "done", ended: 1_790_000_003, notes: ["stopped by the user"] });
+      },
+    });
+    await pickPositionAndVelocity();
+    const start = screen.getByRole("button", { name: "● Start capture" });
+    await waitFor(() => expect(start).toHaveProperty("disabled", false));
+    await userEvent.click(start);
+    expect((await screen.findByTestId("capture-state")).textContent).toBe("Recording");
+
+    const gets = (): number =>
+      fetch.calls.filter((c) => c.method === "GET" && c.path.endsWith("/7")).length;
+    await userEvent.click(screen.getByRole("button", { name: "■ Stop" }));
+    const polls = gets();
+    await waitFor(() => expect(gets()).toBe(polls + 1)); // a poll leaves while stopping
+    releaseStop();
+    await waitFor(() => expect(screen.getByTestId("capture-state").textContent).toBe("Done"));
+    releasePoll();
+    await new Promise((resolve) => setTimeout(resolve, 50));
+    expect(screen.getByTestId("capture-state").textContent).toBe("Done");
+  });
+
   it("says why a start is refused and keeps the selection", async () => {
     render({
       "POST /api/scope/captures": json(

@@ -3,6 +3,7 @@ import { useEffect, useMemo, useRef, useState, type ReactNode } from "react";
 import { asApiError, type ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useAction, useApi } from "../../lib/useApi";
 import { usePoll } from "../../lib/usePoll";
 import { useLive } from "../../live/context";
@@ -29,6 +30,7 @@ const SERIES_WAIT_S = 5; // normal mode: how long to look for the re-armed captu
 
 /** The live scope: pick signals, check the plan, start, follow it, and the captures kept. */
 export function ScopePage(): ReactNode {
+  const { t } = useTranslation();
   const nodes = useLive((s) => s.infos);
   const [form, setForm] = useState(loadForm);
   useEffect(() => saveForm(form), [form]);
@@ -45,9 +47,13 @@ export function ScopePage(): ReactNode {
   const [opened, setOpened] = useState<OpenedCapture | null>(null);
   const [stopped, setStopped] = useState<ReadonlySet<number>>(() => new Set());
   const polling = useRef(false);
-  // bumped by every stop: a poll sent before it may answer after the stop's own answer, with
-  // the capture still recording; that answer is dropped (it would show "Recording" again)
+  // bumped when a stop is sent and again when it answers: a poll sent before either may answer
+  // after the stop's own answer, with the capture still recording; that answer is dropped (it
+  // would show "Recording" again after "Done")
   const stops = useRef(0);
+  // captures the user stopped: a poll that still says recording is older than the stop (a
+  // stopped capture never records again), whenever it was sent
+  const stoppedIds = useRef(new Set<number>());
 
   // The capture shown: the one this page follows, or one the list shows recording (started
   // before the page opened, or the next of a re-armed series).
@@ -89,6 +95,7 @@ export function ScopePage(): ReactNode {
         (capture) => {
           polling.current = false;
           if (sent !== stops.current) return; // overtaken by a stop
+          if (isActive(capture) && stoppedIds.current.has(capture.id)) return;
           setPollError(null);
           follow(capture);
           if (!isActive(capture)) ended();
@@ -123,14 +130,16 @@ export function ScopePage(): ReactNode {
     if (!current) return;
     const id = current.id;
     stops.current += 1;
+    stoppedIds.current.add(id);
     setStopped((old) => new Set(old).add(id));
     const capture = await stopOrDeleteCapture(id);
+    stops.current += 1;
     if (capture) follow(capture);
     ended();
   });
 
   const operate = useMay("operate");
-  const reason = operate.because("start a capture") ?? startReason(built, plan, current);
+  const reason = operate.because(t("scope.page.gateStart")) ?? startReason(built, plan, current);
   const rows = useMemo(() => {
     const captures = list.data;
     if (!captures || !current) return captures;
@@ -146,11 +155,8 @@ export function ScopePage(): ReactNode {
   return (
     <section className="page scope-page">
       <header className="page-header">
-        <h1>Scope</h1>
-        <span className="muted">
-          Live signals of one or more drives on one timeline, sampled on SYNC and recorded with
-          rerun
-        </span>
+        <h1>{t("scope.page.title")}</h1>
+        <span className="muted">{t("scope.page.subtitle")}</span>
       </header>
       <div className="scope-top">
         <div className="scope-column">
@@ -187,9 +193,9 @@ export function ScopePage(): ReactNode {
                 aria-describedby={reason ? "scope-start-reason" : undefined}
                 onClick={() => void start.run()}
               >
-                ● Start capture
+                {t("scope.page.start")}
               </button>
-              {start.busy && <Spinner label="Starting" />}
+              {start.busy && <Spinner label={t("scope.page.starting")} />}
               {reason && (
                 <span id="scope-start-reason" className="muted small">
                   {reason}

@@ -3,6 +3,7 @@ import { useDeferredValue, useId, useMemo, useState, type ReactNode } from "reac
 import type { NodeInfo } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { nodeTitle, odAddress } from "../../lib/format";
 import { useApi } from "../../lib/useApi";
 import {
@@ -26,6 +27,7 @@ export function SignalPicker({
   signals: readonly SignalChoice[];
   onChange: (signals: SignalChoice[]) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const [picked, setPicked] = useState<number | null>(null);
   const node = picked ?? nodes[0]?.node ?? null;
@@ -51,17 +53,17 @@ export function SignalPicker({
   return (
     <section className="card scope-signals" aria-labelledby={`${id}-h`}>
       <header className="card-header">
-        <h2 id={`${id}-h`}>Signals</h2>
+        <h2 id={`${id}-h`}>{t("scope.signals.heading")}</h2>
         <span className="muted small">
-          {signals.length} of {MAX_SIGNALS}
+          {t("scope.signals.count", { count: signals.length, max: MAX_SIGNALS })}
         </span>
       </header>
       {nodes.length === 0 ? (
-        <p className="muted">No nodes yet: connect and scan on the Network page.</p>
+        <p className="muted">{t("scope.signals.noNodes")}</p>
       ) : (
         <>
           <div className="inline">
-            <label htmlFor={`${id}-node`}>Node</label>
+            <label htmlFor={`${id}-node`}>{t("scope.signals.node")}</label>
             <select
               id={`${id}-node`}
               value={node ?? ""}
@@ -73,10 +75,10 @@ export function SignalPicker({
                 </option>
               ))}
             </select>
-            {dictionary.loading && <Spinner label="Loading the dictionary" />}
+            {dictionary.loading && <Spinner label={t("scope.signals.loadingDictionary")} />}
           </div>
           <ErrorText error={dictionary.error} onRetry={dictionary.reload} />
-          <div className="scope-quick" role="group" aria-label="Quick picks">
+          <div className="scope-quick" role="group" aria-label={t("scope.signals.quickPicks")}>
             {QUICK_PICKS.map((pick) => {
               const entry = findEntry(objects, pick.index);
               const key = node === null ? "" : signalKey({ node, index: pick.index, subindex: 0 });
@@ -91,29 +93,32 @@ export function SignalPicker({
                   disabled={missing || (full && !on)}
                   title={
                     missing
-                      ? `Node ${node ?? ""}'s dictionary has no ${odAddress(pick.index)}`
+                      ? t("scope.signals.missing", {
+                          node: node ?? "",
+                          address: odAddress(pick.index),
+                        })
                       : `${entry?.name ?? pick.name} (${odAddress(pick.index)})`
                   }
                   onClick={() => (on ? remove(key) : add(pick.index, 0, entry?.name ?? pick.name))}
                 >
-                  {pick.label} <span className="mono">{odAddress(pick.index)}</span>
+                  {t(pick.label)} <span className="mono">{odAddress(pick.index)}</span>
                 </button>
               );
             })}
           </div>
           <label htmlFor={`${id}-find`} className="visually-hidden">
-            Find an object of node {node}
+            {t("scope.signals.findLabel", { node })}
           </label>
           <input
             id={`${id}-find`}
             type="search"
             className="wide"
-            placeholder="Any object: 2006, 0x1018:2 or words of its name"
+            placeholder={t("scope.signals.findPlaceholder")}
             value={query}
             onChange={(e) => setQuery(e.target.value)}
           />
           {found && (
-            <ul className="scope-found" aria-label={`Objects of node ${node ?? ""}`}>
+            <ul className="scope-found" aria-label={t("scope.signals.found", { node: node ?? "" })}>
               {found.entries.map((entry) => {
                 const address = odAddress(entry.index, entry.subindex);
                 const key =
@@ -126,24 +131,24 @@ export function SignalPicker({
                     <span className="scope-found-name">{entry.name}</span>
                     <span className="muted small">
                       {entry.unit}
-                      {!entry.pdoMappable && " · SDO only"}
+                      {!entry.pdoMappable && t("scope.signals.sdoOnly")}
                     </span>
                     <button
                       type="button"
                       className="small"
-                      aria-label={`Add ${entry.name} ${address}`}
+                      aria-label={t("scope.signals.addLabel", { name: entry.name, address })}
                       disabled={full || chosen.has(key)}
                       onClick={() => add(entry.index, entry.subindex, entry.name)}
                     >
-                      {chosen.has(key) ? "Added" : "Add"}
+                      {chosen.has(key) ? t("scope.signals.added") : t("scope.signals.add")}
                     </button>
                   </li>
                 );
               })}
-              {found.total === 0 && <li className="muted">No readable object matches.</li>}
+              {found.total === 0 && <li className="muted">{t("scope.signals.noMatch")}</li>}
               {found.total > found.entries.length && (
                 <li className="muted small">
-                  {found.total - found.entries.length} more: narrow the search.
+                  {t("scope.signals.more", { count: found.total - found.entries.length })}
                 </li>
               )}
             </ul>
@@ -151,20 +156,24 @@ export function SignalPicker({
         </>
       )}
       {signals.length > 0 && (
-        <ul className="scope-chosen" aria-label="Chosen signals">
+        <ul className="scope-chosen" aria-label={t("scope.signals.chosen")}>
           {signals.map((signal) => {
             const key = signalKey(signal);
             const address = odAddress(signal.index, signal.subindex);
             return (
               <li key={key}>
-                <span className="badge">node {signal.node}</span>
+                <span className="badge">{t("scope.signals.nodeBadge", { node: signal.node })}</span>
                 <span className="mono small">{address}</span>
                 <span className="scope-found-name">{signal.name}</span>
                 <button
                   type="button"
                   className="icon-button"
-                  aria-label={`Remove node ${signal.node} ${signal.name} ${address}`}
-                  title="Remove"
+                  aria-label={t("scope.signals.removeLabel", {
+                    node: signal.node,
+                    name: signal.name,
+                    address,
+                  })}
+                  title={t("scope.signals.remove")}
                   onClick={() => remove(key)}
                 >
                   ×
@@ -174,7 +183,7 @@ export function SignalPicker({
           })}
         </ul>
       )}
-      {full && <p className="muted small">{MAX_SIGNALS} signals is the most one capture takes.</p>}
+      {full && <p className="muted small">{t("scope.signals.full", { max: MAX_SIGNALS })}</p>}
     </section>
   );
 }

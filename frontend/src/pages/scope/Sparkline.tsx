@@ -1,5 +1,6 @@
 import type { ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import { sparklinePath } from "./sparkline";
 
 const WIDTH = 120;
@@ -13,6 +14,7 @@ export function Sparkline({
   values: readonly number[];
   label: string;
 }): ReactNode {
+  const { t } = useTranslation();
   const path = sparklinePath(values, WIDTH, HEIGHT);
   return (
     <svg
@@ -21,7 +23,7 @@ export function Sparkline({
       height={HEIGHT}
       viewBox={`0 0 ${WIDTH} ${HEIGHT}`}
       role="img"
-      aria-label={`${label}: last ${values.length} readings`}
+      aria-label={t("scope.capture.sparkline", { label, count: values.length })}
     >
       <path d={path} fill="none" stroke="currentColor" strokeWidth={1.5} strokeLinejoin="round" />
     </svg>

@@ -3,6 +3,7 @@ import { useEffect, useId, useRef, useState, type ReactNode } from "react";
 import { asApiError, type ApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useApi } from "../../lib/useApi";
 import { emptyViewerUrl, sendRecording, waitForViewer } from "./rerunViewer";
 import { fetchRrd, scopeViewer } from "./scopeApi";
@@ -29,6 +30,7 @@ export function ViewerPanel({
   opened: OpenedCapture | null;
   onLive: () => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const viewer = useApi((signal) => scopeViewer(signal), "scope-viewer");
   const frame = useRef<HTMLIFrameElement>(null);
@@ -66,31 +68,31 @@ export function ViewerPanel({
   return (
     <section className="card scope-viewer" aria-labelledby={`${id}-h`}>
       <header className="card-header">
-        <h2 id={`${id}-h`}>Viewer</h2>
+        <h2 id={`${id}-h`}>{t("scope.viewer.heading")}</h2>
         {opened ? (
           <>
             <span className="badge">
-              Capture {opened.id}
-              {opened.name ? ` · ${opened.name}` : ""} from its recording (.rrd)
+              {opened.name
+                ? t("scope.viewer.openedNamed", { id: opened.id, name: opened.name })
+                : t("scope.viewer.opened", { id: opened.id })}
             </span>
-            {!status && <Spinner label={`Loading capture ${opened.id} into the viewer`} />}
+            {!status && <Spinner label={t("scope.viewer.loadingCapture", { id: opened.id })} />}
             <button type="button" className="small" onClick={onLive}>
-              Back to the live view
+              {t("scope.viewer.back")}
             </button>
           </>
         ) : (
-          <span className="badge scope-live-badge">Live: every capture as it records</span>
+          <span className="badge scope-live-badge">{t("scope.viewer.live")}</span>
         )}
         <span className="spacer" />
         {viewer.data && (
           <span className="muted small">
-            rerun&apos;s own viewer (rerun {viewer.data.version}), served by ServoDesk: it works
-            offline
+            {t("scope.viewer.served", { version: viewer.data.version })}
             {!opened && (
               <>
                 {" · "}
                 <a href={viewer.data.url} target="_blank" rel="noreferrer">
-                  open in a new tab
+                  {t("scope.viewer.newTab")}
                 </a>
               </>
             )}
@@ -100,14 +102,14 @@ export function ViewerPanel({
       <ErrorText error={viewer.error} onRetry={viewer.reload} />
       <ErrorText error={status?.error} />
       {viewer.data && !viewer.data.running && (
-        <p className="error-text">The rerun viewer is not running: reload the page to start it.</p>
+        <p className="error-text">{t("scope.viewer.notRunning")}</p>
       )}
       {src !== null ? (
         <iframe
           key={frameKey}
           ref={frame}
           className="scope-frame"
-          title="rerun viewer"
+          title={t("scope.viewer.frameTitle")}
           src={src}
           allow="fullscreen"
           data-testid="rerun-viewer"
@@ -115,7 +117,7 @@ export function ViewerPanel({
       ) : (
         !viewer.error && (
           <div className="scope-frame scope-frame-empty">
-            <Spinner label="Starting the viewer" /> Starting the rerun viewer…
+            <Spinner label={t("scope.viewer.startingLabel")} /> {t("scope.viewer.starting")}
           </div>
         )
       )}

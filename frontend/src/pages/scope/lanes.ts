@@ -1,6 +1,7 @@
 // Which statusword / controlword bits get a lane of their own in the capture's recording
 // (under the CiA 402 state or the controlword's command). Kept in this tab's session storage
 // like the rest of the form. Pure but for load/save.
+import type { MessageKey } from "../../i18n";
 import type { LanesRequest } from "./types";
 
 export interface Lanes {
@@ -9,31 +10,31 @@ export interface Lanes {
 }
 
 /** CiA 402 names; 12/13 mean what the mode says, both main meanings given. */
-export const STATUSWORD_BITS: readonly (readonly [number, string])[] = [
-  [0, "ready to switch on"],
-  [1, "switched on"],
-  [2, "operation enabled"],
-  [3, "fault"],
-  [4, "voltage enabled"],
-  [5, "quick stop (0 = active)"],
-  [6, "switch on disabled"],
-  [7, "warning"],
-  [9, "remote"],
-  [10, "target reached"],
-  [11, "internal limit active"],
-  [12, "set-point ack / homing attained"],
-  [13, "following error / homing error"],
+export const STATUSWORD_BITS: readonly (readonly [number, MessageKey])[] = [
+  [0, "scope.lanes.status.b0"],
+  [1, "scope.lanes.status.b1"],
+  [2, "scope.lanes.status.b2"],
+  [3, "scope.lanes.status.b3"],
+  [4, "scope.lanes.status.b4"],
+  [5, "scope.lanes.status.b5"],
+  [6, "scope.lanes.status.b6"],
+  [7, "scope.lanes.status.b7"],
+  [9, "scope.lanes.status.b9"],
+  [10, "scope.lanes.status.b10"],
+  [11, "scope.lanes.status.b11"],
+  [12, "scope.lanes.status.b12"],
+  [13, "scope.lanes.status.b13"],
 ];
-export const CONTROLWORD_BITS: readonly (readonly [number, string])[] = [
-  [0, "switch on"],
-  [1, "enable voltage"],
-  [2, "quick stop (0 = active)"],
-  [3, "enable operation"],
-  [4, "new set-point / start homing"],
-  [5, "change immediately"],
-  [6, "relative"],
-  [7, "fault reset"],
-  [8, "halt"],
+export const CONTROLWORD_BITS: readonly (readonly [number, MessageKey])[] = [
+  [0, "scope.lanes.control.b0"],
+  [1, "scope.lanes.control.b1"],
+  [2, "scope.lanes.control.b2"],
+  [3, "scope.lanes.control.b3"],
+  [4, "scope.lanes.control.b4"],
+  [5, "scope.lanes.control.b5"],
+  [6, "scope.lanes.control.b6"],
+  [7, "scope.lanes.control.b7"],
+  [8, "scope.lanes.control.b8"],
 ];
 
 export const DEFAULT_LANES: Lanes = {

@@ -1,5 +1,6 @@
 // The cursors' logic, pure: two cursors A and B on a finished capture (s from its trigger),
 // moved by pointer on the overview, by keys and by number inputs; and the readout as rows.
+import { i18n } from "../../i18n";
 import type { Measurement } from "./types";
 
 export type CursorName = "a" | "b";
@@ -82,9 +83,12 @@ export function nudge(
 /** A typed cursor time: the number, or why not (what to type instead). */
 export function parseCursor(text: string, span: Span): number | string {
   const value = Number(text.trim().replace(",", "."));
-  if (text.trim() === "" || !Number.isFinite(value)) return "Type a time in seconds";
+  if (text.trim() === "" || !Number.isFinite(value)) return i18n.t("scope.cursorInput.typeTime");
   if (value < span.start || value > span.end) {
-    return `From ${formatNumber(span.start)} to ${formatNumber(span.end)} s`;
+    return i18n.t("scope.cursorInput.range", {
+      start: formatNumber(span.start),
+      end: formatNumber(span.end),
+    });
   }
   return value;
 }

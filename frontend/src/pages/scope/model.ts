@@ -2,6 +2,7 @@
 // capture request built from what the user typed (with the reason when it cannot be sent), a
 // signal's source in words, a trigger in words, values with their units.
 import type { OdEntry, OdObject } from "../../api/types";
+import { currentLocale, i18n, type MessageKey } from "../../i18n";
 import { formatBytes, formatCobId, formatDateTime, odAddress } from "../../lib/format";
 import { filterOd, parseOdQuery } from "../../lib/odFilter";
 import type {
@@ -33,13 +34,17 @@ export interface SignalChoice {
 }
 
 /** The objects a scope is usually pointed at (CiA 402), one click each. */
-export const QUICK_PICKS: readonly { index: number; label: string; name: string }[] = [
-  { index: 0x6064, label: "Position", name: "Position actual value" },
-  { index: 0x606c, label: "Velocity", name: "Velocity actual value" },
-  { index: 0x6077, label: "Torque", name: "Torque actual value" },
-  { index: 0x60f4, label: "Following error", name: "Following error actual value" },
-  { index: STATUSWORD, label: "Statusword", name: "Statusword" },
-  { index: 0x60fd, label: "Digital inputs", name: "Digital inputs" },
+export const QUICK_PICKS: readonly { index: number; label: MessageKey; name: string }[] = [
+  { index: 0x6064, label: "scope.signals.quick.position", name: "Position actual value" },
+  { index: 0x606c, label: "scope.signals.quick.velocity", name: "Velocity actual value" },
+  { index: 0x6077, label: "scope.signals.quick.torque", name: "Torque actual value" },
+  {
+    index: 0x60f4,
+    label: "scope.signals.quick.followingError",
+    name: "Following error actual value",
+  },
+  { index: STATUSWORD, label: "scope.signals.quick.statusword", name: "Statusword" },
+  { index: 0x60fd, label: "scope.signals.quick.digitalInputs", name: "Digital inputs" },
 ];
 
 /** The CiA 402 states a state trigger can wait for (as the server names them). */
@@ -139,10 +144,10 @@ function buildTrigger(
   durationS: number,
 ): { trigger: TriggerRequest } | { problem: string } {
   const pre = parseNumber(form.preS === "" ? "0" : form.preS);
-  if (pre === null || pre < 0) return { problem: "Pre-trigger: a time of 0 s or more" };
+  if (pre === null || pre < 0) return { problem: i18n.t("scope.problem.preNegative") };
   const keep = parseInteger(form.keep);
   if (form.mode === "normal" && (keep === null || keep < 1 || keep > 100)) {
-    return { problem: "Keep: between 1 and 100 captures" };
+    return { problem: i18n.t("scope.problem.keep") };
   }
   const trigger: TriggerRequest = {
     kind: form.kind,
@@ -152,7 +157,7 @@ function buildTrigger(
     keep: form.mode === "normal" && keep !== null ? keep : 10,
   };
   if (form.kind !== "none" && pre >= durationS) {
-    return { problem: "Pre-trigger: shorter than the duration" };
+    return { problem: i18n.t("scope.problem.preTooLong") };
   }
   switch (form.kind) {
     case "none":
@@ -160,17 +165,16 @@ function buildTrigger(
     case "level": {
       const [node, index, subindex] = form.signal.split(":").map(Number);
       if (node === undefined || index === undefined || subindex === undefined || !form.signal) {
-        return { problem: "Level trigger: choose the signal it watches" };
+        return { problem: i18n.t("scope.problem.levelSignal") };
       }
       const level = parseNumber(form.level);
-      if (level === null) return { problem: "Level trigger: enter the level (a raw value)" };
+      if (level === null) return { problem: i18n.t("scope.problem.levelValue") };
       return { trigger: { ...trigger, node, index, subindex, level } };
     }
     case "bit": {
-      if (form.node === null) return { problem: "Bit trigger: choose the node" };
+      if (form.node === null) return { problem: i18n.t("scope.problem.bitNode") };
       const bit = parseInteger(form.bit);
-      if (bit === null || bit < 0 || bit > 63)
-        return { problem: "Bit trigger: a bit from 0 to 63" };
+      if (bit === null || bit < 0 || bit > 63) return { problem: i18n.t("scope.problem.bitRange") };
       const [index, subindex] = form.bitObject ? form.bitObject.split(":").map(Number) : [];
       return {
         trigger: {
@@ -185,27 +189,31 @@ function buildTrigger(
     case "emcy":
       return { trigger: { ...trigger, node: form.node } };
     case "state":
-      if (form.node === null) return { problem: "State trigger: choose the node" };
+      if (form.node === null) return { problem: i18n.t("scope.problem.stateNode") };
       return { trigger: { ...trigger, node: form.node, state: form.state || null } };
   }
 }
 
 /** The request the form describes, or the first thing that keeps it from being sent. */
 export function buildRequest(form: ScopeForm): BuiltRequest {
-  if (form.signals.length === 0) return refuse("Pick at least one signal");
-  if (form.signals.length > MAX_SIGNALS) return refuse(`At most ${MAX_SIGNALS} signals`);
+  if (form.signals.length === 0) return refuse(i18n.t("scope.problem.noSignal"));
+  if (form.signals.length > MAX_SIGNALS)
+    return refuse(i18n.t("scope.problem.tooMany", { max: MAX_SIGNALS }));
   const sync = parseInteger(form.syncPeriodUs);
   if (sync === null || sync < MIN_SYNC_PERIOD_US || sync > MAX_SYNC_PERIOD_US) {
     return refuse(
-      `SYNC period: a whole number of µs from ${MIN_SYNC_PERIOD_US} to ${MAX_SYNC_PERIOD_US.toLocaleString("en-US")}`,
+      i18n.t("scope.problem.sync", {
+        min: MIN_SYNC_PERIOD_US,
+        max: MAX_SYNC_PERIOD_US.toLocaleString(currentLocale()),
+      }),
     );
   }
   const duration = parseNumber(form.durationS);
   if (duration === null || duration <= 0 || duration > MAX_DURATION_S) {
-    return refuse(`Duration: more than 0 s, at most ${MAX_DURATION_S} s`);
+    return refuse(i18n.t("scope.problem.duration", { max: MAX_DURATION_S }));
   }
   const name = form.name.trim();
-  if (name.length > 80) return refuse("Name: at most 80 characters");
+  if (name.length > 80) return refuse(i18n.t("scope.problem.name"));
   const built = buildTrigger(form.trigger, duration);
   if ("problem" in built) return refuse(built.problem);
   return {
@@ -223,7 +231,7 @@ export function buildRequest(form: ScopeForm): BuiltRequest {
 
 /** The plan's source column: "TPDO2 · 0x281" or "SDO polling". */
 export function sourceText(signal: Pick<CaptureSignal, "source" | "tpdo" | "cob_id">): string {
-  if (signal.source === "sdo") return "SDO polling";
+  if (signal.source === "sdo") return i18n.t("scope.source.sdo");
   const tpdo = signal.tpdo == null ? "TPDO" : `TPDO${signal.tpdo}`;
   return signal.cob_id == null ? tpdo : `${tpdo} · COB-ID ${formatCobId(signal.cob_id)}`;
 }
@@ -254,39 +262,57 @@ export function formatReading(
 export function shortNumber(value: number): string {
   const magnitude = Math.abs(value);
   if (value !== 0 && (magnitude >= 1e12 || magnitude < 1e-4)) return value.toExponential(3);
-  if (magnitude >= 1e4) return value.toLocaleString("en-US", { maximumFractionDigits: 0 });
-  return value.toLocaleString("en-US", { maximumSignificantDigits: 5 });
+  if (magnitude >= 1e4) return value.toLocaleString(currentLocale(), { maximumFractionDigits: 0 });
+  return value.toLocaleString(currentLocale(), { maximumSignificantDigits: 5 });
 }
 
-const EDGES: Record<Edge, string> = { rising: "rising", falling: "falling", either: "either edge" };
+const EDGES: Record<Edge, MessageKey> = {
+  rising: "scope.triggerText.edge.rising",
+  falling: "scope.triggerText.edge.falling",
+  either: "scope.triggerText.edge.either",
+};
 
 /** A trigger in words: "free-running", "node 1 6064h:00 crosses 1000 (rising)". */
 export function triggerText(trigger: TriggerRequest): string {
   let text: string;
   switch (trigger.kind) {
     case "none":
-      return "free-running";
+      return i18n.t("scope.triggerText.none");
     case "level":
-      text =
-        `node ${trigger.node ?? "?"} ${odAddress(trigger.index ?? 0, trigger.subindex ?? 0)}` +
-        ` crosses ${trigger.level ?? "?"} (${EDGES[trigger.edge]})`;
+      text = i18n.t("scope.triggerText.level", {
+        node: trigger.node ?? "?",
+        address: odAddress(trigger.index ?? 0, trigger.subindex ?? 0),
+        level: trigger.level ?? "?",
+        edge: i18n.t(EDGES[trigger.edge]),
+      });
       break;
     case "bit":
-      text =
-        `node ${trigger.node ?? "?"} ${odAddress(trigger.index ?? STATUSWORD, trigger.subindex ?? 0)}` +
-        ` bit ${trigger.bit ?? "?"} (${EDGES[trigger.edge]})`;
+      text = i18n.t("scope.triggerText.bit", {
+        node: trigger.node ?? "?",
+        address: odAddress(trigger.index ?? STATUSWORD, trigger.subindex ?? 0),
+        bit: trigger.bit ?? "?",
+        edge: i18n.t(EDGES[trigger.edge]),
+      });
       break;
     case "emcy":
-      text = trigger.node == null ? "EMCY from any node" : `EMCY from node ${trigger.node}`;
+      text =
+        trigger.node == null
+          ? i18n.t("scope.triggerText.emcyAny")
+          : i18n.t("scope.triggerText.emcyNode", { node: trigger.node });
       break;
     case "state":
       text = trigger.state
-        ? `node ${trigger.node ?? "?"} enters ${trigger.state}`
-        : `node ${trigger.node ?? "?"} changes CiA 402 state`;
+        ? i18n.t("scope.triggerText.stateEnters", {
+            node: trigger.node ?? "?",
+            state: trigger.state,
+          })
+        : i18n.t("scope.triggerText.stateChanges", { node: trigger.node ?? "?" });
       break;
   }
-  if (trigger.pre_s > 0) text += `, ${trigger.pre_s} s before`;
-  if (trigger.mode === "normal") text += `, re-armed (keeps ${trigger.keep})`;
+  if (trigger.pre_s > 0) text = i18n.t("scope.triggerText.pre", { text, pre: trigger.pre_s });
+  if (trigger.mode === "normal") {
+    text = i18n.t("scope.triggerText.rearmed", { text, keep: trigger.keep });
+  }
   return text;
 }
 
@@ -301,10 +327,16 @@ export function levelHint(
   signal: Pick<CaptureSignal, "scale" | "unit" | "raw_unit"> | undefined,
 ): string | null {
   if (!signal) return null;
-  const raw = signal.raw_unit ? `raw, in ${signal.raw_unit}` : "raw value";
+  const raw = signal.raw_unit
+    ? i18n.t("scope.levelHint.rawIn", { unit: signal.raw_unit })
+    : i18n.t("scope.levelHint.raw");
   const value = parseNumber(level);
   if (value === null || signal.scale === 1 || !signal.unit) return raw;
-  return `${raw} = ${shortNumber(value * signal.scale)} ${signal.unit}`;
+  return i18n.t("scope.levelHint.scaled", {
+    raw,
+    value: shortNumber(value * signal.scale),
+    unit: signal.unit,
+  });
 }
 
 /** An object of a node's dictionary the picker lists. */
@@ -361,6 +393,15 @@ export function findEntry(
   return objects?.find((o) => o.index === index)?.subs.find((s) => s.subindex === subindex);
 }
 
+/** A capture's state as one word (the capture list's badge too). */
+export const STATE_WORD: Record<Capture["state"], MessageKey> = {
+  arming: "scope.list.states.arming",
+  armed: "scope.list.states.armed",
+  running: "scope.list.states.running",
+  done: "scope.list.states.done",
+  failed: "scope.list.states.failed",
+};
+
 /** Why Start is disabled, in words; null when the capture may start. */
 export function startReason(
   built: BuiltRequest,
@@ -368,12 +409,15 @@ export function startReason(
   current: Pick<Capture, "id" | "state"> | null,
 ): string | null {
   if (current && isActive(current)) {
-    return `Capture ${current.id} is ${current.state}: stop it before starting another`;
+    return i18n.t("scope.reason.active", {
+      id: current.id,
+      state: i18n.t(STATE_WORD[current.state]),
+    });
   }
   if (!built.ok) return built.problem;
-  if (plan.checking) return "Checking the plan…";
-  if (plan.error) return "The check failed (see above)";
-  if (!plan.plan) return "Not checked yet";
-  if (!plan.plan.ok) return plan.plan.problems[0] ?? "The plan is not possible";
+  if (plan.checking) return i18n.t("scope.reason.checking");
+  if (plan.error) return i18n.t("scope.reason.failed");
+  if (!plan.plan) return i18n.t("scope.reason.notChecked");
+  if (!plan.plan.ok) return plan.plan.problems[0] ?? i18n.t("scope.reason.impossible");
   return null;
 }
