@@ -4,9 +4,9 @@ import { screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 
-import type { NodeInfo } from "../../api/types";
 import { i18n } from "../../i18n";
 import { stubFetch } from "../../test/fetchStub";
+import { INFO } from "../../test/fixtures/node";
 import { renderPage } from "../../test/render";
 import { NetworkPage } from "./NetworkPage";
 
@@ -18,27 +18,12 @@ afterEach(() => {
   vi.unstubAllGlobals();
 });
 
-const mdi: NodeInfo = {
-  node: 1,
-  name: "DVS_CANOPEN",
-  vendor_id: 0x26c,
-  product_code: 0xc5,
-  profile: "mdi-s1c",
-  profile_label: "MDi-S1-C",
-  nmt_state: "pre-operational",
-  online: true,
-  heartbeat_age_ms: 40,
-  od_source: "profile",
-  od_filename: "mdi-s1c/drive.eds",
-  od_warnings: 0,
-};
-
 describe("NetworkPage in zh-CN", () => {
   it("shows Chinese headings, columns and states", async () => {
     stubFetch({
       "GET /api/bus/interfaces": [],
       "GET /api/events": { events: [], next: null },
-      "POST /api/scan": { nodes: [mdi], duration_ms: 57 },
+      "POST /api/scan": { nodes: [INFO], duration_ms: 57 },
       "GET /api/nodes/1/heartbeat": { producer_ms: 100 },
     });
     const { container } = renderPage(<NetworkPage />);

@@ -34,6 +34,42 @@ async function pickPositionAndVelocity(): Promise<void> {
   await userEvent.click(screen.getByRole("button", { name: "Velocity 606Ch" }));
 }
 
+const STOPPED = capture({ state: "done", ended: 1_790_000_003, notes: ["stopped by the user"] });
+
+/** The page with capture 7 recording; its polls and its stop answered by `poll` and `stop`. */
+async function recording(poll: Handler, stop: Handler): Promise<ReturnType<typeof stubFetch>> {
+  const fetch = render({
+    "POST /api/scope/captures": capture(),
+    "GET /api/scope/captures/7": poll,
+    "DELETE /api/scope/captures/7": stop,
+  });
+  await pickPositionAndVelocity();
+  const start = screen.getByRole("button", { name: "● Start capture" });
+  await waitFor(() => expect(start).toHaveProperty("disabled", false));
+  await userEvent.click(start);
+  expect((await screen.findByTestId("capture-state")).textContent).toBe("Recording");
+  return fetch;
+}
+
+/** Polls of capture 7 (still recording) that, while held, answer only when released. */
+function heldPolls(): { poll: Handler; hold: (held: boolean) => void; release: () => void } {
+  let held = false;
+  let release: () => void = () => undefined;
+  return {
+    poll: async () => {
+      if (held) await new Promise<void>((resolve) => (release = resolve));
+      return capture();
+    },
+    hold: (value) => (held = value),
+    release: () => release(),
+  };
+}
+
+/** How many times the page asked for capture 7. */
+function polled(fetch: ReturnType<typeof stubFetch>): number {
+  return fetch.calls.filter((c) => c.method === "GET" && c.path.endsWith("/7")).length;
+}
+
 describe("ScopePage", () => {
   it("checks the selection, starts a capture, follows it and stops it", async () => {
     let polled = 0;
@@ -103,75 +139,35 @@ describe("ScopePage", () => {
   });
 
   it("keeps 'Done' when a poll sent before the stop answers after it", async () => {
-    let releasePoll: () => void = () => undefined;
-    let stopping = false;
-    const fetch = render({
-      "POST /api/scope/captures": capture(),
-      "GET /api/scope/captures/7": async () => {
-        if (stopping) {
-          // this poll left before the stop; its answer (still recording) comes after the stop's
-          await new Promise<void>((resolve) => (releasePoll = resolve));
-        }
-        return capture();
-      },
-      "DELETE /api/scope/captures/7": () => {
-        stopping = false;
-        return capture({ state: "done", ended: 1_790_000_003, notes: ["stopped by the user"] });
-      },
+    const polls = heldPolls();
+    const fetch = await recording(polls.poll, () => {
+      polls.hold(false);
+      return STOPPED;
     });
-    await pickPositionAndVelocity();
-    const start = screen.getByRole("button", { name: "● Start capture" });
-    await waitFor(() => expect(start).toHaveProperty("disabled", false));
-    await userEvent.click(start);
-    expect((await screen.findByTestId("capture-state")).textContent).toBe("Recording");
-
-    stopping = true; // the next poll hangs until after the stop has answered
-    const polls = fetch.calls.filter((c) => c.method === "GET" && c.path.endsWith("/7")).length;
-    await waitFor(() =>
-      expect(fetch.calls.filter((c) => c.method === "GET" && c.path.endsWith("/7")).length).toBe(
-        polls + 1,
-      ),
-    );
+    polls.hold(true); // the next poll hangs until after the stop has answered
+    const sent = polled(fetch);
+    await waitFor(() => expect(polled(fetch)).toBe(sent + 1));
     await userEvent.click(screen.getByRole("button", { name: "■ Stop" }));
     await waitFor(() => expect(screen.getByTestId("capture-state").textContent).toBe("Done"));
-    releasePoll();
+    polls.release();
     await new Promise((resolve) => setTimeout(resolve, 50));
     expect(screen.getByTestId("capture-state").textContent).toBe("Done");
   });
 
   it("keeps 'Done' when a poll sent while the stop was on its way answers after it", async () => {
-    let releasePoll: () => void = () => undefined;
+    const polls = heldPolls();
     let releaseStop: () => void = () => undefined;
-    let stopping = false;
-    const fetch = render({
-      "POST /api/scope/captures": capture(),
-      "GET /api/scope/captures/7": async () => {
-        if (stopping) {
-          // sent after the stop, answered after the stop's answer: still recording
-          await new Promise<void>((resolve) => (releasePoll = resolve));
-        }
-        return capture();
-      },
-      "DELETE /api/scope/captures/7": async () => {
-        stopping = true;
-        await new Promise<void>((resolve) => (releaseStop = resolve));
-        return capture({ state: "done", ended: 1_790_000_003, notes: ["stopped by the user"] });
-      },
+    const fetch = await recording(polls.poll, async () => {
+      polls.hold(true); // sent after the stop, answered after the stop's answer
+      await new Promise<void>((resolve) => (releaseStop = resolve));
+      return STOPPED;
     });
-    await pickPositionAndVelocity();
-    const start = screen.getByRole("button", { name: "● Start capture" });
-    await waitFor(() => expect(start).toHaveProperty("disabled", false));
-    await userEvent.click(start);
-    expect((await screen.findByTestId("capture-state")).textContent).toBe("Recording");
-
-    const gets = (): number =>
-      fetch.calls.filter((c) => c.method === "GET" && c.path.endsWith("/7")).length;
     await userEvent.click(screen.getByRole("button", { name: "■ Stop" }));
-    const polls = gets();
-    await waitFor(() => expect(gets()).toBe(polls + 1)); // a poll leaves while stopping
+    const sent = polled(fetch);
+    await waitFor(() => expect(polled(fetch)).toBe(sent + 1)); // a poll leaves while stopping
     releaseStop();
     await waitFor(() => expect(screen.getByTestId("capture-state").textContent).toBe("Done"));
-    releasePoll();
+    polls.release();
     await new Promise((resolve) => setTimeout(resolve, 50));
     expect(screen.getByTestId("capture-state").textContent).toBe("Done");
   });
