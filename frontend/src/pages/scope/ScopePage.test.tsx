@@ -37,8 +37,8 @@ async function pickPositionAndVelocity(): Promise<void> {
 const STOPPED = capture({ state: "done", ended: 1_790_000_003, notes: ["stopped by the user"] });
 
 /** The page with capture 7 recording; its polls and its stop answered by `poll` and `stop`. */
-async function recording(poll: Handler, stop: Handler): Promise<ReturnType<typeof stubFetch>> {
-  const fetch = render({
+async function recording(poll: Handler, stop: Handler): Promise<void> {
+  render({
     "POST /api/scope/captures": capture(),
     "GET /api/scope/captures/7": poll,
     "DELETE /api/scope/captures/7": stop,
@@ -48,26 +48,30 @@ async function recording(poll: Handler, stop: Handler): Promise<ReturnType<typeo
   await waitFor(() => expect(start).toHaveProperty("disabled", false));
   await userEvent.click(start);
   expect((await screen.findByTestId("capture-state")).textContent).toBe("Recording");
-  return fetch;
 }
 
 /** Polls of capture 7 (still recording) that, while held, answer only when released. */
-function heldPolls(): { poll: Handler; hold: (held: boolean) => void; release: () => void } {
+function heldPolls(): {
+  poll: Handler;
+  hold: (held: boolean) => void;
+  release: () => void;
+  waiting: () => number;
+} {
   let held = false;
+  let waiting = 0;
   let release: () => void = () => undefined;
   return {
     poll: async () => {
-      if (held) await new Promise<void>((resolve) => (release = resolve));
+      if (held) {
+        waiting += 1;
+        await new Promise<void>((resolve) => (release = resolve));
+      }
       return capture();
     },
     hold: (value) => (held = value),
     release: () => release(),
+    waiting: () => waiting,
   };
-}
-
-/** How many times the page asked for capture 7. */
-function polled(fetch: ReturnType<typeof stubFetch>): number {
-  return fetch.calls.filter((c) => c.method === "GET" && c.path.endsWith("/7")).length;
 }
 
 describe("ScopePage", () => {
@@ -140,13 +144,12 @@ describe("ScopePage", () => {
 
   it("keeps 'Done' when a poll sent before the stop answers after it", async () => {
     const polls = heldPolls();
-    const fetch = await recording(polls.poll, () => {
+    await recording(polls.poll, () => {
       polls.hold(false);
       return STOPPED;
     });
     polls.hold(true); // the next poll hangs until after the stop has answered
-    const sent = polled(fetch);
-    await waitFor(() => expect(polled(fetch)).toBe(sent + 1));
+    await waitFor(() => expect(polls.waiting()).toBe(1));
     await userEvent.click(screen.getByRole("button", { name: "■ Stop" }));
     await waitFor(() => expect(screen.getByTestId("capture-state").textContent).toBe("Done"));
     polls.release();
@@ -157,14 +160,13 @@ describe("ScopePage", () => {
   it("keeps 'Done' when a poll sent while the stop was on its way answers after it", async () => {
     const polls = heldPolls();
     let releaseStop: () => void = () => undefined;
-    const fetch = await recording(polls.poll, async () => {
+    await recording(polls.poll, async () => {
       polls.hold(true); // sent after the stop, answered after the stop's answer
       await new Promise<void>((resolve) => (releaseStop = resolve));
       return STOPPED;
     });
     await userEvent.click(screen.getByRole("button", { name: "■ Stop" }));
-    const sent = polled(fetch);
-    await waitFor(() => expect(polled(fetch)).toBe(sent + 1)); // a poll leaves while stopping
+    await waitFor(() => expect(polls.waiting()).toBe(1)); // a poll left while stopping
     releaseStop();
     await waitFor(() => expect(screen.getByTestId("capture-state").textContent).toBe("Done"));
     polls.release();
