@@ -46,11 +46,27 @@ def wait_active(client: TestClient, node: int) -> dict[str, Any]:
     raise AssertionError(f"no active fault on node {node}")
 
 
+def wait_stored(client: TestClient, node: int, active: dict[str, Any]) -> dict[str, Any]:
+    """The history record of the node's active fault once the 6041h read after its EMCY is in
+    (the active fault shows at once; the record is stored with the state after it)."""
+    for _ in range(int(WAIT / 0.01)):
+        history = client.get(f"/api/nodes/{node}/faults?limit=1").json()["history"]
+        if history and history[0]["time"] == active["time"]:
+            record: dict[str, Any] = history[0]
+            return record
+        time.sleep(0.01)
+    raise AssertionError(f"no stored fault with its state after on node {node}")
+
+
 def inject_and_reset(client: TestClient, node: int, code: int) -> dict[str, Any]:
+    """The stored record of an injected fault (before the reset: its state after is the
+    fault's own), then the reset."""
     assert (
         client.put(f"/api/nodes/{node}/sdo/{SIM_INJECT}", json={"value": code}).status_code == 200
     )
-    fault: dict[str, Any] = wait_active(client, node)["active"]
+    active: dict[str, Any] = wait_active(client, node)["active"]
+    fault = wait_stored(client, node, active)
+    assert fault["code"] == active["code"]
     reset = client.post(f"/api/nodes/{node}/faults/reset").json()
     assert reset["ok"], reset
     assert reset["state_before"] == "Fault"
