@@ -47,9 +47,8 @@ export function ScopePage(): ReactNode {
   const [opened, setOpened] = useState<OpenedCapture | null>(null);
   const [stopped, setStopped] = useState<ReadonlySet<number>>(() => new Set());
   const polling = useRef(false);
-  // bumped when a stop is sent and again when it answers: a poll sent before either may answer
-  // after the stop's own answer, with the capture still recording; that answer is dropped (it
-  // would show "Recording" again after "Done")
+  // bumped by every stop: a poll sent before it may answer after the stop's own answer, with
+  // the capture still recording; that answer is dropped (it would show "Recording" again)
   const stops = useRef(0);
   // captures the user stopped: a poll that still says recording is older than the stop (a
   // stopped capture never records again), whenever it was sent
@@ -133,7 +132,6 @@ export function ScopePage(): ReactNode {
     stoppedIds.current.add(id);
     setStopped((old) => new Set(old).add(id));
     const capture = await stopOrDeleteCapture(id);
-    stops.current += 1;
     if (capture) follow(capture);
     ended();
   });
