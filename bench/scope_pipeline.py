@@ -55,6 +55,13 @@ from canopen.pdo.base import PdoMap
 
 from servodesk.bus.counters import BusCounters
 from servodesk.bus.link import NOTIFIER_CYCLE, Link, close_link, open_link
+from servodesk.models.scope import (
+    MAX_DURATION_S,
+    MIN_SYNC_PERIOD_US,
+    Capture,
+    CaptureRequest,
+    CaptureSignal,
+)
 from servodesk.motion.units import DriveUnits
 from servodesk.od import datatypes as dt
 from servodesk.od.model import OdSub
@@ -68,13 +75,6 @@ from servodesk.scope.run import FLUSH_S, CaptureOutput, CaptureRun, close_files
 from servodesk.scope.samples import SamplesWriter, read_samples
 from servodesk.scope.setup import Key, build_core, capture_signals
 from servodesk.scope.signals import SignalInfo, signal_info
-from servodesk.scope_models import (
-    MAX_DURATION_S,
-    MIN_SYNC_PERIOD_US,
-    Capture,
-    CaptureRequest,
-    CaptureSignal,
-)
 from servodesk_protocol.pdo import Direction, default_can_id
 
 RATE_TARGET = 36_000.0  # frames/s: 4× a saturated 1 Mbit/s bus

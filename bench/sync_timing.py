@@ -41,7 +41,7 @@ from bench.sim_realtime import NODES, configure, percentile
 
 from servodesk.bus.connection import BusManager
 from servodesk.heap import SWITCH_INTERVAL
-from servodesk.models import BusConfig, BusState
+from servodesk.models.bus import BusConfig, BusState
 from servodesk.network.sync import SyncService
 from servodesk.settings import Settings
 from servodesk_sim.runner import run_drives

@@ -49,7 +49,7 @@ from servodesk.api.static import mount_frontend
 from servodesk.bus.connection import BusFactory
 from servodesk.errors import ServodeskError
 from servodesk.heap import quiet_start, settle_after_start
-from servodesk.models import BusConfig
+from servodesk.models.bus import BusConfig
 from servodesk.services import Services, build_services
 from servodesk.settings import Settings
 

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, NoReturn
 from servodesk import __version__
 
 if TYPE_CHECKING:
-    from servodesk.models import BusConfig
+    from servodesk.models.bus import BusConfig
 
 USAGE_ERROR = 2
 BUS_COMMANDS = frozenset({"serve", "scan", "read", "write", "dump", "check-record"})
@@ -159,7 +159,7 @@ def _entry_args(parser: argparse.ArgumentParser) -> None:
 
 
 def bus_config(args: argparse.Namespace) -> BusConfig:
-    from servodesk.models import BusConfig
+    from servodesk.models.bus import BusConfig
 
     if getattr(args, "sim", False):
         return BusConfig(simulated=True)

@@ -14,7 +14,7 @@ from tqdm import tqdm
 from servodesk.bus.config_check import check_bus_config
 from servodesk.cli_args import bus_config
 from servodesk.errors import ServodeskError
-from servodesk.models import BusState
+from servodesk.models.bus import BusState
 from servodesk.services import Services, build_services
 from servodesk.settings import Settings
 

@@ -4,7 +4,7 @@ drives' state (~10 Hz), who controls them, and stopped jogs.
 
 Each client keeps only the newest snapshot per kind plus a short queue of events, so a slow
 browser skips stale states instead of building up a backlog (docs/api.md, WebSocket). Message
-shapes are the models of live_messages.py.
+shapes are the models of models/live.py.
 """
 
 from __future__ import annotations
@@ -20,8 +20,9 @@ from typing import Any
 from servodesk.bus.connection import BusManager
 from servodesk.errors import ServodeskError
 from servodesk.events.bus import BusEvent, EventBus, EventKind
-from servodesk.faults.models import Fault, TimelineEvent
-from servodesk.live_messages import (
+from servodesk.models.bus import BusStatus
+from servodesk.models.faults import Fault, TimelineEvent
+from servodesk.models.live import (
     BusMessage,
     ControllerMessage,
     DriveStateMessage,
@@ -31,10 +32,10 @@ from servodesk.live_messages import (
     TimelineMessage,
     dump,
 )
-from servodesk.models import BusStatus, LiveEvent, NodeEventKind
+from servodesk.models.nodes import LiveEvent, NodeEventKind
+from servodesk.models.safety import JogInfo
 from servodesk.motion.lease import Client
 from servodesk.motion.safety import MotionSafety
-from servodesk.motion.safety_models import JogInfo
 from servodesk.nodes.registry import NodeRegistry
 
 log = logging.getLogger(__name__)

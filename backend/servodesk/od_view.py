@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from servodesk.models import (
+from servodesk.models.od import (
     LintWarningModel,
     OdCheckResult,
     OdDeviceSummary,

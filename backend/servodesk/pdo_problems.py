@@ -1,7 +1,7 @@
 """What PDO validation finds wrong, as plain data: the foundation that both the PDO package
 (`servodesk.pdo.validate`, which finds problems) and the error model (`servodesk.errors`'s
 `PdoInvalidError`, which carries them) build on, so the errors import nothing above them.
-The API schema's `PdoProblem` (servodesk.pdo_models) mirrors `Problem` field for field."""
+The API schema's `PdoProblem` (servodesk.models.pdo) mirrors `Problem` field for field."""
 
 from __future__ import annotations
 

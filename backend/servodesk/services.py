@@ -11,7 +11,7 @@ from servodesk.audit.log import Describe
 from servodesk.bus.connection import BusFactory, BusManager
 from servodesk.commissioning import CommissioningService
 from servodesk.events.bus import EventBus
-from servodesk.faults.collector import FrameTap, quiet_short_emcy
+from servodesk.faults.collector import collect, quiet_short_emcy
 from servodesk.faults.service import FaultService
 from servodesk.live import LiveHub
 from servodesk.logs.recording import Recorder
@@ -228,6 +228,6 @@ def _diagnostics(
     storage = Storage(settings.data_dir, retention, bus_of=bus.label)
     faults = FaultService(registry, events, storage, settings)
     events.subscribe(storage.add_event)
-    bus.add_frame_listener(FrameTap(events, faults.on_emcy))
+    collect(bus.frames, events, faults.on_emcy)  # EMCYs and SDO aborts, from the bus's tap
     quiet_short_emcy()  # canopen's own EMCY consumer chokes on 2-byte (MDi) EMCYs
     return storage, faults

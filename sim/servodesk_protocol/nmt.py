@@ -21,6 +21,24 @@ STATE_MASK = 0x7F
 # error-control objects (CiA 301 §7.5.2.29–§7.5.2.30)
 CONSUMER_HEARTBEAT_TIME = 0x1016  # subs 1–n: bits 16–23 the producer's node id, 0–15 time in ms
 PRODUCER_HEARTBEAT_TIME = 0x1017  # ms between heartbeats; 0 = no heartbeat
+CONSUMER_NODE_SHIFT = 16  # a 1016h entry: node id in bits 16–23, time in ms in bits 0–15
+CONSUMER_NODE_MASK = 0xFF
+CONSUMER_TIME_MASK = 0xFFFF
+
+
+def consumer_entry(node_id: int, time_ms: int) -> int:
+    """A 1016h sub-value watching `node_id`'s heartbeat for `time_ms` ms (0 for either: the
+    entry is unused). Raises ValueError for a node id or time that does not fit its field."""
+    if not 0 <= node_id <= CONSUMER_NODE_MASK:
+        raise ValueError(f"node id {node_id} does not fit bits 16–23 of a 1016h entry")
+    if not 0 <= time_ms <= CONSUMER_TIME_MASK:
+        raise ValueError(f"{time_ms} ms does not fit bits 0–15 of a 1016h entry")
+    return (node_id << CONSUMER_NODE_SHIFT) | time_ms
+
+
+def parse_consumer_entry(value: int) -> tuple[int, int]:
+    """(node id, time in ms) of a 1016h sub-value; bits 24–31 (reserved) are ignored."""
+    return (value >> CONSUMER_NODE_SHIFT) & CONSUMER_NODE_MASK, value & CONSUMER_TIME_MASK
 
 
 class NmtState(IntEnum):

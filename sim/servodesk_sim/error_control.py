@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from servodesk_protocol import cob_id
-from servodesk_protocol.nmt import NmtState, make_heartbeat
+from servodesk_protocol.nmt import NmtState, make_heartbeat, parse_consumer_entry
 from servodesk_protocol.sdo_abort import PARAMETER_INCOMPATIBLE as PARAM_INCOMPATIBLE
 from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.frames import Frame
@@ -23,11 +23,6 @@ def _elapsed_us(now: float, since: float) -> int:
     """Whole microseconds between two clock readings: CANopen times are whole ms, and rounding
     keeps 0.3 - 0.2 from counting as less than 100 ms."""
     return round((now - since) * 1_000_000)
-
-
-def consumer_entry(raw: int) -> tuple[int, int]:
-    """(node id, time ms) of a raw 1016h sub-value: bits 16–23 node, bits 0–15 time."""
-    return (raw >> 16) & 0xFF, raw & 0xFFFF
 
 
 def _active(node: int, time_ms: int) -> bool:
@@ -81,7 +76,7 @@ class HeartbeatConsumer:
         """
         seen: set[int] = set()
         for raw in entries:
-            node, time_ms = consumer_entry(raw)
+            node, time_ms = parse_consumer_entry(raw)
             if not _active(node, time_ms):
                 continue
             if node in seen:
@@ -92,7 +87,7 @@ class HeartbeatConsumer:
         """Take the raw 1016h sub-values; an unchanged entry keeps its monitoring state."""
         watches: dict[int, _Watch] = {}
         for raw in entries:
-            node, time_ms = consumer_entry(raw)
+            node, time_ms = parse_consumer_entry(raw)
             if not _active(node, time_ms) or node in watches:
                 continue
             old = self._watches.get(node)

@@ -30,7 +30,7 @@ import httpx
 from fastapi.testclient import TestClient
 
 from servodesk.app import create_app
-from servodesk.models import BusConfig
+from servodesk.models.bus import BusConfig
 from servodesk.services import Services
 from servodesk.settings import Settings
 from servodesk_sim.frames import Frame

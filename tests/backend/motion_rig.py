@@ -9,7 +9,7 @@ from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from dataclasses import dataclass
 
-from servodesk.motion.schemas import DriveState
+from servodesk.models.motion import DriveState
 from servodesk.motion.service import MotionService
 from servodesk.network.sync import SyncService
 from servodesk.settings import Settings

@@ -19,7 +19,7 @@ import can
 
 from servodesk.bus.connection import BusFactory, BusManager
 from servodesk.events.bus import BusEvent
-from servodesk.models import BusConfig, BusState
+from servodesk.models.bus import BusConfig, BusState
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.settings import Settings
 from servodesk_sim.runner import SimBus, SimNode, run_drives

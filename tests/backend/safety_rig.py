@@ -8,10 +8,10 @@ from contextlib import asynccontextmanager
 from dataclasses import dataclass
 
 from servodesk.bus.connection import BusFactory
+from servodesk.models.motion import DriveState
+from servodesk.models.safety import JogInfo, JogRequest
 from servodesk.motion.lease import Client
 from servodesk.motion.safety import MotionSafety
-from servodesk.motion.safety_models import JogInfo, JogRequest
-from servodesk.motion.schemas import DriveState
 from servodesk.motion.service import MotionService
 from servodesk.network.sync import SyncService
 from tests.backend.motion_rig import NODES, MotionRig, motion_settings

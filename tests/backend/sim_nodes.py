@@ -18,7 +18,8 @@ from canopen.objectdictionary import ObjectDictionary
 
 import servodesk_data
 from servodesk.errors import CommTimeoutError, NodeNotFoundError, SdoAbortError
-from servodesk.models import NmtCommandName, NmtStateName, NodeInfo
+from servodesk.models.network import NmtCommandName
+from servodesk.models.nodes import NmtStateName, NodeInfo
 from servodesk.nodes.session import NodeSession
 from servodesk.od import ObjectDictionaryModel, load_od
 from servodesk.od.to_canopen import to_canopen

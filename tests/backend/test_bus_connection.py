@@ -12,7 +12,8 @@ from can.interfaces import VALID_INTERFACES
 from servodesk.bus.connection import BusManager
 from servodesk.bus.interfaces import INTERFACES
 from servodesk.errors import BusNotConnectedError, BusOpenError, InvalidValueError
-from servodesk.models import BusConfig, BusState, BusStatus, NmtCommandName
+from servodesk.models.bus import BusConfig, BusState, BusStatus
+from servodesk.models.network import NmtCommandName
 from servodesk.network.sync import SyncService
 from tests.backend.network_rig import (
     Plug,

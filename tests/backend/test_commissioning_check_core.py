@@ -7,7 +7,7 @@ from typing import Any
 import pytest
 
 from servodesk.commissioning import check_core as core
-from servodesk.commissioning.models import (
+from servodesk.models.commissioning import (
     CommissioningIdentity,
     CommissioningRecord,
     CommissioningStep,

@@ -16,8 +16,8 @@ from pydantic import SecretStr
 from servodesk.access.actor import Role
 from servodesk.access.policy import required_role
 from servodesk.app import create_app
-from servodesk.commissioning.models import STEP_KEYS
 from servodesk.commissioning.plan import plan_steps
+from servodesk.models.commissioning import STEP_KEYS
 from servodesk.settings import Settings
 
 DRIVES = [(1, "mdi-s1c"), (2, "kinco"), (3, "cia402")]

@@ -27,11 +27,11 @@ from servodesk.access.actor import Role
 from servodesk.access.policy import required_role
 from servodesk.app import create_app
 from servodesk.commissioning import report, report_tables
-from servodesk.commissioning.models import STEP_KEYS
 from servodesk.commissioning.report_plot import Series, capture_series, svg_plot
 from servodesk.commissioning.report_tables import capture_ids
+from servodesk.models.commissioning import STEP_KEYS
+from servodesk.models.scope import Capture, CaptureSignal
 from servodesk.scope.samples import SAMPLES_SCHEMA
-from servodesk.scope_models import Capture, CaptureSignal
 from servodesk.settings import Settings
 
 NODE = 1  # the simulated MDi-S1-C
@@ -220,8 +220,8 @@ def test_plot_of_synthetic_samples(tmp_path: Path) -> None:
 
 
 def _axis(step: report.StepView) -> report.AxisView:
-    from servodesk.commissioning.models import CommissioningIdentity, CommissioningRecord
     from servodesk.commissioning.report_tables import Table
+    from servodesk.models.commissioning import CommissioningIdentity, CommissioningRecord
 
     identity = CommissioningIdentity(
         profile="mdi-s1c", profile_label="MDi", od_source="profile", od_filename="drive.eds"

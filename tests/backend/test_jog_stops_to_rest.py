@@ -10,9 +10,9 @@ import asyncio
 import pytest
 
 from servodesk.access.actor import Actor, Role, acting
+from servodesk.models.safety import JogInfo, JogRequest
 from servodesk.motion.jog import NotJogOwnerError, travel_end
 from servodesk.motion.lease import Client
-from servodesk.motion.safety_models import JogInfo, JogRequest
 from tests.backend.motion_rig import CIA402, KINCO, NODES
 from tests.backend.network_rig import eventually
 from tests.backend.safety_rig import PAGE, SafetyRig, safety_rig

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from servodesk.models import BusState
+from servodesk.models.bus import BusState
 from servodesk.motion.jog import JogStoppedError
 from tests.backend.motion_rig import CIA402, KINCO, MDI, SIM_INJECT_FAULT
 from tests.backend.network_rig import Plug, eventually, unpluggable_factory

@@ -9,7 +9,7 @@ from typing import Any
 from fastapi.testclient import TestClient
 from starlette.testclient import WebSocketTestSession
 
-from servodesk.live_messages import CLIENT_MESSAGE, ServerMessage
+from servodesk.models.live import CLIENT_MESSAGE, ServerMessage
 
 PAGE = {"X-Client-Id": "page-a", "X-Client-Name": "Alice"}
 

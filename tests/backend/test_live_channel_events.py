@@ -10,7 +10,7 @@ from typing import Any
 from fastapi.testclient import TestClient
 from starlette.testclient import WebSocketTestSession
 
-from servodesk.live_messages import ServerMessage
+from servodesk.models.live import ServerMessage
 from tests.backend.fault_rig import faulty_app, sdo_response
 
 SIM_INJECT = "/api/nodes/1/sdo/5FF0/0"  # the simulated drive's fault injection

@@ -6,7 +6,7 @@ from __future__ import annotations
 import can
 import pytest
 
-from servodesk.models import NmtStateName
+from servodesk.models.nodes import NmtStateName
 from servodesk.network.health import Evidence, Health, assess
 from servodesk.network.monitor import FrameWatch
 

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import pytest
 
+from servodesk.models.motion import FaultInfo
 from servodesk.motion.explain import Observed, explain
 from servodesk.motion.homing import METHODS, homing_phase, methods_for
-from servodesk.motion.schemas import FaultInfo
 from servodesk.motion.trajectory import planned_offset, setpoints, sync_jitter
 from servodesk.motion.units import DriveUnits
 from servodesk.motion.words import mode_key, status_bits, transition

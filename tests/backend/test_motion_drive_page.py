@@ -15,10 +15,10 @@ from __future__ import annotations
 import can
 import pytest
 
+from servodesk.models.motion import HomeRequest, MotionLimits, MoveProgress, MoveRequest
 from servodesk.motion.axis import Axis, build_state
 from servodesk.motion.drive_io import Snapshot
 from servodesk.motion.errors import EnableBlockedError
-from servodesk.motion.schemas import HomeRequest, MotionLimits, MoveProgress, MoveRequest
 from tests.backend.motion_rig import (
     MDI,
     NODES,

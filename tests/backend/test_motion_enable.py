@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import pytest
 
-from servodesk.models import NmtCommandName
+from servodesk.models.motion import MoveRequest
+from servodesk.models.network import NmtCommandName
 from servodesk.motion.errors import EnableBlockedError
-from servodesk.motion.schemas import MoveRequest
 from tests.backend.motion_rig import NODES, SIM_INJECT_FAULT, MotionRig, motion_rig
 
 pytestmark = pytest.mark.anyio

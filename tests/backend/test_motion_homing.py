@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 
-from servodesk.motion.schemas import HomeRequest
+from servodesk.models.motion import HomeRequest
 from tests.backend.motion_rig import NODES, SIM_NEG_LIMIT, SIM_POS_LIMIT, MotionRig, motion_rig
 
 pytestmark = pytest.mark.anyio

@@ -24,9 +24,9 @@ import time
 
 import pytest
 
+from servodesk.models.motion import IpStreamResult
 from servodesk.motion.errors import EnableBlockedError
 from servodesk.motion.ip_timing import SyncUnsafeError
-from servodesk.motion.schemas import IpStreamResult
 from servodesk.motion.trajectory import Trajectory, peak_velocity
 from tests.backend.motion_rig import NODES, MotionRig, motion_rig
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import pytest
 
+from servodesk.models.motion import MotionLimits, MoveQueueRequest, MoveRequest
 from servodesk.motion.errors import LimitError, MotionBusyError
-from servodesk.motion.schemas import MotionLimits, MoveQueueRequest, MoveRequest
 from tests.backend.motion_rig import NODES, MotionRig, motion_rig
 
 pytestmark = pytest.mark.anyio

@@ -8,9 +8,9 @@ import can
 import pytest
 
 from servodesk.errors import InvalidValueError
-from servodesk.models import BusState
+from servodesk.models.bus import BusState
+from servodesk.models.safety import JogRequest
 from servodesk.motion.lease import Client, HeldByOtherError
-from servodesk.motion.safety_models import JogRequest
 from tests.backend.motion_rig import CIA402, KINCO, MDI
 from tests.backend.network_rig import Plug, eventually, unpluggable_factory
 from tests.backend.safety_rig import PAGE, SafetyRig, safety_rig

@@ -11,7 +11,7 @@ from typing import Any
 import pytest
 from fastapi.testclient import TestClient
 
-from servodesk.models import NodeInfo
+from servodesk.models.nodes import NodeInfo
 from servodesk.nodes.moved import moved
 
 

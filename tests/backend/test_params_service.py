@@ -9,7 +9,7 @@ import pytest
 
 from servodesk.errors import ConfirmationRequiredError, InvalidValueError
 from servodesk.events.bus import EventKind, event
-from servodesk.models import NmtCommandName
+from servodesk.models.network import NmtCommandName
 from servodesk.params.service import ParamService, resolve_value
 from servodesk.sdo.service import SdoService
 from servodesk_data import load

@@ -8,7 +8,7 @@ import re
 import pytest
 
 from servodesk.errors import InvalidValueError
-from servodesk.models import CompareRow
+from servodesk.models.paramsets import CompareRow
 from servodesk.od import OdObject, OdSub, load_od_bytes
 from servodesk.od.datatypes import DataType
 from servodesk.params.paramsets import ParamSetService

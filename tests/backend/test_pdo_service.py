@@ -10,7 +10,7 @@ import dataclasses
 import pytest
 
 from servodesk.errors import PdoApplyError, PdoInvalidError, SdoAbortError
-from servodesk.models import NmtCommandName, SyncConfig
+from servodesk.models.network import NmtCommandName, SyncConfig
 from servodesk.od import ObjectDictionaryModel
 from servodesk.od.datatypes import DataType
 from servodesk.pdo.model import MappedObject, PdoConfig

@@ -18,7 +18,8 @@ from servodesk.errors import (
     NodeNotFoundError,
     NodeStoppedError,
 )
-from servodesk.models import NmtCommandName, NmtStateName
+from servodesk.models.network import NmtCommandName
+from servodesk.models.nodes import NmtStateName
 from servodesk.od import load_od
 from servodesk_data import eds_path
 from servodesk_sim.frames import Frame

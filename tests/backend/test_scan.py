@@ -6,7 +6,9 @@ import pytest
 
 from servodesk.bus.connection import BusManager
 from servodesk.errors import BusNotConnectedError
-from servodesk.models import BusConfig, NmtCommandName, NmtStateName
+from servodesk.models.bus import BusConfig
+from servodesk.models.network import NmtCommandName
+from servodesk.models.nodes import NmtStateName
 from servodesk.nodes.registry import NodeRegistry
 from servodesk_sim.drive import create_drive
 from servodesk_sim.runner import SimNode

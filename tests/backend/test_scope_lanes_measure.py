@@ -9,9 +9,9 @@ import math
 import numpy as np
 import pytest
 
+from servodesk.models.scope import CaptureSignal, LanesRequest
 from servodesk.scope.lanes import LaneTracker, lanes_for
 from servodesk.scope.measure import Batch, CursorError, measure, time_span, trace
-from servodesk.scope_models import CaptureSignal, LanesRequest
 
 DISABLED, READY, ON, ENABLED, FAULT = 0x0250, 0x0231, 0x0233, 0x0237, 0x0218
 REACHED = 0x0400  # bit 10 target reached

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from servodesk.models.scope import CaptureState
 from servodesk.scope.retention import prune, pruned_note, room_left
 from servodesk.scope.store import CaptureStore
-from servodesk.scope_models import CaptureState
 from servodesk.storage.quota import MB, Kept
 from tests.backend.test_scope_store_export import make_capture
 

@@ -31,6 +31,7 @@ from asammdf import MDF
 import servodesk
 from servodesk.api.errors import describe
 from servodesk.errors import CaptureNotFoundError, StateConflictError
+from servodesk.models.scope import Capture, CaptureSignal, CaptureState, TriggerRequest
 from servodesk.scope.export import COLUMNS, FileFormat, content_type, export, filename
 from servodesk.scope.samples import (
     ROW_GROUP_ROWS,
@@ -40,7 +41,6 @@ from servodesk.scope.samples import (
     read_samples,
 )
 from servodesk.scope.store import INTERRUPTED, UNREADABLE_SAMPLES, CaptureStore
-from servodesk.scope_models import Capture, CaptureSignal, CaptureState, TriggerRequest
 
 TRIGGER_TIME = 1_700_000_000.125
 PER_SIGNAL = 50_000  # 4 signals: 200 000 rows, three full row groups and a tail

@@ -20,9 +20,9 @@ import pytest
 from fastapi.testclient import TestClient
 
 from servodesk.app import create_app
+from servodesk.models.scope import Capture, CaptureSignal, TriggerRequest
 from servodesk.scope.samples import SamplesWriter
 from servodesk.scope.wide import write_wide_csv
-from servodesk.scope_models import Capture, CaptureSignal, TriggerRequest
 from servodesk.settings import Settings
 
 POSITION, VELOCITY, IDENTITY = 0x6064, 0x606C, 0x1018

@@ -10,6 +10,12 @@ from dataclasses import dataclass, field
 import pytest
 
 from servodesk.events.bus import BusEvent, EventKind
+from servodesk.models.scope import (
+    CaptureRequest,
+    CaptureSignal,
+    ScopeSignalRequest,
+    TriggerRequest,
+)
 from servodesk.motion.units import DriveUnits
 from servodesk.od import DataType, OdSub
 from servodesk.pdo.model import PdoConfig
@@ -19,7 +25,6 @@ from servodesk.scope.frames import Frame
 from servodesk.scope.plan import plan_node
 from servodesk.scope.setup import SDO_STREAM_BASE, build_core, capture_signals, wanted
 from servodesk.scope.signals import signal_info
-from servodesk.scope_models import CaptureRequest, CaptureSignal, ScopeSignalRequest, TriggerRequest
 from servodesk_protocol.pdo import MapEntry, pack
 
 NODE, OTHER = 2, 9

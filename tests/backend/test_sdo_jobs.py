@@ -12,7 +12,7 @@ import pytest
 from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
 
 from servodesk.errors import NodeNotFoundError
-from servodesk.models import Job
+from servodesk.models.sdo import Job
 from servodesk.od import DataType, OdSub
 from servodesk.sdo.bulk import ChunkCursor, EntryRead, as_entry_read, read_chunk
 from servodesk.sdo.jobs import JobManager, JobNotFoundError, readable_entries

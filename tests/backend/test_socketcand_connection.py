@@ -14,7 +14,7 @@ from fastapi.testclient import TestClient
 
 from servodesk.app import create_app
 from servodesk.bus.connection import default_bus_factory
-from servodesk.models import BusConfig
+from servodesk.models.bus import BusConfig
 from servodesk.settings import Settings
 from servodesk_sim.runner import run_drives
 from servodesk_sim.socketcand_server import SocketcandServer

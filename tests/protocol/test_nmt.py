@@ -10,9 +10,11 @@ from servodesk_protocol.nmt import (
     CommandFrame,
     NmtCommand,
     NmtState,
+    consumer_entry,
     make_command,
     make_heartbeat,
     parse_command,
+    parse_consumer_entry,
     parse_state,
 )
 
@@ -93,3 +95,40 @@ def test_state_after(command: NmtCommand, state: NmtState) -> None:
 )
 def test_services_per_state(state: NmtState, sdo: bool, pdo: bool) -> None:
     assert (state.allows_sdo, state.allows_pdo) == (sdo, pdo)
+
+
+# 1016h consumer entries: node id in bits 16–23, time in ms in bits 0–15 (CiA 301 §7.5.2.29,
+# MDi-S1-C CANopen manual 1016h)
+@pytest.mark.parametrize(
+    ("node", "ms", "value"),
+    [
+        (1, 200, 0x000100C8),
+        (127, 100, 0x007F0064),
+        (126, 65535, 0x007EFFFF),  # the longest time
+        (255, 1, 0x00FF0001),  # the whole node field (ids above 127 are not nodes, but fit)
+        (5, 0, 0x00050000),  # time 0: entry unused
+        (0, 300, 0x0000012C),  # node 0: entry unused
+        (0, 0, 0),
+    ],
+)
+def test_consumer_entry_round_trip(node: int, ms: int, value: int) -> None:
+    assert consumer_entry(node, ms) == value
+    assert parse_consumer_entry(value) == (node, ms)
+
+
+@pytest.mark.parametrize(
+    ("value", "decoded"),
+    [
+        (0xFF0200FA, (2, 250)),  # reserved bits 24–31 are ignored
+        (0x80_7F_0064, (127, 100)),
+        (0xFFFFFFFF, (255, 65535)),
+    ],
+)
+def test_parse_consumer_entry_ignores_reserved_bits(value: int, decoded: tuple[int, int]) -> None:
+    assert parse_consumer_entry(value) == decoded
+
+
+@pytest.mark.parametrize(("node", "ms"), [(256, 100), (-1, 100), (1, 65536), (1, -1)])
+def test_consumer_entry_refuses_what_does_not_fit(node: int, ms: int) -> None:
+    with pytest.raises(ValueError, match="1016h"):
+        consumer_entry(node, ms)

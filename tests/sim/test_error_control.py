@@ -4,14 +4,13 @@ from __future__ import annotations
 
 import pytest
 
-from servodesk_protocol.nmt import NmtState
+from servodesk_protocol.nmt import NmtState, consumer_entry
 from servodesk_protocol.sdo_abort import PARAMETER_INCOMPATIBLE as PARAM_INCOMPATIBLE
 from servodesk_sim.abort_codes import SdoAbort
 from servodesk_sim.error_control import (
     HeartbeatConsumer,
     HeartbeatProducer,
     NodeGuarding,
-    consumer_entry,
 )
 from servodesk_sim.frames import Frame, frame
 
@@ -96,16 +95,7 @@ def test_heartbeat_enabled_later_starts_a_full_period_then() -> None:
 # ----------------------------------------------------------------------- heartbeat consumer
 
 
-def entry(node: int, time_ms: int) -> int:
-    return node << 16 | time_ms
-
-
-@pytest.mark.parametrize(
-    ("raw", "decoded"),
-    [(0x000100C8, (1, 200)), (0x007F0064, (127, 100)), (0xFF0200FA, (2, 250)), (0, (0, 0))],
-)
-def test_consumer_entry_layout(raw: int, decoded: tuple[int, int]) -> None:
-    assert consumer_entry(raw) == decoded  # MDi-S1-C manual 1016h: bits 16-23 node, 0-15 time
+entry = consumer_entry  # its layout: tests/protocol/test_nmt.py
 
 
 @pytest.mark.parametrize(

@@ -14,8 +14,8 @@ from servodesk.access.guard import Access
 from servodesk.access.sessions import COOKIE
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.errors import body_response
-from servodesk.model_base import RequestBody
-from servodesk.models import ErrorBody
+from servodesk.models.base import RequestBody
+from servodesk.models.common import ErrorBody
 
 router = APIRouter(tags=["access"], route_class=AuditedRoute)
 

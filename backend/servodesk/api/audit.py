@@ -13,12 +13,20 @@ from fastapi.responses import StreamingResponse
 from servodesk.api.audited import AuditedRoute, outcome_of
 from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import NODE_ERRORS
-from servodesk.audit import AuditFilter
-from servodesk.audit.models import AuditEntry, UndoRequest
+from servodesk.audit import AuditFilter, AuditRow
 from servodesk.audit.undo import undo as undo_entry
-from servodesk.models import ErrorBody
+from servodesk.models.audit import AuditEntry, UndoRequest
+from servodesk.models.common import ErrorBody
 
 router = APIRouter(prefix="/audit", tags=["audit"], route_class=AuditedRoute)
+
+
+def _entry(row: AuditRow) -> AuditEntry:
+    """The store's row as the API sends it: undoable only while no undo took it back."""
+    entry = AuditEntry.model_validate(row, from_attributes=True)
+    entry.undoable = row.undoable and row.undone_by is None
+    return entry
+
 
 UNDO_ERRORS: dict[int | str, dict[str, object]] = {
     **NODE_ERRORS,
@@ -56,7 +64,7 @@ async def audit_entries(
 ) -> list[AuditEntry]:
     """The entries, newest first."""
     rows = await services.audit.entries(replace(filters, before=before, limit=limit))
-    return [AuditEntry.of(row) for row in rows]
+    return [_entry(row) for row in rows]
 
 
 @router.get(
@@ -96,4 +104,4 @@ async def undo(
     row = await services.audit.get(new_id)
     if row is None:  # written just now: only a broken disk would lose it
         raise RuntimeError(f"audit entry {new_id} vanished")
-    return AuditEntry.of(row)
+    return _entry(row)

@@ -22,7 +22,7 @@ from servodesk.audit import AuditLog, Outcome
 from servodesk.audit.entry import enter, leave
 from servodesk.audit.log import URGENT_WAIT_S
 from servodesk.errors import SdoAbortError, ServodeskError
-from servodesk.models import ErrorBody
+from servodesk.models.common import ErrorBody
 
 CHANGES_STATE = frozenset({"POST", "PUT", "PATCH", "DELETE"})
 MAX_BODY = 16 * 1024  # bodies larger than this (uploads) are not copied into the entry

@@ -17,7 +17,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from servodesk.api import commissioning, logs, od, paramsets
 from servodesk.api.errors import body_response
-from servodesk.models import ErrorBody
+from servodesk.models.common import ErrorBody
 from servodesk.settings import Settings
 
 MIB = 1024 * 1024

@@ -8,7 +8,8 @@ from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import BUS_ERRORS, CONNECT_ERRORS
 from servodesk.bus.interfaces import INTERFACES
-from servodesk.models import BusConfig, BusStatus, InterfaceInfo, SyncConfig
+from servodesk.models.bus import BusConfig, BusStatus, InterfaceInfo
+from servodesk.models.network import SyncConfig
 
 router = APIRouter(prefix="/bus", tags=["bus"], responses=BUS_ERRORS, route_class=AuditedRoute)
 

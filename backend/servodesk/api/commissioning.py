@@ -17,7 +17,9 @@ from servodesk.api.errors import NODE_ERRORS
 from servodesk.api.uploads import Upload
 from servodesk.commissioning.check import FieldCheck, HandOver, open_bundle
 from servodesk.commissioning.check_core import CheckResult
-from servodesk.commissioning.models import (
+from servodesk.commissioning.report import MachineFormat, ReportFormat
+from servodesk.errors import InvalidValueError
+from servodesk.models.commissioning import (
     CheckRequest,
     CommissioningCreate,
     CommissioningRecord,
@@ -25,9 +27,7 @@ from servodesk.commissioning.models import (
     StepRun,
     StepSignOff,
 )
-from servodesk.commissioning.report import MachineFormat, ReportFormat
-from servodesk.errors import InvalidValueError
-from servodesk.models import ErrorBody
+from servodesk.models.common import ErrorBody
 
 router = APIRouter(tags=["commissioning"], route_class=AuditedRoute)
 

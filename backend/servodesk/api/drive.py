@@ -15,14 +15,7 @@ from fastapi import APIRouter, Depends, Header
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import MOTION_ERRORS, NODE_ERRORS
-from servodesk.motion.lease import Client
-from servodesk.motion.safety_models import (
-    ControllerInfo,
-    LimitsRequest,
-    QuickStopResult,
-    TakeControlRequest,
-)
-from servodesk.motion.schemas import (
+from servodesk.models.motion import (
     DriveCommandRequest,
     DriveState,
     HomeRequest,
@@ -33,6 +26,13 @@ from servodesk.motion.schemas import (
     MoveQueueRequest,
     MoveRequest,
 )
+from servodesk.models.safety import (
+    ControllerInfo,
+    LimitsRequest,
+    QuickStopResult,
+    TakeControlRequest,
+)
+from servodesk.motion.lease import Client
 
 router = APIRouter(tags=["drive"], responses=MOTION_ERRORS, route_class=AuditedRoute)
 

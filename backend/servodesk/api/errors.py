@@ -39,15 +39,15 @@ from servodesk.errors import (
     ServodeskError,
     StateConflictError,
 )
-from servodesk.models import ErrorBody
+from servodesk.models.common import ErrorBody
+from servodesk.models.motion import DriveState, EnableReason
+from servodesk.models.pdo import PdoProblem
+from servodesk.models.safety import ControllerHolder, JogInfo
 from servodesk.motion.clients import ClientIdTakenError
 from servodesk.motion.errors import EnableBlockedError, LimitError, MotionBusyError
 from servodesk.motion.ip_timing import SyncUnsafeError
 from servodesk.motion.jog import JogNotFoundError, JogStoppedError, NotJogOwnerError
 from servodesk.motion.lease import HeldByOtherError
-from servodesk.motion.safety_models import ControllerHolder, JogInfo
-from servodesk.motion.schemas import DriveState, EnableReason
-from servodesk.pdo_models import PdoProblem
 from servodesk.sdo.jobs import JobNotFoundError
 
 

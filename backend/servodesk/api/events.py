@@ -9,7 +9,7 @@ from fastapi import APIRouter, Query
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.events.bus import EventKind
-from servodesk.faults.models import EventPage, TimelineEvent
+from servodesk.models.faults import EventPage, TimelineEvent
 
 router = APIRouter(tags=["events"], route_class=AuditedRoute)
 

@@ -10,7 +10,7 @@ from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.drive import ClientDep
 from servodesk.api.errors import CONFIRM_ERRORS, MOTION_ERRORS, NODE_ERRORS
-from servodesk.faults.models import (
+from servodesk.models.faults import (
     ActiveFaults,
     ConfirmBody,
     DeviceHistory,

@@ -7,7 +7,7 @@ from servodesk import __version__
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.loop_watch import LoopLag
-from servodesk.models import BusStatus
+from servodesk.models.bus import BusStatus
 from servodesk.storage.usage import DataUsage
 
 router = APIRouter(tags=["health"], route_class=AuditedRoute)

@@ -9,7 +9,7 @@ from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.drive import ClientDep
 from servodesk.api.errors import JOG_ERRORS, MOTION_ERRORS
-from servodesk.motion.safety_models import JogInfo, JogRequest
+from servodesk.models.safety import JogInfo, JogRequest
 
 router = APIRouter(tags=["jog"], route_class=AuditedRoute)
 

@@ -1,5 +1,5 @@
 """Routes that take no body refuse one with fields, as body models refuse unknown fields
-(model_base.RequestBody): `POST /api/quick-stop {"value": …}` is an error, not a stop with a
+(models/base.py, RequestBody): `POST /api/quick-stop {"value": …}` is an error, not a stop with a
 comment that lands in the audit log. No body, an empty one, `{}` and `null` are accepted."""
 
 from __future__ import annotations

@@ -8,15 +8,8 @@ from pydantic import BaseModel
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS, _error
-from servodesk.models import (
-    HeartbeatConfig,
-    HeartbeatWrite,
-    NmtCommandName,
-    NmtRequest,
-    NodeInfo,
-    ScanRequest,
-    ScanResult,
-)
+from servodesk.models.network import HeartbeatConfig, HeartbeatWrite, NmtCommandName, NmtRequest
+from servodesk.models.nodes import NodeInfo, ScanRequest, ScanResult
 
 router = APIRouter(tags=["nodes"], responses=NODE_ERRORS, route_class=AuditedRoute)
 

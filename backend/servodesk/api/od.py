@@ -8,7 +8,7 @@ from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import NODE_ERRORS
 from servodesk.api.uploads import Upload, read_limited, upload_name
-from servodesk.models import OdCheckResult, OdTree
+from servodesk.models.od import OdCheckResult, OdTree
 from servodesk.od import ObjectDictionaryModel
 from servodesk.od.parser import OdParser
 from servodesk.od_view import od_check, od_tree

@@ -7,19 +7,16 @@ from fastapi import APIRouter
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
-from servodesk.models import (
+from servodesk.models.common import Confirm, MessageResult
+from servodesk.models.nodes import (
     BitrateChange,
     BitrateChangeResult,
     BitrateOptions,
-    Confirm,
-    MessageResult,
     NodeIdChange,
     NodeIdChangeResult,
     NodeIdOptions,
-    Param,
-    ParamWriteRequest,
-    ParamWriteResult,
 )
+from servodesk.models.params import Param, ParamWriteRequest, ParamWriteResult
 
 router = APIRouter(
     prefix="/nodes/{node}", tags=["parameters"], responses=NODE_ERRORS, route_class=AuditedRoute

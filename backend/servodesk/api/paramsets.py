@@ -11,7 +11,7 @@ from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
 from servodesk.api.uploads import Upload, read_limited, upload_name
-from servodesk.models import CompareResult, DcfLoadResult
+from servodesk.models.paramsets import CompareResult, DcfLoadResult
 
 router = APIRouter(
     prefix="/nodes/{node}", tags=["parameter sets"], responses=NODE_ERRORS, route_class=AuditedRoute

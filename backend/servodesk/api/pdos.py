@@ -11,10 +11,7 @@ from fastapi.responses import PlainTextResponse
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.errors import BUS_ERRORS, NODE_ERRORS, PDO_APPLY_ERRORS
-from servodesk.pdo.bus_load import DEFAULT_MASTER_PERIOD_MS
-from servodesk.pdo.model import MappedObject, PdoConfig
-from servodesk.pdo.service import DEFAULT_THRESHOLD
-from servodesk.pdo_models import (
+from servodesk.models.pdo import (
     BusLoadResult,
     LiveCheck,
     Pdo,
@@ -24,6 +21,9 @@ from servodesk.pdo_models import (
     PdoValidation,
     PdoWriteRequest,
 )
+from servodesk.pdo.bus_load import DEFAULT_MASTER_PERIOD_MS
+from servodesk.pdo.model import MappedObject, PdoConfig
+from servodesk.pdo.service import DEFAULT_THRESHOLD
 from servodesk_protocol.pdo import transmission_words
 
 router = APIRouter(

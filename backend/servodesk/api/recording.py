@@ -14,7 +14,7 @@ from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import _error
 from servodesk.events.bus import EventKind, event
 from servodesk.logs.recording import RecordingFormat, RecordingStatus
-from servodesk.model_base import RequestBody
+from servodesk.models.base import RequestBody
 
 router = APIRouter(prefix="/recording", tags=["recording"], route_class=AuditedRoute)
 

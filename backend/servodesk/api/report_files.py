@@ -10,8 +10,8 @@ from fastapi.responses import FileResponse, HTMLResponse
 from starlette.background import BackgroundTask
 
 from servodesk.commissioning import bundle, report
-from servodesk.commissioning.models import CommissioningRecord
 from servodesk.errors import NotFoundError
+from servodesk.models.commissioning import CommissioningRecord
 from servodesk.services import Services
 
 

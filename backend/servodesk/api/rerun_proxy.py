@@ -27,9 +27,9 @@ from starlette.responses import StreamingResponse
 from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import body_response
 from servodesk.errors import ScopeViewerError
-from servodesk.models import ErrorBody
+from servodesk.models.common import ErrorBody
+from servodesk.models.scope import ScopeViewer
 from servodesk.scope.viewer_server import RerunServer
-from servodesk.scope_models import ScopeViewer
 
 log = logging.getLogger(__name__)
 

@@ -13,10 +13,7 @@ from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import NODE_ERRORS, PDO_APPLY_ERRORS, _error
 from servodesk.errors import InvalidValueError, StateConflictError
-from servodesk.scope import export as exports
-from servodesk.scope import measure as measures
-from servodesk.scope.samples import is_complete
-from servodesk.scope_models import (
+from servodesk.models.scope import (
     ACTIVE_STATES,
     Capture,
     CaptureRequest,
@@ -26,6 +23,9 @@ from servodesk.scope_models import (
     ScopePlan,
     Trace,
 )
+from servodesk.scope import export as exports
+from servodesk.scope import measure as measures
+from servodesk.scope.samples import is_complete
 
 router = APIRouter(prefix="/scope", tags=["scope"], route_class=AuditedRoute)
 

@@ -12,7 +12,7 @@ from pydantic import TypeAdapter
 from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import Index, NodeId, ServicesDep, Subindex, parse_hex
 from servodesk.api.errors import CONFIRM_ERRORS, NODE_ERRORS
-from servodesk.models import Job, SdoValue, SdoWrite
+from servodesk.models.sdo import Job, SdoValue, SdoWrite
 from servodesk.services import Services
 
 router = APIRouter(tags=["sdo"], responses=NODE_ERRORS, route_class=AuditedRoute)

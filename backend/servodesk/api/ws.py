@@ -20,7 +20,7 @@ from servodesk.api.errors import describe, validation_message
 from servodesk.api.security import LOOPBACK, ServedHosts, origin_allowed
 from servodesk.errors import ServodeskError
 from servodesk.live import LiveClient
-from servodesk.live_messages import (
+from servodesk.models.live import (
     CLIENT_MESSAGE,
     ClientMessageUnion,
     ErrorMessage,

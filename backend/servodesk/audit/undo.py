@@ -10,7 +10,7 @@ from servodesk.audit.errors import AlreadyUndoneError
 from servodesk.audit.log import AuditLog
 from servodesk.audit.store import AuditRow
 from servodesk.errors import NotFoundError, StateConflictError
-from servodesk.models import SdoValue
+from servodesk.models.sdo import SdoValue
 
 Read = Callable[[int, int, int], Awaitable[SdoValue]]
 Write = Callable[[int, int, int, int | float | str], Awaitable[SdoValue]]

@@ -13,7 +13,7 @@ from can.interfaces import VALID_INTERFACES
 
 from servodesk.bus.interfaces import REFUSED
 from servodesk.errors import InvalidValueError
-from servodesk.models import BusConfig
+from servodesk.models.bus import BusConfig
 
 NO_INTERFACE = (
     "no CAN interface given: pass -i/--interface and -c/--channel (e.g. -i socketcan -c can0), "

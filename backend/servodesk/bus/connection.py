@@ -21,10 +21,11 @@ import canopen
 
 from servodesk.bus.config_check import check_bus_config
 from servodesk.bus.counters import BusCounters
+from servodesk.bus.frame_tap import FrameTap
 from servodesk.bus.interfaces import REFUSED
 from servodesk.bus.link import Link, close_link, open_link
 from servodesk.errors import BusNotConnectedError, BusOpenError, InvalidValueError
-from servodesk.models import BusConfig, BusState, BusStatus
+from servodesk.models.bus import BusConfig, BusState, BusStatus
 from servodesk.settings import Settings
 
 if TYPE_CHECKING:
@@ -96,6 +97,9 @@ class BusManager:
         # Links taken out of service and not yet known to be closed; whoever closes them next
         # (the reconnect task, disconnect) waits until they are, even after a cancellation.
         self._closing: list[Link] = []
+        # EMCY and SDO aborts picked out once for every service (`frames.on_emcy`, …)
+        self.frames = FrameTap()
+        self.add_frame_listener(self.frames)
 
     # ------------------------------------------------------------------ public API
 
@@ -251,7 +255,8 @@ class BusManager:
         """App shutdown: disconnect and forget every listener."""
         await self.disconnect()
         self._listeners.clear()
-        self._frame_listeners.clear()
+        self._frame_listeners[:] = [self.frames]  # its own tap stays, without subscribers
+        self.frames.clear()
         self._sent_listeners.clear()
 
     # ------------------------------------------------------------------ opening and closing

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from can.interfaces import VALID_INTERFACES
 
-from servodesk.models import InterfaceInfo
+from servodesk.models.bus import InterfaceInfo
 
 _KNOWN: tuple[InterfaceInfo, ...] = (
     InterfaceInfo(

@@ -23,14 +23,14 @@ from servodesk.audit import AuditLog
 from servodesk.commissioning.evidence import step_audit_ids
 from servodesk.commissioning.stop_figures import Series
 from servodesk.errors import ServodeskError
+from servodesk.models.safety import JogInfo
+from servodesk.models.scope import Capture, CaptureRequest, ScopeSignalRequest
 from servodesk.motion.jog import JogStoppedError
 from servodesk.motion.lease import Client
 from servodesk.motion.safety import MotionSafety
-from servodesk.motion.safety_models import JogInfo
 from servodesk.nodes.access import NodeAccess
 from servodesk.scope.samples import read_samples
 from servodesk.scope.service import ScopeService
-from servodesk.scope_models import Capture, CaptureRequest, ScopeSignalRequest
 from servodesk.sdo.service import SdoService
 from servodesk.settings import Settings
 
@@ -38,7 +38,6 @@ log = logging.getLogger(__name__)
 
 VELOCITY_ACTUAL = 0x606C  # Velocity actual value
 POSITION_ACTUAL = 0x6064  # Position actual value
-STATUSWORD = 0x6041  # Statusword
 FOLLOWING_ERROR = 0x60F4  # Following error actual value
 # SYNC periods tried in order: the finest the bus load allows (the scope's plan says)
 SYNC_PERIODS_US = (2000, 4000, 10000, 20000)

@@ -22,10 +22,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from servodesk.audit import AuditFilter
-from servodesk.commissioning.models import CommissioningRecord
 from servodesk.commissioning.report import ReportSources
 from servodesk.commissioning.report_tables import capture_ids
 from servodesk.errors import ServodeskError
+from servodesk.models.commissioning import CommissioningRecord
 
 RECORD_JSON = "record.json"
 AUDIT_CSV = "audit.csv"

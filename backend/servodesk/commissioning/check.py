@@ -15,9 +15,9 @@ from servodesk.audit import AuditLog
 from servodesk.audit.store import AuditFilter
 from servodesk.commissioning import check_core as core
 from servodesk.commissioning.bundle import AUDIT_CSV, RECORD_JSON
-from servodesk.commissioning.models import CommissioningRecord
 from servodesk.errors import CommTimeoutError, InvalidValueError
 from servodesk.faults.service import FaultService
+from servodesk.models.commissioning import CommissioningRecord
 from servodesk.nodes.access import NodeAccess
 from servodesk.od.parser import OdParser
 from servodesk.params.paramsets import file_values

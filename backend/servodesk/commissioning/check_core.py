@@ -18,7 +18,7 @@ from typing import Any
 
 from pydantic import BaseModel, Field
 
-from servodesk.commissioning.models import CommissioningRecord
+from servodesk.models.commissioning import CommissioningRecord
 
 Key = tuple[int, int]
 

@@ -9,12 +9,17 @@ import servodesk_data
 from servodesk.audit import AuditLog
 from servodesk.audit.entry import current_entry
 from servodesk.audit.store import AuditFilter
-from servodesk.commissioning.models import CommissioningRecord, StepStatus
 from servodesk.commissioning.reads import label, read_listed, where
+from servodesk.models.commissioning import CommissioningRecord, StepStatus
 from servodesk.motion.words import mode_key
 from servodesk.nodes.access import NodeAccess
 from servodesk.sdo.service import SdoService
-from servodesk_protocol.cia402 import supported_modes
+from servodesk_protocol.cia402 import SUPPORTED_DRIVE_MODES, supported_modes
+from servodesk_protocol.nmt import (
+    CONSUMER_HEARTBEAT_TIME,
+    PRODUCER_HEARTBEAT_TIME,
+    parse_consumer_entry,
+)
 
 Outcome = tuple[StepStatus, dict[str, Any], str | None]
 
@@ -28,9 +33,6 @@ IDENTITY_OBJECTS = [
     (0x1018, 3),  # revision number
     (0x1018, 4),  # serial number
 ]
-PRODUCER_HEARTBEAT = 0x1017
-CONSUMER_HEARTBEAT = 0x1016
-SUPPORTED_MODES = 0x6502  # Supported drive modes
 LIMIT_OBJECTS = [
     (0x607D, 1),  # Software position limit: min
     (0x607D, 2),  # Software position limit: max
@@ -48,7 +50,7 @@ AUDIT_LIMIT = 10_000
 
 async def drive_modes(access: NodeAccess, sdo: SdoService, node: int) -> frozenset[str] | None:
     """The modes the drive announces in 6502h, else its profile's; None when neither says."""
-    read = await read_listed(access, sdo, node, [(SUPPORTED_MODES, 0)])
+    read = await read_listed(access, sdo, node, [(SUPPORTED_DRIVE_MODES, 0)])
     if read and isinstance(read[0]["value"], int):
         modes = supported_modes(read[0]["value"])
         return frozenset(k for m in modes if (k := mode_key(int(m))) is not None)
@@ -95,27 +97,29 @@ async def communication(
 ) -> Outcome:  # fmt: skip
     node = record.node
     data = access.profile_data(node)
-    objects = [(PRODUCER_HEARTBEAT, 0)]
-    consumers = await read_listed(access, sdo, node, [(CONSUMER_HEARTBEAT, 0)])
+    objects = [(PRODUCER_HEARTBEAT_TIME, 0)]
+    consumers = await read_listed(access, sdo, node, [(CONSUMER_HEARTBEAT_TIME, 0)])
     count = consumers[0].get("value") if consumers else None
     if isinstance(count, int):
-        objects += [(CONSUMER_HEARTBEAT, sub) for sub in range(1, count + 1)]
+        objects += [(CONSUMER_HEARTBEAT_TIME, sub) for sub in range(1, count + 1)]
     if data is not None:
         objects += [ref for ref in (data.quirks.node_id_object,) if ref is not None]
         objects += list(data.quirks.bitrate_objects)
     values = consumers + await read_listed(access, sdo, node, objects)
     watching = [
-        {"object": v["object"], "producer": v["value"] >> 16 & 0x7F, "ms": v["value"] & 0xFFFF}
+        {"object": v["object"], "producer": producer, "ms": ms}
         for v in values
-        if v["index"] == CONSUMER_HEARTBEAT and v["subindex"] >= 1 and isinstance(v["value"], int)
-        and v["value"] & 0xFFFF
+        if v["index"] == CONSUMER_HEARTBEAT_TIME and v["subindex"] >= 1
+        and isinstance(v["value"], int)
+        for producer, ms in [parse_consumer_entry(v["value"])]
+        if ms
     ]  # fmt: skip
     evidence: dict[str, Any] = {
         "node_id": node,
         "bus_bitrate": bitrate,
         "values": values,
         "heartbeat_producer_ms": next(
-            (v["value"] for v in values if v["index"] == PRODUCER_HEARTBEAT), None
+            (v["value"] for v in values if v["index"] == PRODUCER_HEARTBEAT_TIME), None
         ),
         "consumers": watching,
         "watching_tool": any(c["producer"] == tool_node_id for c in watching),

@@ -13,8 +13,8 @@ from servodesk.commissioning.axis_run import POLL_S, AxisRun, StepError
 from servodesk.commissioning.evidence import Outcome
 from servodesk.commissioning.reads import read_listed
 from servodesk.errors import InvalidValueError
+from servodesk.models.motion import HomeRequest
 from servodesk.motion.drive_io import HOME_OFFSET, HOMING_METHOD, HOMING_SPEEDS
-from servodesk.motion.schemas import HomeRequest
 
 # the longest a homing may search: a slow creep over a long axis; the step fails after it
 HOMING_TIMEOUT_S = 120.0

@@ -11,8 +11,8 @@ from typing import Any
 from servodesk.commissioning import homing_step, stop_test, test_move
 from servodesk.commissioning.axis_run import AxisRun, StepError, app_client
 from servodesk.commissioning.evidence import Outcome
-from servodesk.commissioning.models import CommissioningRecord, StepRun
 from servodesk.errors import InvalidValueError
+from servodesk.models.commissioning import CommissioningRecord, StepRun
 
 MOVING = frozenset({"stop_test", "test_move", "homing"})
 # the run body's fields each step reads; any other field given is refused

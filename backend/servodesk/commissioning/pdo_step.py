@@ -13,9 +13,9 @@ from servodesk.access.actor import Role, current_actor
 from servodesk.audit import AuditLog
 from servodesk.commissioning import pdo_rates as rates
 from servodesk.commissioning.evidence import Outcome, step_audit_ids
-from servodesk.commissioning.models import CommissioningRecord
 from servodesk.errors import ForbiddenError, InvalidValueError, PdoInvalidError
-from servodesk.models import NmtCommandName
+from servodesk.models.commissioning import CommissioningRecord
+from servodesk.models.network import NmtCommandName
 from servodesk.pdo.live import PdoCapture
 from servodesk.pdo.model import MappedObject, PdoConfig
 from servodesk.pdo.recommended import MODE_NAMES, MODES, mode_needs

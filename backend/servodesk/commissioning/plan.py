@@ -7,13 +7,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from servodesk.commissioning.models import (
-    STEP_KEYS,
-    STEP_TITLES,
-    CommissioningStep,
-    RecordStatus,
-)
 from servodesk.errors import InvalidValueError
+from servodesk.models.commissioning import STEP_KEYS, STEP_TITLES, CommissioningStep, RecordStatus
 from servodesk.motion.words import MODE_VALUES
 
 # Steps whose automated part exists; the others are done on their page and signed off.

@@ -19,9 +19,9 @@ from markupsafe import Markup
 
 from servodesk import report_pdf
 from servodesk.commissioning import report_tables as tables
-from servodesk.commissioning.models import CommissioningRecord
 from servodesk.commissioning.report_plot import capture_series, svg_plot
 from servodesk.errors import ServodeskError
+from servodesk.models.commissioning import CommissioningRecord
 from servodesk_protocol.pdo import transmission_words
 
 if TYPE_CHECKING:

@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 import numpy.typing as npt
 
+from servodesk.models.scope import Capture
 from servodesk.scope.samples import value_batches
-from servodesk.scope_models import Capture
 
 BUCKETS = 400  # per signal: about one per horizontal pixel of a panel
 WIDTH, PANEL_HEIGHT = 680, 130

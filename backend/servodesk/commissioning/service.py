@@ -15,16 +15,6 @@ from servodesk.audit import AuditLog
 from servodesk.commissioning import evidence as ev
 from servodesk.commissioning import moving, pdo_step, store_verify
 from servodesk.commissioning.axis_run import AxisRun
-from servodesk.commissioning.models import (
-    STEP_KEYS,
-    CommissioningCreate,
-    CommissioningIdentity,
-    CommissioningRecord,
-    CommissioningStep,
-    StepRun,
-    StepSignOff,
-    StepStatus,
-)
 from servodesk.commissioning.plan import (
     AUTOMATED,
     DONE_ON_PAGE,
@@ -34,6 +24,16 @@ from servodesk.commissioning.plan import (
 )
 from servodesk.commissioning.store import RecordStore
 from servodesk.errors import InvalidValueError, NotFoundError, StateConflictError
+from servodesk.models.commissioning import (
+    STEP_KEYS,
+    CommissioningCreate,
+    CommissioningIdentity,
+    CommissioningRecord,
+    CommissioningStep,
+    StepRun,
+    StepSignOff,
+    StepStatus,
+)
 from servodesk.motion.safety import MotionSafety
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.params.service import ParamService

@@ -19,20 +19,19 @@ from typing import Any
 from servodesk.commissioning import stop_figures as sf
 from servodesk.commissioning.axis_run import (
     POSITION_ACTUAL,
-    STATUSWORD,
     VELOCITY_ACTUAL,
     AxisRun,
     StepError,
 )
 from servodesk.commissioning.evidence import Outcome
 from servodesk.commissioning.reads import read_listed
-from servodesk.motion.safety_models import JogRequest
+from servodesk.models.safety import JogRequest
 from servodesk.scope.units import drive_units
+from servodesk_protocol.cia402 import QUICK_STOP_OPTION, STATUSWORD
 
 DEFAULT_SPEED_RPM = 200.0  # a jog any commissioned axis takes; capped below by its limits
 SPEED_SHARE = 0.5  # the default never above half the speed limit in force
 KEEPALIVE_MS = 200  # the keep-alive loss jog's window: short, so the axis runs on little
-QUICK_STOP_OPTION = 0x605A  # Quick stop option code
 QUICK_STOP_DECELERATION = 0x6085  # Quick stop deceleration
 PROFILE_DECELERATION = 0x6084  # Profile deceleration
 # 605Ah options that ramp on 6084h; 3, 4, 7, 8 brake at the torque limit, 0 coasts (no ramp)

@@ -12,7 +12,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import TypeVar
 
-from servodesk.commissioning.models import CommissioningRecord
+from servodesk.models.commissioning import CommissioningRecord
 from servodesk.storage.migrations import migrate
 from servodesk.storage.store import FILENAME
 

@@ -12,10 +12,10 @@ from typing import Any
 
 from servodesk.audit import AuditLog
 from servodesk.commissioning import evidence as ev
-from servodesk.commissioning.models import CommissioningRecord
 from servodesk.commissioning.reads import read_listed
 from servodesk.errors import CommTimeoutError
-from servodesk.models import NmtCommandName
+from servodesk.models.commissioning import CommissioningRecord
+from servodesk.models.network import NmtCommandName
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.params.service import ParamService
 from servodesk.sdo.service import SdoService

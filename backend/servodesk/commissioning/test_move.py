@@ -14,15 +14,15 @@ from servodesk.commissioning.axis_run import (
     FOLLOWING_ERROR,
     POLL_S,
     POSITION_ACTUAL,
-    STATUSWORD,
     VELOCITY_ACTUAL,
     AxisRun,
 )
 from servodesk.commissioning.evidence import Outcome
 from servodesk.commissioning.reads import read_listed
-from servodesk.motion.safety_models import JogRequest
-from servodesk.motion.schemas import MoveRequest
+from servodesk.models.motion import MoveRequest
+from servodesk.models.safety import JogRequest
 from servodesk.scope.units import drive_units
+from servodesk_protocol.cia402 import STATUSWORD
 
 JOG_MODES = ("pv", "pt")
 JOG_SECONDS = 1.0  # each mode's jog runs this long before it is stopped

@@ -1,7 +1,7 @@
-"""The live fault collector's notifier-thread half: a python-can listener that recognises EMCY
-(80h+id, ids 1–127) and SDO aborts (580h+id, command specifier 80h) and hands their bytes to the
-event loop through `EventBus.hand_over` (DESIGN rule 1: no decoding, no I/O on the notifier
-thread). Registered with `BusManager.add_frame_listener`, it follows every reconnect.
+"""The live fault collector's notifier-thread half: subscribes to the bus's frame tap
+(`BusManager.frames`, bus/frame_tap.py: EMCY 80h+id and SDO aborts 580h+id, recognised once for
+every service) and hands the frames' bytes to the event loop through `EventBus.hand_over`
+(DESIGN rule 1: no decoding, no I/O on the notifier thread). The tap follows every reconnect.
 
 Also `quiet_short_emcy`: python-canopen's own EMCY consumer must not flood the log.
 """
@@ -13,13 +13,11 @@ import struct
 import time
 from collections.abc import Callable
 
-import can
-
+from servodesk.bus.frame_tap import FrameTap
 from servodesk.events.bus import EventBus, EventKind, event
 from servodesk.sdo.service import where
 from servodesk.sdo_aborts import abort_meaning
-from servodesk_protocol.cob_id import EMCY, MAX_NODE_ID, SDO_TX
-from servodesk_protocol.sdo import ABORT_COMMAND, parse_abort
+from servodesk_protocol.sdo import parse_abort
 
 EmcyHandler = Callable[[int, bytes, float], None]  # (node, data, UNIX time) on the loop
 
@@ -36,8 +34,8 @@ class ShortEmcyFilter(logging.Filter):
     """python-canopen gives every RemoteNode an EMCY consumer on 80h+id that unpacks 8 bytes; a
     drive whose EMCY is shorter (the MDi sends its 2-byte alarm number, MDi-S1-C CANopen manual
     §4.1) makes it raise on every alarm, and canopen logs the struct error. ServoDesk decodes
-    EMCYs itself (FrameTap, per the profile's format) and never reads canopen's consumer, so
-    exactly that record is dropped; every other canopen error still reaches the log.
+    EMCYs itself (the fault service, per the profile's format) and never reads canopen's
+    consumer, so exactly that record is dropped; every other canopen error still reaches the log.
     (Unsubscribing `remote.emcy.on_emcy` where nodes are bound, nodes/entry.py, would stop it
     at the source.)"""
 
@@ -52,24 +50,23 @@ def quiet_short_emcy() -> None:
         logger.addFilter(ShortEmcyFilter())
 
 
-class FrameTap(can.Listener):
-    """Notifier-thread side: recognise EMCY and SDO-abort frames, hand them over, nothing else."""
+def collect(frames: FrameTap, bus: EventBus, on_emcy: EmcyHandler) -> Callable[[], None]:
+    """Subscribe to the tap: on the notifier thread each EMCY (with its time of arrival) and SDO
+    abort is handed over to the loop, nothing else. Returns the remover of both."""
 
-    def __init__(self, bus: EventBus, on_emcy: EmcyHandler) -> None:
-        self._bus = bus
-        self._on_emcy = on_emcy
+    def emcy(node: int, data: bytes) -> None:
+        bus.hand_over(on_emcy, node, data, time.time())
 
-    def on_message_received(self, msg: can.Message) -> None:
-        if msg.is_error_frame or msg.is_remote_frame or msg.is_extended_id:
-            return
-        can_id = msg.arbitration_id
-        if EMCY < can_id <= EMCY + MAX_NODE_ID:
-            self._bus.hand_over(self._on_emcy, can_id - EMCY, bytes(msg.data), time.time())
-        elif SDO_TX < can_id <= SDO_TX + MAX_NODE_ID and msg.data and msg.data[0] == ABORT_COMMAND:
-            self._bus.hand_over(sdo_abort, self._bus, can_id - SDO_TX, bytes(msg.data))
+    def abort(node: int, data: bytes) -> None:
+        bus.hand_over(sdo_abort, bus, node, data)
 
-    def stop(self) -> None:
-        """Nothing to release: the tap outlives each connection's notifier."""
+    removers = (frames.on_emcy(emcy), frames.on_sdo_abort(abort))
+
+    def remove() -> None:
+        for remover in removers:
+            remover()
+
+    return remove
 
 
 def sdo_abort(bus: EventBus, node: int, data: bytes) -> None:

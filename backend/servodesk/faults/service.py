@@ -18,7 +18,7 @@ from typing import Any
 from servodesk.errors import ConfirmationRequiredError, SdoAbortError, ServodeskError
 from servodesk.events.bus import EventBus, EventKind, event
 from servodesk.faults.decode import FaultRecord, decode_emcy, fault_words
-from servodesk.faults.models import (
+from servodesk.models.faults import (
     DeviceHistory,
     DeviceHistoryCleared,
     DeviceHistoryEntry,
@@ -41,12 +41,13 @@ from servodesk_protocol.cia402 import (
     make_fault_reset,
     make_shutdown,
 )
+from servodesk_protocol.emcy import ERROR_HISTORY, split_history_entry
+from servodesk_protocol.sdo_abort import NO_OBJECT, NO_SUBINDEX
 
-NO_SUCH_ENTRY = (0x06020000, 0x06090011)  # SDO aborts: object / sub-index does not exist
+NO_SUCH_ENTRY = (NO_OBJECT, NO_SUBINDEX)  # SDO aborts: object / sub-index does not exist
 
 log = logging.getLogger(__name__)
 
-ERROR_HISTORY = 0x1003  # Pre-defined error field (CiA 301)
 ERROR_CODE = 0x603F  # CiA 402 error code
 POLL = 0.02  # s between statusword reads while a fault reset takes effect
 
@@ -283,7 +284,8 @@ class FaultService:
         entries: list[DeviceHistoryEntry] = []
         for sub in range(1, count + 1):
             value = int.from_bytes((await session.upload(ERROR_HISTORY, sub))[:4], "little")
-            data = (value & 0xFFFF).to_bytes(2, "little") + (value >> 16).to_bytes(2, "little")
+            code, additional = split_history_entry(value)
+            data = code.to_bytes(2, "little") + additional.to_bytes(2, "little")
             record = decode_emcy(self._cia301_profile(node), node, data + bytes(4))
             entries.append(
                 DeviceHistoryEntry(

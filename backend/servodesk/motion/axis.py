@@ -8,9 +8,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Literal
 
-from servodesk.motion.drive_io import Snapshot, Statics, Travel
-from servodesk.motion.homing import homing_phase
-from servodesk.motion.schemas import (
+from servodesk.models.motion import (
     DriveLimits,
     DriveState,
     FaultInfo,
@@ -21,6 +19,8 @@ from servodesk.motion.schemas import (
     TravelEnds,
     TravelInfo,
 )
+from servodesk.motion.drive_io import Snapshot, Statics, Travel
+from servodesk.motion.homing import homing_phase
 from servodesk.motion.units import DriveUnits
 from servodesk.motion.words import STATE_NAMES, mode_key, state_label, status_bits, transition
 from servodesk_data import DriveData

@@ -22,15 +22,15 @@ from servodesk.nodes.session import StopCutInError
 from servodesk.pdo.commands import RpdoRoutes
 from servodesk.pdo.feed import TpdoFeeds
 from servodesk.settings import Settings
-from servodesk_protocol.cia402 import MODES_OF_OPERATION, Cia402State, decode_state
+from servodesk_protocol.cia402 import CONTROLWORD, MODES_OF_OPERATION, Cia402State, decode_state
 
 T = TypeVar("T")
 log = logging.getLogger(__name__)
 
 # Command objects a reading holds: read by SDO, they are as known as what ServoDesk wrote (an
 # RPDO that maps them beside a set-point can then be sent, pdo/commands.py)
-READ_INTO_SENT = {"controlword": 0x6040, "mode": MODES_OF_OPERATION}
-STATE_OBJECTS = frozenset({0x6040, MODES_OF_OPERATION})  # a write changes what the drive shows
+READ_INTO_SENT = {"controlword": CONTROLWORD, "mode": MODES_OF_OPERATION}
+STATE_OBJECTS = frozenset({CONTROLWORD, MODES_OF_OPERATION})  # a write changes what the drive shows
 WRITTEN = "written"  # a value's source: what ServoDesk wrote and the drive confirmed
 
 
@@ -148,7 +148,7 @@ class DriveIo:
                 axis.sent.clear()
 
     async def controlword(self, node: int, word: int) -> None:
-        await self.write(node, 0x6040, 0, word, io.U16)  # Controlword
+        await self.write(node, CONTROLWORD, 0, word, io.U16)
 
     async def statusword(self, node: int) -> int:
         statusword = await self.run(node, io.read_statusword, "read 6041h")

@@ -16,10 +16,16 @@ import canopen
 from canopen.objectdictionary import ODArray, ODRecord
 from canopen.sdo.exceptions import SdoAbortedError
 
-from servodesk_protocol.cia402 import CONTROLWORD, MODES_DISPLAY, MODES_OF_OPERATION, STATUSWORD
+from servodesk_protocol.cia402 import (
+    CONTROLWORD,
+    MODES_DISPLAY,
+    MODES_OF_OPERATION,
+    QUICK_STOP_OPTION,
+    STATUSWORD,
+    SUPPORTED_DRIVE_MODES,
+)
 
 ERROR_CODE = 0x603F  # Error code
-QUICK_STOP_OPTION = 0x605A  # Quick stop option code
 POSITION_ACTUAL = 0x6064  # Position actual value (user units)
 FOLLOWING_WINDOW = 0x6065  # Following error window
 POSITION_WINDOW = 0x6067  # Position window
@@ -44,7 +50,6 @@ IP_PERIOD = 0x60C2  # Interpolation time period (:01 value, :02 exponent of 10 s
 FOLLOWING_ERROR = 0x60F4  # Following error actual value
 DIGITAL_INPUTS = 0x60FD  # Digital inputs (bit 0 N-OT, 1 P-OT, 2 home switch)
 TARGET_VELOCITY = 0x60FF  # Target velocity
-SUPPORTED_MODES = 0x6502  # Supported drive modes
 SIM_NEGATIVE_SWITCH = 0x5FF1  # SIM negative limit switch position (simulator only, motor inc)
 SIM_POSITIVE_SWITCH = 0x5FF2  # SIM positive limit switch position (simulator only, motor inc)
 
@@ -209,7 +214,7 @@ def read_statics(
     user = read(remote, GEAR_RATIO, 2, signed=False)
     limits = read_limits(remote, max_speed, switches=switches)
     return Statics(
-        supported_raw=read(remote, SUPPORTED_MODES, signed=False),
+        supported_raw=read(remote, SUPPORTED_DRIVE_MODES, signed=False),
         counts_per_rev=counts // revs if counts and revs else counts,
         gear=(motor, user) if motor and user else None,
         quick_stop_option=read(remote, QUICK_STOP_OPTION, signed=True),

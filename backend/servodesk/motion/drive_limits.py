@@ -17,11 +17,11 @@ import math
 import time
 from dataclasses import replace
 
+from servodesk.models.motion import DriveLimits, MotionLimits
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import DriveIo
 from servodesk.motion.errors import LimitError
 from servodesk.motion.rated import default_limits, pt_speed_limit, speed_object, speed_ref
-from servodesk.motion.schemas import DriveLimits, MotionLimits
 
 LIMITS_REFRESH_S = 1.0  # the drive's own limits are at most this old while the state is read
 # … while the pages poll it: their 2 uploads per reading go to the live values first

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from servodesk.errors import InvalidValueError, ServodeskError
-from servodesk.motion.schemas import DriveState, EnableReason
+from servodesk.models.motion import DriveState, EnableReason
 
 
 class EnableBlockedError(ServodeskError):

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from servodesk.motion.schemas import EnableReason, FaultInfo
+from servodesk.models.motion import EnableReason, FaultInfo
 from servodesk.motion.words import state_label
 from servodesk_protocol.cia402 import (
     CW_FAULT_RESET,
@@ -40,7 +40,7 @@ class Observed:
 
     statusword: int | None  # None: unreadable (no SDO answer)
     controlword: int | None
-    nmt_state: str  # servodesk.models.NmtStateName values
+    nmt_state: str  # servodesk.models.nodes.NmtStateName values
     mode: int | None = None  # 6060h
     mode_display: int | None = None  # 6061h
     supported: frozenset[int] | None = None  # 6502h / the profile's modes; None = unknown

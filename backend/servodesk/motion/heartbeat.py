@@ -30,11 +30,17 @@ import can
 import canopen
 
 from servodesk.errors import ServodeskError
-from servodesk.motion.safety_models import HeartbeatProtection
+from servodesk.models.safety import HeartbeatProtection
 from servodesk.nodes.access import NodeAccess
 from servodesk.settings import Settings
 from servodesk_protocol.cob_id import HEARTBEAT
-from servodesk_protocol.nmt import CONSUMER_HEARTBEAT_TIME, NmtState, make_heartbeat
+from servodesk_protocol.nmt import (
+    CONSUMER_HEARTBEAT_TIME,
+    NmtState,
+    consumer_entry,
+    make_heartbeat,
+    parse_consumer_entry,
+)
 
 log = logging.getLogger(__name__)
 
@@ -145,7 +151,7 @@ class HeartbeatGuard:
         chosen: tuple[int, int] | None = None
         for sub in range(1, count + 1):
             value = int.from_bytes(await session.upload(CONSUMER_HEARTBEAT_TIME, sub), "little")
-            watched, ms = (value >> 16) & 0xFF, value & 0xFFFF
+            watched, ms = parse_consumer_entry(value)
             if watched == self._tool:
                 chosen = (sub, value)  # ours already (left by a previous run): reuse it
                 break
@@ -154,9 +160,9 @@ class HeartbeatGuard:
         if chosen is None:
             return "every heartbeat consumer entry (1016h) of the drive is in use"
         sub, previous = chosen
-        if (previous >> 16) & 0xFF == self._tool:
+        if parse_consumer_entry(previous)[0] == self._tool:
             previous = 0  # a left-over of ours: released means unused
-        value = (self._tool << 16) | self._consumer_ms
+        value = consumer_entry(self._tool, self._consumer_ms)
         await session.download(CONSUMER_HEARTBEAT_TIME, sub, value.to_bytes(4, "little"))
         self._guarded[node] = _Guarded(subindex=sub, previous=previous)
         self._why_not.pop(node, None)

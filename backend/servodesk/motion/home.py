@@ -4,12 +4,12 @@ bit 4 0 → 1; its progress shows in the drive state (homing.py reads it from th
 from __future__ import annotations
 
 from servodesk.errors import InvalidValueError
+from servodesk.models.motion import DriveState, HomeRequest, HomingMethodInfo
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import DriveIo
 from servodesk.motion.drive_limits import Limits
 from servodesk.motion.homing import methods_for
 from servodesk.motion.readings import Readings
-from servodesk.motion.schemas import DriveState, HomeRequest, HomingMethodInfo
 from servodesk_protocol.cia402 import OperationMode, make_enable_operation
 
 

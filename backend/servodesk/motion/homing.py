@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Literal
 
-from servodesk.motion.schemas import HomingMethodInfo, PathStep
+from servodesk.models.motion import HomingMethodInfo, PathStep
 from servodesk_protocol.cia402 import SW_MODE_BIT12, SW_MODE_BIT13, SW_TARGET_REACHED
 
 HomingPhase = Literal["running", "attained", "error", "interrupted"]

@@ -30,6 +30,7 @@ import canopen
 
 from servodesk.audit import Outcome, current_entry
 from servodesk.errors import InvalidValueError
+from servodesk.models.motion import EnableReason, IpStreamResult
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import DriveIo, state_of
 from servodesk.motion.drive_limits import Limits
@@ -37,12 +38,12 @@ from servodesk.motion.errors import LimitError
 from servodesk.motion.ip_stream import Stream
 from servodesk.motion.ip_timing import SyncTiming, SyncUnsafeError, probe
 from servodesk.motion.readings import Readings
-from servodesk.motion.schemas import EnableReason, IpStreamResult
 from servodesk.motion.trajectory import Trajectory, peak_velocity, setpoints, sync_jitter
 from servodesk.network.sync import SyncService
 from servodesk.pdo.commands import IP_DATA, RpdoRoutes
 from servodesk_protocol.cia402 import (
     CONTROLWORD,
+    MODES_OF_OPERATION,
     Cia402State,
     OperationMode,
     make_enable_operation,
@@ -192,7 +193,8 @@ class IpStreams:
             return
         stream.rpdo, synchronous = found
         stream.lead = 2 if synchronous else 1
-        stream.rpdo_values = {0x6060: int(OperationMode.INTERPOLATED_POSITION), IP_DATA: 0}
+        ip_mode = int(OperationMode.INTERPOLATED_POSITION)
+        stream.rpdo_values = {MODES_OF_OPERATION: ip_mode, IP_DATA: 0}
 
     async def _end_stream(self, node: int, paused: int | None, stream: Stream) -> None:
         try:

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from typing import Literal, Protocol
 
 from servodesk.errors import ServodeskError
-from servodesk.motion.safety_models import JogInfo
+from servodesk.models.safety import JogInfo
 from servodesk.settings import Settings
 
 log = logging.getLogger(__name__)

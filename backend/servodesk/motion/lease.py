@@ -16,7 +16,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from servodesk.errors import ServodeskError
-from servodesk.motion.safety_models import ControllerHolder
+from servodesk.models.safety import ControllerHolder
 
 
 @dataclass(frozen=True)

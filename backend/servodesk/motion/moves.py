@@ -8,19 +8,19 @@ import logging
 from typing import Literal
 
 from servodesk.errors import ServodeskError
-from servodesk.motion import drive_io as io
-from servodesk.motion.core import DriveIo
-from servodesk.motion.drive_limits import Limits
-from servodesk.motion.errors import MotionBusyError
-from servodesk.motion.jog import JogRamp
-from servodesk.motion.readings import Readings
-from servodesk.motion.schemas import (
+from servodesk.models.motion import (
     DriveState,
     EnableReason,
     MoveProgress,
     MoveQueueRequest,
     MoveRequest,
 )
+from servodesk.motion import drive_io as io
+from servodesk.motion.core import DriveIo
+from servodesk.motion.drive_limits import Limits
+from servodesk.motion.errors import MotionBusyError
+from servodesk.motion.jog import JogRamp
+from servodesk.motion.readings import Readings
 from servodesk_protocol.cia402 import (
     CONTROLWORD,
     CW_HALT,

@@ -4,8 +4,8 @@
 from __future__ import annotations
 
 from servodesk.events.tool_writes import Publish, tool_write
+from servodesk.models.safety import JogInfo
 from servodesk.motion.jog import REPLACED
-from servodesk.motion.safety_models import JogInfo
 
 
 def jog_stopped(publish: Publish, jog: JogInfo) -> None:

@@ -5,9 +5,9 @@ them (drive_limits.py)."""
 
 from __future__ import annotations
 
+from servodesk.models.motion import MotionLimits
 from servodesk.motion import drive_io as io
 from servodesk.motion.drive_io import Statics
-from servodesk.motion.schemas import MotionLimits
 from servodesk.nodes.access import NodeAccess
 from servodesk.settings import Settings
 

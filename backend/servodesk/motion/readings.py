@@ -12,6 +12,7 @@ from collections.abc import Callable
 import canopen
 
 from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
+from servodesk.models.motion import DriveState, EnableReason, SpeedLimit
 from servodesk.motion import drive_io as io
 from servodesk.motion.axis import Axis, build_state
 from servodesk.motion.core import READ_INTO_SENT, DriveIo, state_of
@@ -19,7 +20,6 @@ from servodesk.motion.drive_io import Snapshot
 from servodesk.motion.drive_limits import Limits
 from servodesk.motion.errors import EnableBlockedError
 from servodesk.motion.explain import Observed, explain
-from servodesk.motion.schemas import DriveState, EnableReason, SpeedLimit
 from servodesk.motion.words import mode_key
 from servodesk_protocol.cia402 import (
     MODES_DISPLAY,
@@ -28,8 +28,8 @@ from servodesk_protocol.cia402 import (
     OperationMode,
     supported_modes,
 )
+from servodesk_protocol.sdo_abort import INVALID_VALUE
 
-VALUE_RANGE = 0x06090030  # SDO abort: value range of parameter exceeded (unsupported 6060h)
 FAULT_SOURCES = {
     "mdi-s1c": "MDi-S1-C CANopen manual §4.1",
     "kinco": "Kinco servo CANopen manual §8",
@@ -248,7 +248,7 @@ class Readings:
         try:
             await self._drive.write(node, MODES_OF_OPERATION, 0, int(mode), io.I8)
         except SdoAbortError as abort:
-            if abort.code != VALUE_RANGE:
+            if abort.code != INVALID_VALUE:  # 06090030h: an unsupported 6060h
                 raise
             raise await self.blocked(
                 node, extra=[_unsupported(mode, "the drive refused it (SDO abort 06090030h)")]

@@ -17,23 +17,20 @@ from collections.abc import Coroutine
 from contextlib import AbstractAsyncContextManager, nullcontext
 from typing import Any
 
-import can
-
 from servodesk.access.actor import current_actor
 from servodesk.bus.connection import BusManager
 from servodesk.errors import InvalidValueError, ServodeskError
 from servodesk.events.bus import BusEvent, EventKind
-from servodesk.models import BusState, BusStatus
+from servodesk.models.bus import BusState, BusStatus
+from servodesk.models.motion import DriveCommand, DriveState
+from servodesk.models.safety import ControllerInfo, JogInfo, JogRequest, QuickStopResult
 from servodesk.motion.clients import ClientIds
 from servodesk.motion.heartbeat import HeartbeatGuard
 from servodesk.motion.jog import JogWatchdog, ToolRecord
 from servodesk.motion.lease import Client, ControllerLease
-from servodesk.motion.safety_models import ControllerInfo, JogInfo, JogRequest, QuickStopResult
-from servodesk.motion.schemas import DriveCommand, DriveState
 from servodesk.motion.service import MotionService
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.settings import Settings
-from servodesk_protocol.cob_id import EMCY, MAX_NODE_ID
 from servodesk_protocol.emcy import ERROR_RESET
 
 log = logging.getLogger(__name__)
@@ -41,30 +38,6 @@ log = logging.getLogger(__name__)
 POWER_DOWN = frozenset({"shutdown", "disable_operation", "disable_voltage"})
 # the first two bytes of an EMCY "error reset / no error" (code 0000h): not a reason to stop
 _RESET_BYTES = ERROR_RESET.to_bytes(2, "little")
-
-
-class _EmcyWatch(can.Listener):
-    """Notifier thread: EMCYs (80h + node) from nodes with a running jog go to the loop."""
-
-    def __init__(self, safety: MotionSafety) -> None:
-        self._safety = safety
-
-    def on_message_received(self, msg: can.Message) -> None:
-        node = msg.arbitration_id - EMCY
-        if (
-            msg.is_error_frame
-            or msg.is_remote_frame
-            or msg.is_extended_id
-            or not 1 <= node <= MAX_NODE_ID
-        ):
-            return
-        loop = self._safety.loop
-        if loop is None or node not in self._safety.jogs.running_nodes:
-            return
-        data = bytes(msg.data)
-        if data[:2] == _RESET_BYTES:
-            return
-        loop.call_soon_threadsafe(self._safety.on_emcy, node, data)
 
 
 class MotionSafety:
@@ -102,7 +75,8 @@ class MotionSafety:
         self._unsubscribe = [
             bus.add_listener(self._on_bus),
             registry.events.subscribe(self._on_event),
-            bus.add_frame_listener(_EmcyWatch(self)),
+            # ahead of the fault service's hand-over: the stop must not wait behind decoding
+            bus.frames.on_emcy(self._emcy_heard, first=True),
         ]
 
     def start(self) -> None:
@@ -351,6 +325,14 @@ class MotionSafety:
             and not self.jogs.running_of(client_id)
         ):
             self.clients.forget(client_id)
+
+    def _emcy_heard(self, node: int, data: bytes) -> None:
+        """Notifier thread (the bus's frame tap): an EMCY from a node with a running jog goes
+        straight to the loop; an "error reset" EMCY is no reason to stop."""
+        loop = self.loop
+        if loop is None or node not in self.jogs.running_nodes or data[:2] == _RESET_BYTES:
+            return
+        loop.call_soon_threadsafe(self.on_emcy, node, data)
 
     def on_emcy(self, node: int, data: bytes) -> None:
         code = int.from_bytes(data[:2], "little")

@@ -30,6 +30,7 @@ from collections.abc import Callable
 
 from servodesk.errors import CommTimeoutError, InvalidValueError, ServodeskError
 from servodesk.events.bus import BusEvent, EventKind
+from servodesk.models.motion import DriveCommand, DriveState
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import DriveIo
 from servodesk.motion.drive_limits import Limits
@@ -37,7 +38,6 @@ from servodesk.motion.home import Homing
 from servodesk.motion.ip import IpStreams
 from servodesk.motion.moves import Moves
 from servodesk.motion.readings import Readings
-from servodesk.motion.schemas import DriveCommand, DriveState
 from servodesk.motion.state_machine import StateMachine
 from servodesk.motion.stopping import (
     QUICK_STOP_DECELERATION,

@@ -9,11 +9,11 @@ import logging
 from collections.abc import Callable
 
 from servodesk.errors import CommTimeoutError, NodeStoppedError, SdoAbortError
+from servodesk.models.motion import DriveCommand, DriveState, EnableReason
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import DriveIo, state_of
 from servodesk.motion.drive_limits import Limits
 from servodesk.motion.readings import Readings
-from servodesk.motion.schemas import DriveCommand, DriveState, EnableReason
 from servodesk.motion.words import state_label
 from servodesk_protocol.cia402 import (
     Cia402State,

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from types import MappingProxyType
 
-from servodesk.motion.schemas import DriveStateName, StatusBit
+from servodesk.models.motion import DriveStateName, StatusBit
 from servodesk_protocol.cia402 import Cia402State, OperationMode
 
 S = Cia402State

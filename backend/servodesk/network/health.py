@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from servodesk.models import NmtStateName
+from servodesk.models.nodes import NmtStateName
 from servodesk.network.nmt import BOOT_UP, state_from_byte
 
 MS = 1000.0

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import can
 
 from servodesk.events.bus import BusEvent, EventKind
-from servodesk.models import NmtStateName
+from servodesk.models.nodes import NmtStateName
 from servodesk.network.health import Evidence, Health, assess, reported_state
 from servodesk.network.nmt import BOOT_UP
 from servodesk.settings import Settings

@@ -11,7 +11,8 @@ from types import MappingProxyType
 
 import canopen
 
-from servodesk.models import NmtCommandName, NmtStateName
+from servodesk.models.network import NmtCommandName
+from servodesk.models.nodes import NmtStateName
 from servodesk_protocol import nmt
 from servodesk_protocol.nmt import NmtCommand, NmtState
 

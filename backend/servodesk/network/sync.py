@@ -13,7 +13,8 @@ import canopen
 
 from servodesk.bus.connection import BusManager
 from servodesk.errors import InvalidValueError
-from servodesk.models import BusState, BusStatus, SyncConfig
+from servodesk.models.bus import BusState, BusStatus
+from servodesk.models.network import SyncConfig
 
 US = 1_000_000
 # A sender thread cannot hold a shorter period steadily (its p99 error is a few hundred µs on a

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from servodesk.models import NmtCommandName, NodeInfo
+from servodesk.models.network import NmtCommandName
+from servodesk.models.nodes import NodeInfo
 from servodesk.nodes.session import NodeSession
 from servodesk.od import ObjectDictionaryModel
 from servodesk_data import DriveData

@@ -14,7 +14,7 @@ from canopen.objectdictionary import ObjectDictionary
 
 from servodesk.heap import keep_long_lived
 from servodesk.nodes.entry import OdSource
-from servodesk.nodes.profile_models import ProfileModels
+from servodesk.nodes.profile_dictionaries import ProfileDictionaries
 from servodesk.nodes.table import NodeTable
 from servodesk.od import ObjectDictionaryModel
 from servodesk.od.parser import release_memory
@@ -30,7 +30,7 @@ class DictionarySwap:
     def __init__(
         self,
         table: NodeTable,
-        dictionaries: ProfileModels,
+        dictionaries: ProfileDictionaries,
         replaced: Callable[[int], None],
     ) -> None:
         """`replaced(node)` is called after a node's dictionary was replaced."""

@@ -9,7 +9,7 @@ from typing import Any, Literal
 import canopen
 from canopen.objectdictionary import ObjectDictionary
 
-from servodesk.models import NodeInfo
+from servodesk.models.nodes import NodeInfo
 from servodesk.network.health import Health
 from servodesk.nodes.identity import Identity
 from servodesk.nodes.tracked import TrackedSession

@@ -14,11 +14,13 @@ from dataclasses import dataclass, replace
 import canopen
 from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
 
+from servodesk_protocol.nmt import PRODUCER_HEARTBEAT_TIME
+
 DEVICE_TYPE = 0x1000  # Device type
 DEVICE_NAME = 0x1008  # Manufacturer device name
 HARDWARE_VERSION = 0x1009  # Manufacturer hardware version
 SOFTWARE_VERSION = 0x100A  # Manufacturer software version
-PRODUCER_HEARTBEAT = 0x1017  # Producer heartbeat time (ms)
+PRODUCER_HEARTBEAT = PRODUCER_HEARTBEAT_TIME  # Producer heartbeat time (ms)
 IDENTITY = 0x1018  # Identity object: 1 vendor-ID, 2 product code, 3 revision, 4 serial number
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from servodesk.models import NodeInfo
+from servodesk.models.nodes import NodeInfo
 
 
 def _device(info: NodeInfo) -> tuple[int, int, int] | None:

@@ -19,7 +19,7 @@ from typing import Any, Protocol
 import can
 
 from servodesk.errors import ServodeskError
-from servodesk.models import NmtStateName, NodeInfo
+from servodesk.models.nodes import NmtStateName, NodeInfo
 from servodesk.nodes.session import NodeSession
 from servodesk.settings import Settings
 from servodesk_protocol import cob_id

@@ -26,7 +26,9 @@ from servodesk.errors import (
     StateConflictError,
 )
 from servodesk.events.bus import EventBus, EventKind, event
-from servodesk.models import BusState, BusStatus, NmtCommandName, NodeInfo, ScanResult
+from servodesk.models.bus import BusState, BusStatus
+from servodesk.models.network import NmtCommandName
+from servodesk.models.nodes import NodeInfo, ScanResult
 from servodesk.network.monitor import NodeMonitor
 from servodesk.network.nmt import STATE_AFTER, send_broadcast, send_to_node
 from servodesk.network.scan import NODE_IDS
@@ -36,7 +38,7 @@ from servodesk.nodes.heartbeat_floor import HEARTBEAT_FLOOR_MS as HEARTBEAT_FLOO
 from servodesk.nodes.heartbeat_floor import check_heartbeat_time
 from servodesk.nodes.identity import PRODUCER_HEARTBEAT
 from servodesk.nodes.moved import moved
-from servodesk.nodes.profile_models import ProfileModels
+from servodesk.nodes.profile_dictionaries import ProfileDictionaries
 from servodesk.nodes.rediscovery import Rediscovery
 from servodesk.nodes.scanner import Scanner
 from servodesk.nodes.session import NodeSession
@@ -75,7 +77,7 @@ class NodeRegistry:
         self._settings = settings
         self._own_parser = parser is None
         self._parser = parser or OdParser()
-        dictionaries = ProfileModels(self._parser)
+        dictionaries = ProfileDictionaries(self._parser)
         self.events = events or EventBus()
         self._od_listeners: list[OdListener] = []
         self._rediscovery = Rediscovery(self, settings)

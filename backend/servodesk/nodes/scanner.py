@@ -16,7 +16,7 @@ from servodesk.errors import CommTimeoutError, NodeStoppedError, ServodeskError
 from servodesk.network.scan import NODE_IDS, SweepListener, send_sweep
 from servodesk.nodes.entry import NodeEntry
 from servodesk.nodes.identity import DEVICE_TYPE, Identity, read_identity, read_versions
-from servodesk.nodes.profile_models import ProfileModels
+from servodesk.nodes.profile_dictionaries import ProfileDictionaries
 from servodesk.nodes.table import NodeTable
 from servodesk.profiles import match
 from servodesk_data import DriveData
@@ -26,7 +26,7 @@ class Scanner:
     def __init__(
         self,
         table: NodeTable,
-        dictionaries: ProfileModels,
+        dictionaries: ProfileDictionaries,
         known_profiles: tuple[DriveData, ...],
     ) -> None:
         self._table = table

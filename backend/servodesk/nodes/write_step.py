@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import canopen
 from canopen.sdo.exceptions import SdoAbortedError
 
-WRITE_ONLY = 0x06010001  # SDO abort: attempt to read a write-only object
+from servodesk_protocol.sdo_abort import WRITE_ONLY
 
 
 @dataclass

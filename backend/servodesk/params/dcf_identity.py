@@ -7,7 +7,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from servodesk.models import IdentityCheck, NodeInfo
+from servodesk.models.nodes import NodeInfo
+from servodesk.models.paramsets import IdentityCheck
 from servodesk.nodes.registry import HEARTBEAT_FLOOR_MS
 from servodesk.od import ObjectDictionaryModel
 

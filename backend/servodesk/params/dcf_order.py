@@ -21,13 +21,13 @@ from dataclasses import dataclass
 
 from servodesk.od import OdSub
 from servodesk.od.model import Value
+from servodesk_protocol.pdo import MAP_OFFSET
 
 COB_ID_INVALID = 0x80000000  # bit 31 of a PDO COB-ID: PDO does not exist / is not valid
 RPDO_COMM = range(0x1400, 0x1600)  # RPDO communication parameter
 RPDO_MAP = range(0x1600, 0x1800)  # RPDO mapping parameter
 TPDO_COMM = range(0x1800, 0x1A00)  # TPDO communication parameter
 TPDO_MAP = range(0x1A00, 0x1C00)  # TPDO mapping parameter
-MAP_OFFSET = 0x200  # mapping parameter index = communication parameter index + 200h
 COMMUNICATION = range(0x1000, 0x2000)
 MANUFACTURER = range(0x2000, 0x6000)
 PROFILE = range(0x6000, 0xA000)

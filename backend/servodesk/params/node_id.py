@@ -14,10 +14,10 @@ from servodesk.errors import (
     ConfirmationRequiredError,
     InvalidValueError,
 )
-from servodesk.models import (
+from servodesk.models.network import NmtCommandName
+from servodesk.models.nodes import (
     BitrateChangeResult,
     BitrateOptions,
-    NmtCommandName,
     NodeIdChangeResult,
     NodeIdOptions,
 )

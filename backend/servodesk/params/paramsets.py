@@ -14,7 +14,7 @@ from servodesk.errors import (
     SdoAbortError,
 )
 from servodesk.events.tool_writes import Publish, tool_write, where
-from servodesk.models import (
+from servodesk.models.paramsets import (
     CompareResult,
     CompareRow,
     DcfDifference,
@@ -35,6 +35,7 @@ from servodesk.sdo import codec
 from servodesk.sdo.bulk import BulkOutcome, EntryRead, as_entry_read, read_entries
 from servodesk.sdo.jobs import readable_entries
 from servodesk.sdo_aborts import abort_meaning
+from servodesk_protocol.cob_id import CAN_ID_MASK
 
 CONFIGURATION_ACCESS = frozenset({"rw", "rwr", "rww"})  # readable and writable
 IDENTITY = (
@@ -44,7 +45,6 @@ IDENTITY = (
     0x100A,  # Manufacturer software version
     0x1018,  # Identity object
 )
-CAN_ID_MASK = 0x7FF
 MAX_TIMEOUTS_IN_A_ROW = 3
 NOT_WRITTEN = "not written: the node stopped answering"
 

@@ -20,7 +20,8 @@ from servodesk.errors import (
 )
 from servodesk.events.bus import BusEvent, EventKind
 from servodesk.events.tool_writes import Publish, tool_write, where
-from servodesk.models import MessageResult, Param, ParamWriteResult
+from servodesk.models.common import MessageResult
+from servodesk.models.params import Param, ParamWriteResult
 from servodesk.nodes.access import NodeAccess
 from servodesk.sdo import codec
 from servodesk.sdo.service import SdoService

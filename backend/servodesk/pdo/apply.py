@@ -16,7 +16,8 @@ from collections.abc import Awaitable, Callable, Sequence
 from dataclasses import dataclass, field
 
 from servodesk.errors import PdoApplyError, SdoAbortError, ServodeskError
-from servodesk.models import NmtCommandName, NmtStateName
+from servodesk.models.network import NmtCommandName
+from servodesk.models.nodes import NmtStateName
 from servodesk.nodes.session import Transaction
 from servodesk.od import ObjectDictionaryModel
 from servodesk.pdo.model import PdoConfig
@@ -30,10 +31,10 @@ from servodesk.pdo.read import (
     size_of,
     target_values,
 )
+from servodesk_protocol.sdo_abort import DEVICE_STATE
 
 log = logging.getLogger(__name__)
 
-DEVICE_STATE = 0x08000022  # data cannot be transferred because of the present device state
 
 Nmt = Callable[[NmtCommandName], Awaitable[object]]
 

@@ -20,7 +20,7 @@ import canopen
 
 from servodesk.errors import ServodeskError
 from servodesk.pdo.model import PdoConfig
-from servodesk_protocol.cia402 import CONTROLWORD
+from servodesk_protocol.cia402 import CONTROLWORD, MODES_OF_OPERATION
 from servodesk_protocol.pdo import DUMMY_BITS
 
 TARGET_TORQUE, TARGET_POSITION, TARGET_VELOCITY = 0x6071, 0x607A, 0x60FF
@@ -76,7 +76,8 @@ def route_in(pdos: Sequence[PdoConfig], index: int) -> RpdoRoute | None:
 
 
 IP_DATA = 0x60C1  # Interpolation data record (:01 the position set-point)
-IP_COMPANIONS = frozenset({CONTROLWORD, 0x6060})  # what an IP RPDO may carry beside 60C1h:01
+# what an IP RPDO may carry beside 60C1h:01
+IP_COMPANIONS = frozenset({CONTROLWORD, MODES_OF_OPERATION})
 
 
 def ip_route_in(pdos: Sequence[PdoConfig]) -> tuple[RpdoRoute, bool] | None:

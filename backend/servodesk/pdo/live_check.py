@@ -9,14 +9,14 @@ from dataclasses import dataclass
 
 import canopen
 
-from servodesk.model_base import Value
+from servodesk.models.base import Value
+from servodesk.models.pdo import LiveCheck, LivePdo, LiveValue
 from servodesk.od import ObjectDictionaryModel
 from servodesk.pdo.decode import Decoded, PdoDecoder, value_text
 from servodesk.pdo.display import display_text
 from servodesk.pdo.drive_use import drive_page_use
 from servodesk.pdo.live import PdoCapture
 from servodesk.pdo.model import PdoConfig
-from servodesk.pdo_models import LiveCheck, LivePdo, LiveValue
 
 
 @dataclass

@@ -1,6 +1,6 @@
 """The PDO configuration the service reads, validates, applies and returns (the API's `Pdo`).
 
-Pure data: the API schema (servodesk.pdo_models) mirrors it field for field.
+Pure data: the API schema (servodesk.models.pdo) mirrors it field for field.
 """
 
 from __future__ import annotations

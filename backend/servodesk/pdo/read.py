@@ -26,6 +26,7 @@ from servodesk_protocol.pdo import (
     COB_INVALID,
     COB_NO_RTR,
     MAX_ENTRIES,
+    MAX_PDOS,
     RPDO_COMM,
     SUB_COB_ID,
     SUB_EVENT_TIMER,
@@ -37,6 +38,7 @@ from servodesk_protocol.pdo import (
     comm_index,
     map_index,
 )
+from servodesk_protocol.sdo_abort import NO_OBJECT, NO_SUBINDEX
 
 Key = tuple[int, int]  # (index, sub-index)
 
@@ -50,11 +52,11 @@ COMM_SIZES: Mapping[int, int] = {
 }
 COUNT_SIZE = 1  # mapping sub 0: UNSIGNED8
 ENTRY_SIZE = 4  # mapping entries: UNSIGNED32
-PDO_SPAN = 0x200  # 1400h–15FFh, 1800h–19FFh
+PDO_SPAN = MAX_PDOS  # 1400h–15FFh, 1800h–19FFh
 KINDS: tuple[tuple[PdoKind, int], ...] = (("rpdo", RPDO_COMM), ("tpdo", TPDO_COMM))
 # Aborts that say "this sub does not exist": optional subs (inhibit, event timer, SYNC start)
 # the dictionary lists but the device lacks read as 0.
-ABSENT = frozenset({0x06020000, 0x06090011})
+ABSENT = frozenset({NO_OBJECT, NO_SUBINDEX})
 
 
 Runner = NodeSession | Transaction  # reads run in a transaction or on their own

@@ -21,7 +21,16 @@ import canopen
 
 from servodesk.errors import InvalidValueError, PdoInvalidError, ServodeskError
 from servodesk.events.bus import BusEvent, EventKind
-from servodesk.models import BusState, BusStatus, SyncConfig
+from servodesk.models.bus import BusState, BusStatus
+from servodesk.models.network import SyncConfig
+from servodesk.models.pdo import (
+    BusLoadResult,
+    LiveCheck,
+    PdoProblem,
+    PdoRules,
+    PdoSync,
+    PdoValidation,
+)
 from servodesk.nodes.access import NodeAccess
 from servodesk.pdo.apply import apply_pdos
 from servodesk.pdo.bus_load import DEFAULT_MASTER_PERIOD_MS, bus_load
@@ -35,14 +44,6 @@ from servodesk.pdo.recommended import recommended
 from servodesk.pdo.sync_heard import SyncHeard
 from servodesk.pdo.sync_rule import SyncCheck, SyncPresence, SyncSource, sync_warnings
 from servodesk.pdo.validate import used_ids, validate
-from servodesk.pdo_models import (
-    BusLoadResult,
-    LiveCheck,
-    PdoProblem,
-    PdoRules,
-    PdoSync,
-    PdoValidation,
-)
 from servodesk.pdo_problems import Problem
 from servodesk_protocol.pdo import MAP_OFFSET, RPDO_COMM, TPDO_MAP
 

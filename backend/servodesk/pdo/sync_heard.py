@@ -14,7 +14,9 @@ from dataclasses import dataclass
 
 import can
 
-SYNC_ID = 0x080  # default COB-ID of 1005h
+from servodesk_protocol import cob_id
+
+SYNC_ID = cob_id.SYNC  # default COB-ID of 1005h
 HEARD_WITHIN_S = 2.0  # a SYNC this recent counts as a running producer (periods up to ~1 s)
 US = 1_000_000
 

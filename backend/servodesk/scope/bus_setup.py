@@ -8,7 +8,8 @@ import logging
 from collections.abc import Awaitable
 
 from servodesk.errors import ServodeskError
-from servodesk.models import NmtCommandName, NmtStateName
+from servodesk.models.network import NmtCommandName
+from servodesk.models.nodes import NmtStateName
 from servodesk.network.sync import SyncService
 from servodesk.nodes.access import NodeAccess
 from servodesk.pdo.service import PdoService

@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from servodesk.errors import InvalidValueError, ServodeskError
+from servodesk.models.scope import CaptureRequest
 from servodesk.scope.run import SILENT_S
 from servodesk.scope.trigger import parse_state
-from servodesk.scope_models import CaptureRequest
 
 
 class SilentSignalsError(ServodeskError):

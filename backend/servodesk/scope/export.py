@@ -29,9 +29,9 @@ import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 
 from servodesk.errors import InvalidValueError, StateConflictError
+from servodesk.models.scope import Capture, CaptureSignal, ExportFormat, ExportLayout
 from servodesk.scope.samples import COMPRESSION, is_complete, read_samples, signal_groups
 from servodesk.scope.wide import write_wide_csv
-from servodesk.scope_models import Capture, CaptureSignal, ExportFormat, ExportLayout
 
 FileFormat = Literal["csv", "parquet", "mf4"]  # what export() writes (the .rrd is served as is)
 

@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 import numpy.typing as npt
 
+from servodesk.models.scope import Capture, CaptureSignal, Measurement, SignalMeasurement, Trace
 from servodesk.scope.samples import value_batches
-from servodesk.scope_models import Capture, CaptureSignal, Measurement, SignalMeasurement, Trace
 
 Floats = npt.NDArray[np.float64]
 Batch = tuple[npt.NDArray[np.int32], Floats, Floats]  # signal, time (s), value

@@ -157,7 +157,7 @@ def _open_bin(
 
 
 def _usable(can_id: int, used: Mapping[int, str]) -> bool:
-    return 0 < can_id <= 0x7FF and not restricted_can_id(can_id) and can_id not in used
+    return 0 < can_id <= cob_id.CAN_ID_MASK and not restricted_can_id(can_id) and can_id not in used
 
 
 def _own_id(pdo: PdoConfig, used: Mapping[int, str]) -> int | None:

@@ -8,19 +8,20 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 from servodesk.errors import ServodeskError
-from servodesk.models import NmtStateName, SyncConfig
+from servodesk.models.network import SyncConfig
+from servodesk.models.nodes import NmtStateName
+from servodesk.models.pdo import BusLoadResult
+from servodesk.models.scope import CaptureRequest, CaptureSignal, ScopePlan
 from servodesk.motion.units import DriveUnits
 from servodesk.nodes.access import NodeAccess
 from servodesk.pdo.model import PdoConfig
 from servodesk.pdo.procedure import Procedure
 from servodesk.pdo.service import PdoService
-from servodesk.pdo_models import BusLoadResult
 from servodesk.scope.checks import check_request, overload, trigger_nodes
 from servodesk.scope.plan import NodePlan, plan_node
 from servodesk.scope.setup import Key, capture_signals, lookup, wanted
 from servodesk.scope.signals import SignalInfo
 from servodesk.scope.units import drive_units
-from servodesk.scope_models import CaptureRequest, CaptureSignal, ScopePlan
 from servodesk_protocol.cia402 import STATUSWORD
 
 MAX_LOAD_PERCENT = 100.0

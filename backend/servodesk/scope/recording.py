@@ -22,8 +22,8 @@ import numpy.typing as npt
 import rerun as rr
 import rerun.blueprint as rrb
 
+from servodesk.models.scope import Capture, CaptureSignal
 from servodesk.scope.lanes import Lane, LaneTracker, lanes_for
-from servodesk.scope_models import Capture, CaptureSignal
 
 Floats = npt.NDArray[np.float64]
 APPLICATION_ID = "servodesk-scope"

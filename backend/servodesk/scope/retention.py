@@ -7,8 +7,8 @@ from __future__ import annotations
 import logging
 from collections.abc import Collection
 
+from servodesk.models.scope import ACTIVE_STATES
 from servodesk.scope.store import CaptureStore
-from servodesk.scope_models import ACTIVE_STATES
 from servodesk.storage.quota import Kept, describe_bytes, over_quota
 from servodesk.storage.usage import free_bytes
 

@@ -14,13 +14,13 @@ from dataclasses import dataclass, field
 
 from servodesk.errors import CommTimeoutError, SdoAbortError, ServodeskError
 from servodesk.events.bus import BusEvent
+from servodesk.models.scope import Capture
 from servodesk.nodes.access import NodeAccess
 from servodesk.scope.capture import CaptureCore, Floats
 from servodesk.scope.frames import FrameSink
 from servodesk.scope.recording import CaptureRecording
 from servodesk.scope.samples import SamplesWriter
 from servodesk.scope.setup import SDO_STREAM_BASE
-from servodesk.scope_models import Capture
 
 log = logging.getLogger(__name__)
 

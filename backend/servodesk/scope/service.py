@@ -18,6 +18,15 @@ from pathlib import Path
 from servodesk.bus.connection import BusManager
 from servodesk.errors import InvalidValueError, ServodeskError, StateConflictError
 from servodesk.events.bus import EventBus
+from servodesk.models.scope import (
+    ACTIVE_STATES,
+    Capture,
+    CaptureRequest,
+    CaptureState,
+    ExportFormat,
+    ExportLayout,
+    ScopePlan,
+)
 from servodesk.network.sync import SyncService
 from servodesk.nodes.access import NodeAccess
 from servodesk.pdo.service import PdoService
@@ -39,15 +48,6 @@ from servodesk.scope.samples import SamplesWriter
 from servodesk.scope.setup import build_core
 from servodesk.scope.store import CaptureStore
 from servodesk.scope.viewer_server import RerunServer
-from servodesk.scope_models import (
-    ACTIVE_STATES,
-    Capture,
-    CaptureRequest,
-    CaptureState,
-    ExportFormat,
-    ExportLayout,
-    ScopePlan,
-)
 from servodesk.storage.usage import UsageMeter
 
 log = logging.getLogger(__name__)

@@ -10,6 +10,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from servodesk.errors import InvalidValueError
+from servodesk.models.scope import CaptureRequest, CaptureSignal, TriggerRequest
 from servodesk.motion.units import DriveUnits
 from servodesk.od.model import ObjectDictionaryModel
 from servodesk.pdo.model import PdoConfig
@@ -18,7 +19,6 @@ from servodesk.scope.capture import CaptureCore, Output, SignalTrack, Stream, Tr
 from servodesk.scope.plan import NodePlan, Placement
 from servodesk.scope.signals import SignalInfo, signal_info
 from servodesk.scope.trigger import BitTrigger, LevelTrigger, StateTrigger, parse_state
-from servodesk.scope_models import CaptureRequest, CaptureSignal, TriggerRequest
 from servodesk_protocol.cia402 import STATUSWORD
 
 SDO_STREAM_BASE = 0x10000  # stream ids of SDO-polled signals: above every CAN id

@@ -21,8 +21,8 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from servodesk.errors import CaptureNotFoundError
+from servodesk.models.scope import ACTIVE_STATES, Capture
 from servodesk.scope.samples import is_complete
-from servodesk.scope_models import ACTIVE_STATES, Capture
 
 log = logging.getLogger(__name__)
 

@@ -27,8 +27,8 @@ import numpy.typing as npt
 import pyarrow as pa
 import pyarrow.csv as pacsv
 
+from servodesk.models.scope import Capture, CaptureSignal
 from servodesk.scope.samples import read_samples
-from servodesk.scope_models import Capture, CaptureSignal
 
 Floats = npt.NDArray[np.float64]
 Ints = npt.NDArray[np.int64]

@@ -11,7 +11,7 @@ import re
 import struct
 
 from servodesk.errors import InvalidValueError
-from servodesk.models import Value as ApiValue
+from servodesk.models.base import Value as ApiValue
 from servodesk.od import DataType, ObjectDictionaryModel, OdSub, format_value, parse_value
 from servodesk.od import datatypes as dt
 from servodesk.od.model import Value as OdValue

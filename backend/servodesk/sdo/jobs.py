@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from servodesk.errors import RequestInterruptedError, ServodeskError
-from servodesk.models import Job, JobResult
+from servodesk.models.sdo import Job, JobResult
 from servodesk.nodes.access import NodeAccess
 from servodesk.nodes.session import NodeSession
 from servodesk.od import ObjectDictionaryModel, OdSub

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from servodesk.bounded import TEXT_LIMIT, shorten
 from servodesk.events.bus import EventBus, EventKind, event
-from servodesk.models import SdoValue
+from servodesk.models.sdo import SdoValue
 from servodesk.nodes.access import NodeAccess
 from servodesk.sdo.service import SdoService, WriteListener, where
 

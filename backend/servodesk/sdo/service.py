@@ -11,7 +11,7 @@ from collections.abc import Callable
 
 from servodesk.audit.entry import current_entry
 from servodesk.errors import InvalidValueError
-from servodesk.models import SdoValue
+from servodesk.models.sdo import SdoValue
 from servodesk.nodes.access import NodeAccess
 from servodesk.nodes.heartbeat_floor import check_heartbeat_time
 from servodesk.nodes.identity import PRODUCER_HEARTBEAT

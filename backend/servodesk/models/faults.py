@@ -6,7 +6,7 @@ from typing import Any
 
 from pydantic import BaseModel, Field, StrictBool
 
-from servodesk.model_base import RequestBody
+from servodesk.models.base import RequestBody
 
 
 class Fault(BaseModel):

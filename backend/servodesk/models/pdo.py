@@ -9,7 +9,7 @@ from typing import Literal
 
 from pydantic import BaseModel, Field, StrictBool
 
-from servodesk.model_base import JsonInt, RequestBody, Value
+from servodesk.models.base import JsonInt, RequestBody, Value
 
 PdoKindName = Literal["rpdo", "tpdo"]
 

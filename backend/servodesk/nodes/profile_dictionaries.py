@@ -25,7 +25,7 @@ from servodesk.profiles import ProfileMatch
 _Key = tuple[Path, tuple[int, int] | None]
 
 
-class ProfileModels:
+class ProfileDictionaries:
     def __init__(self, parser: OdParser) -> None:
         self._parser = parser
         self._parsed: dict[_Key, asyncio.Task[ObjectDictionaryModel]] = {}

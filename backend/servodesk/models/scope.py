@@ -11,8 +11,8 @@ from typing import Annotated, Literal
 
 from pydantic import AfterValidator, BaseModel, Field, StrictBool
 
-from servodesk.model_base import NOT_TEXT, JsonInt, RequestBody
-from servodesk.pdo_models import BusLoadResult
+from servodesk.models.base import NOT_TEXT, JsonInt, RequestBody
+from servodesk.models.pdo import BusLoadResult
 
 NodeNumber = Annotated[
     Annotated[int, Field(ge=1, le=127, description="CANopen node id 1–127")], NOT_TEXT

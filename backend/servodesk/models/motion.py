@@ -11,7 +11,7 @@ from typing import Literal
 
 from pydantic import BaseModel, Field, StrictBool, StrictFloat
 
-from servodesk.model_base import JsonInt, RequestBody
+from servodesk.models.base import JsonInt, RequestBody
 
 DriveStateName = Literal[
     "not_ready_to_switch_on",

@@ -7,8 +7,8 @@ from typing import Literal
 
 from pydantic import BaseModel, Field, StrictBool, StrictFloat
 
-from servodesk.model_base import JsonInt, RequestBody
-from servodesk.motion.schemas import (
+from servodesk.models.base import JsonInt, RequestBody
+from servodesk.models.motion import (
     MAX_ACCELERATION_RPM_S,
     MAX_TORQUE_SLOPE_PCT_S,
     MIN_TORQUE_SLOPE_PCT_S,

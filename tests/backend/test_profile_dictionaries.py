@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from servodesk.nodes.profile_models import ProfileModels
+from servodesk.nodes.profile_dictionaries import ProfileDictionaries
 from servodesk.od import load_od
 from servodesk.od.parser import OdParser
 from servodesk.profiles import load_known, match
@@ -20,10 +20,10 @@ TPDO1_COMMUNICATION = 0x1800  # :01 COB-ID = $NODEID+0x180
 async def test_nodes_of_one_profile_share_one_parse() -> None:
     parser = OdParser()
     try:
-        models = ProfileModels(parser)
+        dictionaries = ProfileDictionaries(parser)
         profile = match(CIA402_DEVICE_TYPE, None, None, known=load_known())
         assert profile.eds_path is not None
-        one, five = await models.model(profile, 1), await models.model(profile, 5)
+        one, five = await dictionaries.model(profile, 1), await dictionaries.model(profile, 5)
     finally:
         parser.close()
     # what a node-by-node parse gave, object for object

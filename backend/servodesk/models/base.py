@@ -1,5 +1,5 @@
 """What every API schema module builds on: the value type, strict JSON integers and the base of
-request bodies (servodesk.models, servodesk.pdo_models)."""
+request bodies (every module of servodesk.models)."""
 
 from __future__ import annotations
 

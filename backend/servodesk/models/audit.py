@@ -6,8 +6,7 @@ from typing import Literal
 
 from pydantic import BaseModel, StrictBool
 
-from servodesk.audit.store import AuditRow
-from servodesk.model_base import RequestBody, Value
+from servodesk.models.base import RequestBody, Value
 
 
 class AuditEntry(BaseModel):
@@ -31,13 +30,8 @@ class AuditEntry(BaseModel):
     undo_of: int | None  # the entry this one undid
     undone_by: int | None  # the undo that took this entry back (or is doing so): undone once
     # a single parameter/OD write that succeeded with a known old value, not undone yet
+    # (built from the store's row by servodesk.api.audit: the models import nothing above them)
     undoable: bool
-
-    @classmethod
-    def of(cls, row: AuditRow) -> AuditEntry:
-        entry = cls.model_validate(row, from_attributes=True)
-        entry.undoable = row.undoable and row.undone_by is None
-        return entry
 
 
 class UndoRequest(RequestBody):

@@ -10,11 +10,12 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, RootModel, TypeAdapter
 from pydantic.json_schema import models_json_schema
 
-from servodesk.faults.models import Fault, TimelineEvent
-from servodesk.model_base import NOT_TEXT, JsonInt, RequestBody
-from servodesk.models import BusStatus, LiveEvent
-from servodesk.motion.safety_models import ControllerHolder, HeartbeatProtection, JogInfo
-from servodesk.motion.schemas import DriveState
+from servodesk.models.base import NOT_TEXT, JsonInt, RequestBody
+from servodesk.models.bus import BusStatus
+from servodesk.models.faults import Fault, TimelineEvent
+from servodesk.models.motion import DriveState
+from servodesk.models.nodes import LiveEvent
+from servodesk.models.safety import ControllerHolder, HeartbeatProtection, JogInfo
 
 # ---------------------------------------------------------------------- server -> client
 

@@ -7,7 +7,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, Field, StrictBool, StrictFloat, StrictStr
 
-from servodesk.model_base import NOT_TEXT, RequestBody
+from servodesk.models.base import NOT_TEXT, RequestBody
 
 StepKey = Literal[
     "identity",
@@ -106,6 +106,6 @@ class CheckRequest(RequestBody):
     """`POST /api/commissioning/check` as JSON: a record of this server, and the node to check
     (default: the record's)."""
 
-    # JSON Schema's integers (12 and 12.0), never "12" (model_base.py)
+    # JSON Schema's integers (12 and 12.0), never "12" (models/base.py)
     record_id: Annotated[Annotated[int, Field(ge=1, le=2**53)], NOT_TEXT]
     node: Annotated[Annotated[int, Field(ge=1, le=127)], NOT_TEXT] | None = None
