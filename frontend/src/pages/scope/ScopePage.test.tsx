@@ -1,4 +1,4 @@
-import { screen, waitFor, within } from "@testing-library/react";
+import { cleanup, screen, waitFor, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it, vi } from "vitest";
 
@@ -267,5 +267,61 @@ describe("ScopePage", () => {
       ).toHaveLength(2),
     );
     expect(screen.queryByRole("dialog")).toBeNull();
+  });
+});
+
+describe("the live view switch", () => {
+  afterEach(() => window.localStorage.clear());
+
+  it("pauses the live viewer, remembers it over a remount and shows it again", async () => {
+    render();
+    expect((await screen.findByTestId("rerun-viewer")).getAttribute("src")).toBe(VIEWER.url);
+    await userEvent.click(screen.getByRole("button", { name: "Pause live view" }));
+    expect(screen.queryByTestId("rerun-viewer")).toBeNull();
+    expect(screen.getByTestId("live-view-paused").textContent).toBe(
+      "Live view paused: captures still record; open one from the list once it is done.",
+    );
+    expect(screen.getByText("Live view paused")).toBeTruthy();
+
+    // the next visit (a remount) keeps it paused: no frame, no stream
+    cleanup();
+    render();
+    expect(screen.getByRole("button", { name: "Show live view" })).toBeTruthy();
+    expect(await screen.findByText(/rerun's own viewer/)).toBeTruthy(); // the viewer's answer came
+    expect(screen.queryByTestId("rerun-viewer")).toBeNull();
+    expect(screen.getByTestId("live-view-paused")).toBeTruthy();
+
+    await userEvent.click(screen.getByRole("button", { name: "Show live view" }));
+    expect(screen.getByTestId("rerun-viewer").getAttribute("src")).toBe(VIEWER.url);
+    expect(screen.queryByTestId("live-view-paused")).toBeNull();
+    expect(screen.getByText("Live: every capture as it records")).toBeTruthy();
+    cleanup();
+    render();
+    expect((await screen.findByTestId("rerun-viewer")).getAttribute("src")).toBe(VIEWER.url);
+  });
+
+  it("opens a finished capture while paused and goes back to the paused panel", async () => {
+    window.localStorage.setItem("servodesk.scope.liveView", "paused");
+    render({
+      "GET /api/scope/captures": [capture({ id: 5, name: "second", state: "done" })],
+      "GET /api/scope/captures/5/export": () =>
+        new Response(new Uint8Array([0x52, 0x52, 0x46, 0x32]), {
+          headers: { "Content-Type": "application/octet-stream" },
+        }),
+    });
+    expect(screen.queryByTestId("rerun-viewer")).toBeNull();
+    const table = await screen.findByRole("table", { name: "Captures" });
+    await userEvent.click(within(table).getByRole("button", { name: /Open capture 5/ }));
+    const frame = screen.getByTestId<HTMLIFrameElement>("rerun-viewer");
+    expect(frame.getAttribute("src")).toBe("/rerun/");
+    expect(screen.queryByTestId("live-view-paused")).toBeNull();
+    const handle = { open_channel: vi.fn(), send_rrd_to_channel: vi.fn(), close_channel: vi.fn() };
+    Object.assign(frame.contentWindow ?? {}, { _handle: handle });
+    await waitFor(() => expect(handle.send_rrd_to_channel).toHaveBeenCalled());
+
+    await userEvent.click(screen.getByRole("button", { name: "Close the capture" }));
+    expect(screen.queryByTestId("rerun-viewer")).toBeNull();
+    expect(screen.getByTestId("live-view-paused")).toBeTruthy();
+    expect(screen.getByRole("button", { name: "Show live view" })).toBeTruthy();
   });
 });

@@ -18,6 +18,7 @@ beforeEach(async () => {
 afterEach(() => {
   vi.unstubAllGlobals();
   window.sessionStorage.clear();
+  window.localStorage.removeItem("servodesk.scope.liveView");
 });
 
 describe("ScopePage in zh-CN", () => {
@@ -54,6 +55,22 @@ describe("ScopePage in zh-CN", () => {
     expect(screen.getByRole("button", { name: "在查看器中打开采集 5" })).toBeTruthy();
     expect(screen.getByRole("button", { name: "删除采集 5" })).toBeTruthy();
     expect(screen.getByRole("heading", { name: "光标" })).toBeTruthy();
+
+    // the live view switch, and the panel while paused
+    await userEvent.click(screen.getByRole("button", { name: "暂停实时视图" }));
+    expect(screen.queryByTestId("rerun-viewer")).toBeNull();
+    expect(screen.getByTestId("live-view-paused").textContent).toBe(
+      "实时视图已暂停：采集仍会照常记录，完成后可从列表中打开。",
+    );
+    expect(screen.getByRole("button", { name: "显示实时视图" })).toBeTruthy();
+    for (const english of [
+      "Pause live view",
+      "Show live view",
+      "Live view paused",
+      "still record",
+    ]) {
+      expect(container.textContent).not.toContain(english);
+    }
 
     // a key the catalogue missed would show as "scope.…"
     expect(container.textContent).not.toMatch(/\bscope\.[a-z]/);

@@ -15,6 +15,26 @@ export interface OpenedCapture {
   nonce: number;
 }
 
+/** Whether the live viewer is shown, per browser: on a machine without a GPU the viewer draws in
+ * software on the page's own thread, and a live capture can then hold the whole page up. */
+export const LIVE_VIEW_KEY = "servodesk.scope.liveView";
+
+function loadLiveView(): boolean {
+  try {
+    return window.localStorage.getItem(LIVE_VIEW_KEY) !== "paused";
+  } catch {
+    return true; // storage blocked
+  }
+}
+
+function saveLiveView(shown: boolean): void {
+  try {
+    window.localStorage.setItem(LIVE_VIEW_KEY, shown ? "shown" : "paused");
+  } catch {
+    // storage blocked: the choice holds until the page is left
+  }
+}
+
 interface Loading {
   key: string;
   shown: boolean;
@@ -22,7 +42,8 @@ interface Loading {
 }
 
 /** rerun's own web viewer, embedded: the live stream of every capture as it records, or one
- * finished capture from its recording (.rrd). */
+ * finished capture from its recording (.rrd). The live view can be paused (no frame, no stream);
+ * a capture opened from the list is still shown then, the user asked for it. */
 export function ViewerPanel({
   opened,
   onLive,
@@ -35,6 +56,7 @@ export function ViewerPanel({
   const viewer = useApi((signal) => scopeViewer(signal), "scope-viewer");
   const frame = useRef<HTMLIFrameElement>(null);
   const [loading, setLoading] = useState<Loading | null>(null);
+  const [liveShown, setLiveShown] = useState(loadLiveView);
   const live = viewer.data?.url ?? null;
   const frameKey = opened ? `capture-${opened.id}-${opened.nonce}` : "live";
   const openedId = opened?.id ?? null;
@@ -64,7 +86,12 @@ export function ViewerPanel({
   }, [openedId, openedName, live, frameKey]);
 
   const status = loading?.key === frameKey ? loading : null;
-  const src = live === null ? null : opened ? emptyViewerUrl(live) : live;
+  const paused = !opened && !liveShown;
+  const src = live === null || paused ? null : opened ? emptyViewerUrl(live) : live;
+  const toggleLive = (): void => {
+    saveLiveView(!liveShown);
+    setLiveShown(!liveShown);
+  };
   return (
     <section className="card scope-viewer" aria-labelledby={`${id}-h`}>
       <header className="card-header">
@@ -78,11 +105,18 @@ export function ViewerPanel({
             </span>
             {!status && <Spinner label={t("scope.viewer.loadingCapture", { id: opened.id })} />}
             <button type="button" className="small" onClick={onLive}>
-              {t("scope.viewer.back")}
+              {liveShown ? t("scope.viewer.back") : t("scope.viewer.close")}
             </button>
           </>
         ) : (
-          <span className="badge scope-live-badge">{t("scope.viewer.live")}</span>
+          <>
+            <span className={paused ? "badge" : "badge scope-live-badge"}>
+              {paused ? t("scope.viewer.pausedBadge") : t("scope.viewer.live")}
+            </span>
+            <button type="button" className="small" onClick={toggleLive}>
+              {paused ? t("scope.viewer.show") : t("scope.viewer.pause")}
+            </button>
+          </>
         )}
         <span className="spacer" />
         {viewer.data && (
@@ -104,7 +138,11 @@ export function ViewerPanel({
       {viewer.data && !viewer.data.running && (
         <p className="error-text">{t("scope.viewer.notRunning")}</p>
       )}
-      {src !== null ? (
+      {paused ? (
+        <p className="muted scope-paused-note" data-testid="live-view-paused">
+          {t("scope.viewer.pausedNote")}
+        </p>
+      ) : src !== null ? (
         <iframe
           key={frameKey}
           ref={frame}
