@@ -11,13 +11,15 @@ CHROMIUM := /usr/bin/chromium
 # root installs Debian packages directly; anyone else through sudo
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: run test install lint typecheck pytest frontend frontend-check api-check \
-	system-deps bench sim clean
+.PHONY: run test install lint typecheck pytest pytest-pool pytest-fuzz pytest-serial frontend \
+	frontend-check api-check system-deps bench sim clean
 
+# uv installs the pinned ranges of pyproject.toml into the venv (the same resolution as pip, in
+# seconds instead of most of a minute); uv itself comes from PyPI into the venv first.
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e '.[dev]'
+	$(BIN)/pip install --quiet --disable-pip-version-check 'uv>=0.13,<0.14'
+	$(BIN)/uv pip install --quiet --python $(BIN)/python -e '.[dev]'
 	touch $(STAMP)
 
 $(NPM_STAMP): package.json package-lock.json
@@ -72,19 +74,37 @@ api-check: install
 frontend-check: install
 	npm run --silent test
 
-# A worker per core (pytest-xdist, a test file per worker) for the tests that keep no real time of
-# their own; then, alone on the machine, the `serial` ones: browser tests, realtime tests and
-# the schema fuzzing (tests/conftest.py says which).
-pytest: install system-deps $(STATIC)
-	$(BIN)/pytest -n logical --dist loadfile -m "not serial"
-	$(BIN)/pytest -m serial
+# The Python tests in three streams. The pool: pytest-xdist, a test file per worker, one worker
+# more than the machine has cores (most tests wait on the simulated drives' real time or on a
+# browser, so a core is idle in a worker's waits), browser tests included. Beside it, the schema
+# fuzzing in a process of its own (under xdist, schemathesis would run its operations as one
+# item). Then, alone on the machine, the `serial` tests: those that keep millisecond time in the
+# test process (tests/conftest.py says which).
+WORKERS ?= $(shell echo $$(( $$(nproc) + 1 )))
 
-# The checks first, two at a time (api-check alone before them: it rewrites the generated
-# client that the type check reads), then the Python tests.
-test: install
+pytest: install system-deps $(STATIC)
+	$(MAKE) --no-print-directory -j2 --output-sync=target pytest-pool pytest-fuzz
+	$(MAKE) --no-print-directory pytest-serial
+
+pytest-pool: install system-deps $(STATIC)
+	$(BIN)/pytest -n $(WORKERS) --dist loadfile -m "not serial and not fuzz"
+
+pytest-fuzz: install
+	$(BIN)/pytest -p no:xdist -m fuzz tests/backend/test_schemathesis.py
+
+pytest-serial: install
+	$(BIN)/pytest -p no:xdist -m serial
+
+# api-check first and alone (it rewrites the generated client that the type check reads); then
+# the checks and the first two test streams side by side, as many at once as there are jobs
+# here (each check is mostly one process; the waits of the test pool leave room for them);
+# then the serial tests alone.
+test: install system-deps
 	$(MAKE) --no-print-directory api-check
-	$(MAKE) --no-print-directory -j2 --output-sync=target lint typecheck frontend-check
-	$(MAKE) --no-print-directory pytest
+	$(MAKE) --no-print-directory $(STATIC)
+	$(MAKE) --no-print-directory -j5 --output-sync=target \
+		lint typecheck frontend-check pytest-pool pytest-fuzz
+	$(MAKE) --no-print-directory pytest-serial
 
 bench: install
 	$(BIN)/python bench/sim_realtime.py

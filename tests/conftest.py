@@ -5,7 +5,6 @@ from __future__ import annotations
 import gc
 import os
 from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
 from can.interfaces import virtual
@@ -15,15 +14,12 @@ from can.interfaces import virtual
 os.environ.setdefault("SERVODESK_ALLOWED_HOSTS", "testserver")
 
 
-E2E = Path(__file__).parent / "e2e"
-
-
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """`make pytest` runs the tests that keep no real time of their own two at a time and then,
-    alone on the machine, the `serial` ones: a browser walking the real app (a page, a server
-    and the drives' clock in three processes) and every `realtime` test."""
+    """`make pytest` runs most tests in a pool of workers, browser tests included, and then,
+    alone on the machine, the `serial` ones: every `realtime` test (it keeps millisecond time
+    in the test process)."""
     for item in items:
-        if item.path.is_relative_to(E2E) or item.get_closest_marker("realtime") is not None:
+        if item.get_closest_marker("realtime") is not None:
             item.add_marker(pytest.mark.serial)
 
 

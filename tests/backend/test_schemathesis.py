@@ -30,9 +30,10 @@ EXCLUDED = (
     "POST /api/nodes/{node}/drive/ip-stream",
 )
 EXAMPLES = 12
-# Alone, not under pytest-xdist: there schemathesis collects the operations as one item that
-# makes a few dozen requests instead of one item per operation (the bar below is 1000).
-pytestmark = pytest.mark.serial
+# In a process of its own (`make pytest-fuzz`), not under pytest-xdist: there schemathesis
+# collects the operations as one item that makes a few dozen requests instead of one item per
+# operation (the bar below is 1000).
+pytestmark = pytest.mark.fuzz
 # Refusals a schema cannot express: a request of the right shape naming a parameter the drive
 # does not have, or a value out of the drive's range (422 invalid_value), or a change that
 # needs confirm=true (428). Schema validation itself (422 invalid_request) must never refuse
