@@ -74,20 +74,18 @@ api-check: install
 frontend-check: install
 	npm run --silent test
 
-# The Python tests in three streams. The pool: pytest-xdist, a test file per worker, one worker
-# more than the machine has cores (most tests wait on the simulated drives' real time or on a
-# browser, so a core is idle in a worker's waits), browser tests included. Beside it, the schema
-# fuzzing in a process of its own (under xdist, schemathesis would run its operations as one
-# item). Then, alone on the machine, the `serial` tests: those that keep millisecond time in the
-# test process (tests/conftest.py says which).
-WORKERS ?= $(shell echo $$(( $$(nproc) + 1 )))
-
+# The Python tests in three streams. The pool: pytest-xdist, a worker per core, a test file per
+# worker, browser tests included (most tests wait on the simulated drives' real time or on a
+# browser, so a core is idle in a worker's waits). Beside it, the schema fuzzing in a process of
+# its own (under xdist, schemathesis would run its operations as one item). Then, alone on the
+# machine, the `serial` tests: those that keep millisecond time in the test process
+# (tests/conftest.py says which).
 pytest: install system-deps $(STATIC)
 	$(MAKE) --no-print-directory -j2 --output-sync=target pytest-pool pytest-fuzz
 	$(MAKE) --no-print-directory pytest-serial
 
 pytest-pool: install system-deps $(STATIC)
-	$(BIN)/pytest -n $(WORKERS) --dist loadfile -m "not serial and not fuzz"
+	$(BIN)/pytest -n logical --dist loadfile -m "not serial and not fuzz"
 
 pytest-fuzz: install
 	$(BIN)/pytest -p no:xdist -m fuzz tests/backend/test_schemathesis.py
@@ -95,16 +93,12 @@ pytest-fuzz: install
 pytest-serial: install
 	$(BIN)/pytest -p no:xdist -m serial
 
-# api-check first and alone (it rewrites the generated client that the type check reads); then
-# the checks and the first two test streams side by side, as many at once as there are jobs
-# here (each check is mostly one process; the waits of the test pool leave room for them);
-# then the serial tests alone.
-test: install system-deps
+# The checks two at a time (api-check alone before them: it rewrites the generated client that
+# the type check reads), then the Python tests.
+test: install
 	$(MAKE) --no-print-directory api-check
-	$(MAKE) --no-print-directory $(STATIC)
-	$(MAKE) --no-print-directory -j5 --output-sync=target \
-		lint typecheck frontend-check pytest-pool pytest-fuzz
-	$(MAKE) --no-print-directory pytest-serial
+	$(MAKE) --no-print-directory -j2 --output-sync=target lint typecheck frontend-check
+	$(MAKE) --no-print-directory pytest
 
 bench: install
 	$(BIN)/python bench/sim_realtime.py

@@ -32,10 +32,20 @@ class LogRefusedError(LogReadError):
     """The file was refused unread: it declares or expands to sizes no real log has."""
 
 
+# A log up to this size decodes in about a second at most (a compressed BLF: some 50,000
+# frames): at the server's own priority, so a busy host (other programs at full CPU) cannot
+# starve it for tens of seconds; a larger one is bulk work and yields the CPU to the server
+# that stops the drives.
+SMALL_LOG_BYTES = 256 * 1024
+
+
 def _decode(
     data_dir: Path, path: Path, dcf: Path | None, profiles: dict[int, str] | None = None
 ) -> LogResult:
-    _let_mf4_back()
+    if path.stat().st_size > SMALL_LOG_BYTES:
+        lower_priority()
+    if path.suffix.lower() == ".mf4":  # asammdf is a second of imports: only where it reads
+        _let_mf4_back()
     try:
         return LogStore(data_dir).decode_file(path, dcf=dcf, profiles=profiles)
     except LogBoundsError as error:
@@ -54,7 +64,8 @@ def _let_mf4_back() -> None:
 
 class DecodePool:
     """At most `parallel` worker processes; the pool goes when idle (a new one starts in
-    milliseconds from the fork server)."""
+    milliseconds from the fork server). A worker lowers its own priority for a large log
+    (`_decode`)."""
 
     def __init__(self, parallel: int) -> None:
         self._parallel = parallel
@@ -85,8 +96,7 @@ class DecodePool:
             self._pool = ProcessPoolExecutor(
                 max_workers=self._parallel,
                 mp_context=context,
-                initializer=lower_priority,  # below the server: a stop must not wait for a core
-                max_tasks_per_child=1,
+                max_tasks_per_child=1,  # one decode per process: its priority goes with it
             )
         return self._pool
 
