@@ -75,11 +75,10 @@ frontend-check: install
 	npm run --silent test
 
 # The Python tests in three streams. The pool: pytest-xdist, a worker per core, a test file per
-# worker, browser tests included (most tests wait on the simulated drives' real time or on a
-# browser, so a core is idle in a worker's waits). Beside it, the schema fuzzing in a process of
-# its own (under xdist, schemathesis would run its operations as one item). Then, alone on the
-# machine, the `serial` tests: those that keep millisecond time in the test process
-# (tests/conftest.py says which).
+# worker, for the tests that keep no real time of their own; beside it, the schema fuzzing in a
+# process of its own (under xdist, schemathesis would run its operations as one item). Then,
+# alone on the machine, the `serial` tests: the browser tests and those that keep millisecond
+# time in the test process (tests/conftest.py says which).
 pytest: install system-deps $(STATIC)
 	$(MAKE) --no-print-directory -j2 --output-sync=target pytest-pool pytest-fuzz
 	$(MAKE) --no-print-directory pytest-serial

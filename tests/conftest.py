@@ -5,6 +5,7 @@ from __future__ import annotations
 import gc
 import os
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from can.interfaces import virtual
@@ -13,13 +14,15 @@ from can.interfaces import virtual
 # served on, so the tests' apps are served on that name too (a setting, as for any name).
 os.environ.setdefault("SERVODESK_ALLOWED_HOSTS", "testserver")
 
+E2E = Path(__file__).parent / "e2e"
+
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """`make pytest` runs most tests in a pool of workers, browser tests included, and then,
-    alone on the machine, the `serial` ones: every `realtime` test (it keeps millisecond time
-    in the test process)."""
+    """`make pytest` runs the tests that keep no real time of their own in a pool of workers and
+    then, alone on the machine, the `serial` ones: a browser walking the real app (a page, a
+    server and the drives' clock in three processes) and every `realtime` test."""
     for item in items:
-        if item.get_closest_marker("realtime") is not None:
+        if item.path.is_relative_to(E2E) or item.get_closest_marker("realtime") is not None:
             item.add_marker(pytest.mark.serial)
 
 
