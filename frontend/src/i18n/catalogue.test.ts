@@ -62,8 +62,10 @@ const KEY_PATTERNS = [
 function usedKeys(): Map<string, Set<string>> {
   const used = new Map<string, Set<string>>();
   for (const { path, text } of FILES) {
-    // tests name files like keys ("drive.eds"): only their t() calls count
-    const patterns = /\.test\.tsx?$/.test(path) ? KEY_PATTERNS.slice(0, 2) : KEY_PATTERNS;
+    // tests and the pages' fixtures name files like keys ("drive.eds"): only their t() calls count
+    const patterns = /(\.test\.tsx?|(^|\/)fixtures\.ts)$/.test(path)
+      ? KEY_PATTERNS.slice(0, 2)
+      : KEY_PATTERNS;
     for (const pattern of patterns) {
       for (const match of text.matchAll(pattern)) {
         const key = match[1] ?? "";

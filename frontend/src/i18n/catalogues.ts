@@ -5,9 +5,13 @@ import driveZh from "./locales/drive.zh-CN.json";
 import en from "./locales/en.json";
 import faults from "./locales/faults.en.json";
 import faultsZh from "./locales/faults.zh-CN.json";
+import logs from "./locales/logs.en.json";
+import logsZh from "./locales/logs.zh-CN.json";
+import params from "./locales/params.en.json";
+import paramsZh from "./locales/params.zh-CN.json";
 import scope from "./locales/scope.en.json";
 import scopeZh from "./locales/scope.zh-CN.json";
 import zhCN from "./locales/zh-CN.json";
 
-export const EN = { ...en, ...drive, ...faults, ...scope };
-export const ZH_CN = { ...zhCN, ...driveZh, ...faultsZh, ...scopeZh };
+export const EN = { ...en, ...drive, ...faults, ...logs, ...params, ...scope };
+export const ZH_CN = { ...zhCN, ...driveZh, ...faultsZh, ...logsZh, ...paramsZh, ...scopeZh };

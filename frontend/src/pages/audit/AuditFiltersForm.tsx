@@ -1,5 +1,6 @@
 import { useId, useState, type SubmitEvent, type ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import type { AuditFilters } from "./types";
 
 export const NO_FILTERS: AuditFilters = { node: "", since: "", user: "", action: "" };
@@ -26,6 +27,7 @@ export function AuditFiltersForm({
   applied: AuditFilters;
   onApply: (filters: AuditFilters) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const [draft, setDraft] = useState(applied);
   const set = (name: keyof AuditFilters) => (event: { target: { value: string } }) =>
@@ -37,25 +39,30 @@ export function AuditFiltersForm({
   }
 
   return (
-    <form className="audit-filters" onSubmit={submit} aria-label="Audit filters">
-      <label htmlFor={`${id}-node`}>Node</label>
+    <form className="audit-filters" onSubmit={submit} aria-label={t("logs.audit.filters.label")}>
+      <label htmlFor={`${id}-node`}>{t("logs.audit.filters.node")}</label>
       <input
         id={`${id}-node`}
         className="audit-node"
         inputMode="numeric"
-        placeholder="any"
+        placeholder={t("logs.audit.filters.anyNode")}
         value={draft.node}
         onChange={set("node")}
       />
-      <label htmlFor={`${id}-since`}>Since</label>
+      <label htmlFor={`${id}-since`}>{t("logs.audit.filters.since")}</label>
       <input id={`${id}-since`} type="datetime-local" value={draft.since} onChange={set("since")} />
-      <label htmlFor={`${id}-user`}>User</label>
-      <input id={`${id}-user`} placeholder="anyone" value={draft.user} onChange={set("user")} />
-      <label htmlFor={`${id}-action`}>Action</label>
+      <label htmlFor={`${id}-user`}>{t("logs.audit.filters.user")}</label>
+      <input
+        id={`${id}-user`}
+        placeholder={t("logs.audit.filters.anyone")}
+        value={draft.user}
+        onChange={set("user")}
+      />
+      <label htmlFor={`${id}-action`}>{t("logs.audit.filters.action")}</label>
       <input
         id={`${id}-action`}
         list={`${id}-actions`}
-        placeholder="any"
+        placeholder={t("logs.audit.filters.anyAction")}
         value={draft.action}
         onChange={set("action")}
       />
@@ -65,7 +72,7 @@ export function AuditFiltersForm({
         ))}
       </datalist>
       <button type="submit" className="primary">
-        Apply filters
+        {t("logs.audit.filters.apply")}
       </button>
       <button
         type="button"
@@ -74,7 +81,7 @@ export function AuditFiltersForm({
           onApply(NO_FILTERS);
         }}
       >
-        Clear
+        {t("logs.audit.filters.clear")}
       </button>
     </form>
   );

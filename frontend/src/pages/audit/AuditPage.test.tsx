@@ -7,54 +7,10 @@ import { json, stubFetch } from "../../test/fetchStub";
 import { renderPage, sessionAs } from "../../test/render";
 import { AuditPage } from "./AuditPage";
 import { PAGE_SIZE } from "./auditApi";
-import type { AuditEntry } from "./types";
+import { entry, FAILED, UNDO, WRITE } from "./fixtures";
 
 afterEach(() => {
   vi.unstubAllGlobals();
-});
-
-const entry = (id: number, fields: Partial<AuditEntry> = {}): AuditEntry => ({
-  id,
-  time: 1_750_000_000 + id,
-  finished: 1_750_000_000 + id,
-  user: "engineer",
-  role: "engineer",
-  client: "127.0.0.1 · Firefox",
-  node: 1,
-  action: "sdo-write",
-  what: "write node 1 6081h:00 Profile velocity = 2000",
-  index: 0x6081,
-  subindex: 0,
-  old: 1000,
-  new: 2000,
-  result: "ok",
-  abort_code: null,
-  error: null,
-  message: null,
-  undo_of: null,
-  undone_by: null,
-  undoable: true,
-  ...fields,
-});
-
-const WRITE = entry(12);
-const FAILED = entry(11, {
-  index: 0x1000,
-  what: "write node 1 1000h:00",
-  old: 0x20192,
-  new: 5,
-  result: "failed",
-  abort_code: "0x06010002",
-  message: "Attempt to write a read-only object",
-  undoable: false,
-});
-const UNDO = entry(13, {
-  action: "undo",
-  what: "undo entry 12: write node 1 6081h:00 = 1000 (back from 2000)",
-  old: 2000,
-  new: 1000,
-  undo_of: 12,
-  undoable: false,
 });
 
 describe("AuditPage", () => {

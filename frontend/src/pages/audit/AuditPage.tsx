@@ -2,6 +2,7 @@ import { useMemo, useState, type ReactNode } from "react";
 
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import { AuditFiltersForm, NO_FILTERS } from "./AuditFiltersForm";
@@ -34,20 +35,28 @@ function useOlderPages(query: AuditQuery, base: AuditEntry[] | undefined) {
 }
 
 function UndoneNotice({ undo }: { undo: AuditEntry }): ReactNode {
+  const { t } = useTranslation();
   const object = objectText(undo);
+  const change = changeText(undo);
+  const detail = resultDetail(undo);
   const failed = undo.result === "failed";
+  const values = {
+    id: undo.id,
+    object: object ? t("logs.audit.notice.object", { object }) : "",
+    change: change ? t("logs.audit.notice.change", { change }) : "",
+    result: resultLabel(undo.result),
+    detail: detail ? t("logs.audit.notice.detail", { detail }) : "",
+  };
   return (
     <p className={failed ? "error-text" : "audit-notice"} role="status">
-      Undo {failed ? "failed" : "logged"} as entry {undo.id}
-      {object && ` on ${object}`}
-      {changeText(undo) && `: ${changeText(undo)}`} ({resultLabel(undo.result)}
-      {resultDetail(undo) && `, ${resultDetail(undo)}`}).
+      {failed ? t("logs.audit.notice.failed", values) : t("logs.audit.notice.logged", values)}
     </p>
   );
 }
 
 /** Who changed what on which drive, when, and whether it worked; undo for value writes. */
 export function AuditPage(): ReactNode {
+  const { t } = useTranslation();
   const [filters, setFilters] = useState<AuditFilters>(NO_FILTERS);
   const query = useMemo(() => auditQuery(filters), [filters]);
   const first = useApi((signal) => fetchAudit(query, null, signal), JSON.stringify(query));
@@ -60,13 +69,13 @@ export function AuditPage(): ReactNode {
   return (
     <section className="page audit-page">
       <header className="page-header">
-        <h1>Audit log</h1>
+        <h1>{t("logs.audit.heading")}</h1>
         <span className="spacer" />
         <button type="button" disabled={first.loading} onClick={first.reload}>
-          Refresh
+          {t("logs.audit.refresh")}
         </button>
         <a className="button-link" href={exportUrl(query)} download>
-          Export CSV
+          {t("logs.audit.export")}
         </a>
       </header>
       <section className="card">
@@ -81,10 +90,10 @@ export function AuditPage(): ReactNode {
       {undone && <UndoneNotice undo={undone} />}
       <ErrorText error={first.error} onRetry={first.reload} />
       {!first.data ? (
-        !first.error && <Spinner label="Loading the audit log" />
+        !first.error && <Spinner label={t("logs.audit.loading")} />
       ) : entries.length === 0 ? (
         <p className="muted">
-          No entries{Object.keys(query).length ? " match these filters" : " yet"}.
+          {Object.keys(query).length ? t("logs.audit.emptyFiltered") : t("logs.audit.empty")}
         </p>
       ) : (
         <section className="card">
@@ -95,19 +104,17 @@ export function AuditPage(): ReactNode {
             onUndo={setUndoing}
           />
           <div className="button-row">
-            <span className="muted small">
-              {entries.length} entr{entries.length === 1 ? "y" : "ies"} shown, newest first
-            </span>
+            <span className="muted small">{t("logs.audit.shown", { count: entries.length })}</span>
             {older.more && (
               <button
                 type="button"
                 disabled={older.load.busy}
                 onClick={() => void older.load.run()}
               >
-                Load older
+                {t("logs.audit.older")}
               </button>
             )}
-            {older.load.busy && <Spinner label="Loading older entries" />}
+            {older.load.busy && <Spinner label={t("logs.audit.loadingOlder")} />}
           </div>
           <ErrorText error={older.load.error} />
         </section>

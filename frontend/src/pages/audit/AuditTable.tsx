@@ -1,5 +1,6 @@
 import type { ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import type { Permit } from "../../session/permit";
 import { changeText, formatDateTime, objectText, resultDetail, resultLabel } from "./auditText";
 import type { AuditEntry } from "./types";
@@ -18,17 +19,18 @@ function AuditRow({
   configure: Permit;
   onUndo: (entry: AuditEntry) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const detail = resultDetail(entry);
   const classes = [`audit-${entry.result}`, fresh ? "audit-fresh" : ""].filter(Boolean);
   return (
     <tr className={classes.join(" ")} data-testid={`audit-${entry.id}`}>
-      <td className="mono small nowrap" title={`Entry ${entry.id}`}>
+      <td className="mono small nowrap" title={t("logs.audit.table.entry", { id: entry.id })}>
         {formatDateTime(entry.time)}
       </td>
       <td>
         {entry.user}
         <span className="muted small block">
-          {entry.user === SERVER_USER ? "by itself" : entry.role}
+          {entry.user === SERVER_USER ? t("logs.audit.table.byItself") : entry.role}
         </span>
       </td>
       <td className="small">{entry.client ?? "—"}</td>
@@ -37,10 +39,14 @@ function AuditRow({
         <span className="badge audit-action">{entry.action}</span>
         <span className="block audit-what">{entry.what}</span>
         {entry.undo_of !== null && (
-          <span className="muted small block">undoes entry {entry.undo_of}</span>
+          <span className="muted small block">
+            {t("logs.audit.table.undoes", { id: entry.undo_of })}
+          </span>
         )}
         {entry.undone_by !== null && (
-          <span className="muted small block">undone by entry {entry.undone_by}</span>
+          <span className="muted small block">
+            {t("logs.audit.table.undoneBy", { id: entry.undone_by })}
+          </span>
         )}
       </td>
       <td className="mono nowrap">{objectText(entry)}</td>
@@ -56,13 +62,16 @@ function AuditRow({
           <button
             type="button"
             className="small"
-            aria-label={`Undo entry ${entry.id}`}
+            aria-label={t("logs.audit.table.undoLabel", { id: entry.id })}
             onClick={() => onUndo(entry)}
-            {...configure.gate("undo a change", {
-              title: `Write ${entry.old === null ? "the old value" : String(entry.old)} back`,
+            {...configure.gate(t("logs.audit.table.gateUndo"), {
+              title:
+                entry.old === null
+                  ? t("logs.audit.table.writeOldBack")
+                  : t("logs.audit.table.writeBack", { value: String(entry.old) }),
             })}
           >
-            Undo
+            {t("logs.audit.table.undo")}
           </button>
         )}
       </td>
@@ -82,21 +91,22 @@ export function AuditTable({
   configure: Permit;
   onUndo: (entry: AuditEntry) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   return (
     <div className="table-scroll">
       <table className="data-table audit-table">
         <thead>
           <tr>
-            <th>Time</th>
-            <th>User</th>
-            <th>Client</th>
-            <th>Node</th>
-            <th>Action</th>
-            <th>Object</th>
-            <th>Old → new</th>
-            <th>Result</th>
+            <th>{t("logs.audit.table.time")}</th>
+            <th>{t("logs.audit.table.user")}</th>
+            <th>{t("logs.audit.table.client")}</th>
+            <th>{t("logs.audit.table.node")}</th>
+            <th>{t("logs.audit.table.action")}</th>
+            <th>{t("logs.audit.table.object")}</th>
+            <th>{t("logs.audit.table.change")}</th>
+            <th>{t("logs.audit.table.result")}</th>
             <th>
-              <span className="visually-hidden">Undo</span>
+              <span className="visually-hidden">{t("logs.audit.table.undo")}</span>
             </th>
           </tr>
         </thead>

@@ -2,6 +2,7 @@ import type { ReactNode } from "react";
 
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
+import { useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { undoEntry } from "./auditApi";
 import { undoText, valueText } from "./auditText";
@@ -17,6 +18,7 @@ export function UndoDialog({
   onClose: () => void;
   onUndone: (undo: AuditEntry) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const undo = useAction(async (force: boolean) => {
     onUndone(await undoEntry(entry.id, force));
   });
@@ -24,12 +26,12 @@ export function UndoDialog({
   const changed = undo.error?.kind === "changed_since";
   return (
     <Dialog
-      title={`Undo entry ${entry.id}`}
+      title={t("logs.audit.undo.title", { id: entry.id })}
       onClose={onClose}
       actions={
         <>
           <button type="button" onClick={onClose}>
-            Cancel
+            {t("logs.audit.undo.cancel")}
           </button>
           <button
             type="button"
@@ -37,7 +39,9 @@ export function UndoDialog({
             disabled={undo.busy}
             onClick={() => void undo.run(changed)}
           >
-            {changed ? "Write it back anyway" : `Write ${valueText(entry.old)} back`}
+            {changed
+              ? t("logs.audit.undo.anyway")
+              : t("logs.audit.undo.writeBack", { value: valueText(entry.old) })}
           </button>
         </>
       }
@@ -46,7 +50,7 @@ export function UndoDialog({
       <p>
         <strong>{undoText(entry)}</strong>
       </p>
-      <p className="muted small">The undo is logged as an entry of its own.</p>
+      <p className="muted small">{t("logs.audit.undo.logged")}</p>
       <ErrorText error={undo.error} />
     </Dialog>
   );

@@ -1,5 +1,6 @@
 // How an audit entry reads in the table and the undo dialog.
 import { formatAbortCode } from "../../api/errors";
+import { i18n, type MessageKey } from "../../i18n";
 import { odAddress } from "../../lib/format";
 import type { AuditEntry } from "./types";
 
@@ -27,15 +28,15 @@ export function changeText(entry: Pick<AuditEntry, "old" | "new">): string {
   return `${valueText(entry.old)} → ${valueText(entry.new)}`;
 }
 
-const RESULT_LABEL: Record<AuditEntry["result"], string> = {
-  ok: "OK",
-  failed: "Failed",
-  pending: "Pending",
-  unknown: "Unknown",
+const RESULT_LABEL: Record<AuditEntry["result"], MessageKey> = {
+  ok: "logs.audit.result.ok",
+  failed: "logs.audit.result.failed",
+  pending: "logs.audit.result.pending",
+  unknown: "logs.audit.result.unknown",
 };
 
 export function resultLabel(result: AuditEntry["result"]): string {
-  return RESULT_LABEL[result];
+  return i18n.t(RESULT_LABEL[result]);
 }
 
 /** "0x06010002 — Attempt to write a read-only object", the error, or nothing. */
@@ -51,9 +52,10 @@ export function resultDetail(entry: AuditEntry): string {
 /** The undo dialog's question: what gets written where. */
 export function undoText(entry: AuditEntry): string {
   const object = objectText(entry);
-  const target = object ? `${object}${entry.node === null ? "" : ` on node ${entry.node}`}` : "";
-  if (target) {
-    return `Write ${valueText(entry.old)} back to ${target}, replacing ${valueText(entry.new)}?`;
+  const values = { old: valueText(entry.old), new: valueText(entry.new) };
+  if (object && entry.node !== null) {
+    return i18n.t("logs.audit.undo.toNode", { ...values, object, node: entry.node });
   }
-  return `Write the previous value back (${entry.what}), replacing ${valueText(entry.new)} with ${valueText(entry.old)}?`;
+  if (object) return i18n.t("logs.audit.undo.toObject", { ...values, object });
+  return i18n.t("logs.audit.undo.previous", { ...values, what: entry.what });
 }

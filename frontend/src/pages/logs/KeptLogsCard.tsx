@@ -4,6 +4,7 @@ import { DataUsageLine } from "../../components/DataUsage";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { formatBytes, formatDateTime } from "../../lib/format";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
@@ -22,6 +23,7 @@ interface Props {
 /** The decoded logs the server keeps (the oldest go beyond the quota): open one again, or
  * delete it. */
 export function KeptLogsCard({ current, version, onOpen, onDeleted }: Props): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const operate = useMay("operate");
   const logs = useApi((signal) => keptLogs(signal), `kept-logs-${version}`);
@@ -38,21 +40,23 @@ export function KeptLogsCard({ current, version, onOpen, onDeleted }: Props): Re
   return (
     <section className="card" aria-labelledby={`${id}-h`}>
       <header className="card-header">
-        <h2 id={`${id}-h`}>Decoded logs</h2>
-        {list && <span className="muted small">{list.length} kept</span>}
-        {logs.loading && <Spinner label="Loading the decoded logs" />}
+        <h2 id={`${id}-h`}>{t("logs.page.kept.heading")}</h2>
+        {list && (
+          <span className="muted small">{t("logs.page.kept.count", { count: list.length })}</span>
+        )}
+        {logs.loading && <Spinner label={t("logs.page.kept.loading")} />}
       </header>
       <DataUsageLine kind="logs" version={version * 1000 + deleted} />
       <ErrorText error={logs.error} onRetry={logs.reload} />
-      {list?.length === 0 && <p className="muted">No decoded logs kept.</p>}
+      {list?.length === 0 && <p className="muted">{t("logs.page.kept.empty")}</p>}
       {list && list.length > 0 && (
-        <table className="data-table" aria-label="Decoded logs">
+        <table className="data-table" aria-label={t("logs.page.kept.heading")}>
           <thead>
             <tr>
-              <th>Log</th>
-              <th>Decoded</th>
-              <th className="num">Size</th>
-              <th>Open · delete</th>
+              <th>{t("logs.page.kept.log")}</th>
+              <th>{t("logs.page.kept.decoded")}</th>
+              <th className="num">{t("logs.page.kept.size")}</th>
+              <th>{t("logs.page.kept.actions")}</th>
             </tr>
           </thead>
           <tbody>
@@ -63,15 +67,15 @@ export function KeptLogsCard({ current, version, onOpen, onDeleted }: Props): Re
                 <td className="num">{formatBytes(log.size_bytes)}</td>
                 <td className="inline">
                   <button type="button" className="small" onClick={() => onOpen(log.id)}>
-                    Open
+                    {t("logs.page.kept.open")}
                   </button>
                   <button
                     type="button"
                     className="small"
-                    {...operate.gate("delete a decoded log", { disabled: remove.busy })}
+                    {...operate.gate(t("logs.page.kept.gateDelete"), { disabled: remove.busy })}
                     onClick={() => setAsking(log)}
                   >
-                    Delete
+                    {t("logs.page.kept.delete")}
                   </button>
                 </td>
               </tr>
@@ -81,12 +85,12 @@ export function KeptLogsCard({ current, version, onOpen, onDeleted }: Props): Re
       )}
       {asking && (
         <Dialog
-          title={`Delete ${asking.name}?`}
+          title={t("logs.page.kept.confirmTitle", { name: asking.name })}
           onClose={() => setAsking(null)}
           actions={
             <>
               <button type="button" onClick={() => setAsking(null)}>
-                Cancel
+                {t("logs.page.kept.cancel")}
               </button>
               <button
                 type="button"
@@ -94,15 +98,17 @@ export function KeptLogsCard({ current, version, onOpen, onDeleted }: Props): Re
                 disabled={remove.busy}
                 onClick={() => void remove.run(asking)}
               >
-                Delete {asking.name}
+                {t("logs.page.kept.confirm", { name: asking.name })}
               </button>
             </>
           }
         >
           <p>
-            The decoded events of {asking.name} ({formatBytes(asking.size_bytes)}, decoded{" "}
-            {formatDateTime(asking.created)}) are deleted from the server. Decode the file again to
-            see them; exports already downloaded stay.
+            {t("logs.page.kept.confirmText", {
+              name: asking.name,
+              size: formatBytes(asking.size_bytes),
+              time: formatDateTime(asking.created),
+            })}
           </p>
           <ErrorText error={remove.error} />
         </Dialog>

@@ -3,6 +3,7 @@ import { useState, type ReactNode } from "react";
 import { ErrorText } from "../../components/ErrorText";
 import { EventList } from "../../components/EventList";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useApi } from "../../lib/useApi";
 import { logEvents } from "./logsApi";
 import { FIRST_PAGE, currentStart, logClock, pageBack, pageForward, pageLabel } from "./logText";
@@ -19,6 +20,7 @@ export function LogEventsCard({
   result: DecodedLog;
   total: number | null;
 }): ReactNode {
+  const { t } = useTranslation();
   const [pager, setPager] = useState(FIRST_PAGE);
   // SDO reads repeated at a steady period: mostly ServoDesk's own Drive page polling
   const [hidePolling, setHidePolling] = useState(false);
@@ -35,7 +37,7 @@ export function LogEventsCard({
   return (
     <section className="card" aria-labelledby="log-events-heading">
       <header className="card-header">
-        <h2 id="log-events-heading">Decoded events</h2>
+        <h2 id="log-events-heading">{t("logs.page.events.heading")}</h2>
         <span className="muted small">{pageLabel(events, total)}</span>
         <span className="spacer" />
         <label className="inline small">
@@ -47,23 +49,23 @@ export function LogEventsCard({
               setPager(FIRST_PAGE); // the pages differ: start over
             }}
           />
-          Hide ServoDesk&apos;s own polling
+          {t("logs.page.events.hidePolling")}
         </label>
         <button
           type="button"
           disabled={pager.starts.length < 2 || page.loading}
           onClick={() => setPager(pageBack)}
         >
-          ← Previous
+          {t("logs.page.events.previous")}
         </button>
         <button
           type="button"
           disabled={next === null || page.loading}
           onClick={() => next !== null && setPager((p) => pageForward(p, next))}
         >
-          Next →
+          {t("logs.page.events.next")}
         </button>
-        {page.loading && <Spinner label="Loading events" />}
+        {page.loading && <Spinner label={t("logs.page.events.loading")} />}
       </header>
       <ErrorText error={page.error} onRetry={page.reload} />
       {events.length > 0 ? (
@@ -75,11 +77,11 @@ export function LogEventsCard({
             node: e.node,
             text: e.text,
           }))}
-          caption="Decoded events"
+          caption={t("logs.page.events.heading")}
           clock={logClock}
         />
       ) : (
-        !page.loading && <p className="muted">The log has no events.</p>
+        !page.loading && <p className="muted">{t("logs.page.events.empty")}</p>
       )}
     </section>
   );

@@ -4,62 +4,17 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 
 import { stubFetch } from "../../test/fetchStub";
 import { renderPage } from "../../test/render";
+import { decoded, event, kept, notRecording } from "./fixtures";
 import { LogsPage } from "./LogsPage";
-import type { LogEvent } from "./types";
 
 afterEach(() => {
   vi.unstubAllGlobals();
 });
 
-const event = (seq: number, kind = "sdo", text = `event ${seq}`): LogEvent => ({
-  seq,
-  time: seq / 10,
-  frame: seq + 1,
-  kind,
-  node: 1,
-  text,
-  index: null,
-  subindex: null,
-  code: null,
-  data: null,
-  polling: false,
-});
-
-const decoded = {
-  id: "abc123",
-  name: "bus.log",
-  summary: [
-    "1,200 frames over 2.500 s (+0.000 s – +2.500 s) from node 1 (MDi-S1-C).",
-    "Bus load at 500 kbit/s: peak 3.1 % in the second from +0.000 s, mean 1.2 %.",
-    "1 EMCY(s), 0 SDO abort(s), 0 heartbeat loss(es).",
-    "+1.200 s node 1 EMCY: alarm 4 位置超差 Following error",
-  ],
-  stats: {
-    frames: 1200,
-    duration_s: 2.5,
-    nodes: [1],
-    counts: { emcy: 1, sdo: 600 },
-    bitrate: 500000,
-    bus_load_peak_percent: 3.1,
-    bus_load_mean_percent: 1.2,
-    events: 700,
-    error_frames: 0,
-  },
-  events: Array.from({ length: 500 }, (_, i) => event(i)),
-  next: 500,
-};
-
 describe("LogsPage", () => {
   it("decodes an uploaded log: summary first, totals, events paged, exports", async () => {
     const stub = stubFetch({
-      "GET /api/recording": {
-        active: false,
-        format: null,
-        file: null,
-        since: null,
-        frames: 0,
-        dropped: 0,
-      },
+      "GET /api/recording": notRecording,
       "POST /api/logs/decode": decoded,
       "GET /api/logs/abc123/events": {
         events: Array.from({ length: 200 }, (_, i) => event(500 + i, "emcy", `late ${i}`)),
@@ -97,14 +52,7 @@ describe("LogsPage", () => {
 
   it("sends the DCF with the log when one is chosen", async () => {
     const stub = stubFetch({
-      "GET /api/recording": {
-        active: false,
-        format: null,
-        file: null,
-        since: null,
-        frames: 0,
-        dropped: 0,
-      },
+      "GET /api/recording": notRecording,
       "POST /api/logs/decode": decoded,
     });
     renderPage(<LogsPage />, "/logs");
@@ -169,24 +117,14 @@ describe("LogsPage", () => {
   });
 
   it("lists the decoded logs kept, opens one again and deletes one", async () => {
-    let kept = [
-      { id: "abc123", name: "bus.log", size_bytes: 3 * 1024 * 1024, created: 1795757000 },
-      { id: "def456", name: "old.blf", size_bytes: 2048, created: 1795750000 },
-    ];
+    let logs = kept;
     const stub = stubFetch({
-      "GET /api/recording": {
-        active: false,
-        format: null,
-        file: null,
-        since: null,
-        frames: 0,
-        dropped: 0,
-      },
-      "GET /api/logs": () => kept,
+      "GET /api/recording": notRecording,
+      "GET /api/logs": () => logs,
       "GET /api/logs/abc123": decoded,
       "GET /api/logs/abc123/events": { events: [], next: null },
       "DELETE /api/logs/def456": () => {
-        kept = kept.slice(0, 1);
+        logs = logs.slice(0, 1);
         return new Response(null, { status: 204 });
       },
     });

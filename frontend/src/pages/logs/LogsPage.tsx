@@ -1,5 +1,6 @@
 import { useMemo, useState, type ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { LogEventsCard } from "./LogEventsCard";
 import { LogResultView } from "./LogResultView";
@@ -12,6 +13,7 @@ import type { DecodedLog } from "./types";
 
 /** Offline analysis of a CAN log, and recording the live bus into one. */
 export function LogsPage(): ReactNode {
+  const { t } = useTranslation();
   const [log, setLog] = useState<File | null>(null);
   const [result, setResult] = useState<DecodedLog | null>(null);
   const stats = useMemo(() => (result ? parseStats(result.stats) : null), [result]);
@@ -30,7 +32,7 @@ export function LogsPage(): ReactNode {
   return (
     <section className="page logs-page">
       <header className="page-header">
-        <h1>Logs</h1>
+        <h1>{t("logs.page.heading")}</h1>
       </header>
       <LogUploadCard
         log={log}

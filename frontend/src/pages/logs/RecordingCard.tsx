@@ -2,6 +2,8 @@ import { useState, type ReactNode } from "react";
 
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { Trans, useTranslation } from "../../i18n";
+import { formatCount } from "../../lib/format";
 import { useAction, useApi } from "../../lib/useApi";
 import { usePoll } from "../../lib/usePoll";
 import { useMay } from "../../session/context";
@@ -24,6 +26,7 @@ const FORMATS: { format: RecordingFormat; label: string }[] = [
 
 /** Raw frames of the live bus into a file: start, watch it grow, stop and download. */
 export function RecordingCard({ onDecode }: { onDecode: (file: File) => void }): ReactNode {
+  const { t } = useTranslation();
   const status = useApi((signal) => recordingStatus(signal), "recording");
   const active = status.data?.active ?? false;
   // the clock for the duration moves with each poll, not with each render
@@ -55,7 +58,7 @@ export function RecordingCard({ onDecode }: { onDecode: (file: File) => void }):
   return (
     <section className="card" aria-labelledby="recording-heading">
       <header className="card-header">
-        <h2 id="recording-heading">Record the bus</h2>
+        <h2 id="recording-heading">{t("logs.page.recording.heading")}</h2>
         {data && (
           <span className={`badge${active ? " recording-on" : ""}`} role="status">
             {recordingText(data, now)}
@@ -64,7 +67,7 @@ export function RecordingCard({ onDecode }: { onDecode: (file: File) => void }):
       </header>
       <div className="inline">
         <label htmlFor="recording-format" className="muted">
-          Format
+          {t("logs.page.recording.format")}
         </label>
         <select
           id="recording-format"
@@ -82,19 +85,19 @@ export function RecordingCard({ onDecode }: { onDecode: (file: File) => void }):
           <button
             type="button"
             className="primary"
-            {...operate.gate("stop the recording", { disabled: stop.busy })}
+            {...operate.gate(t("logs.page.recording.gateStop"), { disabled: stop.busy })}
             onClick={() => void stop.run()}
           >
-            Stop and download
+            {t("logs.page.recording.stop")}
           </button>
         ) : (
           <button
             type="button"
             className="primary"
-            {...operate.gate("record the bus", { disabled: start.busy || !data })}
+            {...operate.gate(t("logs.page.recording.gateStart"), { disabled: start.busy || !data })}
             onClick={() => void start.run()}
           >
-            Start recording
+            {t("logs.page.recording.start")}
           </button>
         )}
         {(start.busy || stop.busy) && <Spinner />}
@@ -104,18 +107,21 @@ export function RecordingCard({ onDecode }: { onDecode: (file: File) => void }):
       {file && (
         <p className="inline small">
           <span>
-            Saved <span className="mono">{file.name}</span> (
-            {file.blob.size.toLocaleString("en-US")} bytes).
+            <Trans
+              i18nKey="logs.page.recording.saved"
+              values={{ name: file.name, size: formatCount(file.blob.size) }}
+              components={{ name: <span className="mono" /> }}
+            />
           </span>
           <button type="button" className="small" onClick={() => saveBlob(file.blob, file.name)}>
-            Download again
+            {t("logs.page.recording.downloadAgain")}
           </button>
           <button
             type="button"
             className="small"
             onClick={() => onDecode(new File([file.blob], file.name))}
           >
-            Analyse this recording
+            {t("logs.page.recording.analyse")}
           </button>
         </p>
       )}

@@ -1,4 +1,6 @@
 // Log results in words, and the paging of decoded events. Pure, table-tested.
+import { i18n } from "../../i18n";
+import { formatCount } from "../../lib/format";
 import type { LogEvent, LogStats, RecordingInfo } from "./types";
 
 const num = (value: unknown): number | null =>
@@ -54,22 +56,40 @@ export interface StatItem {
 /** The log's totals as label/value pairs, in the order the page shows them. */
 export function statItems(stats: LogStats): StatItem[] {
   const items: StatItem[] = [
-    { label: "Frames", value: stats.frames.toLocaleString("en-US") },
-    { label: "Duration", value: formatDuration(stats.duration_s) },
+    { label: i18n.t("logs.page.stats.frames"), value: formatCount(stats.frames) },
+    { label: i18n.t("logs.page.stats.duration"), value: formatDuration(stats.duration_s) },
   ];
   if (stats.nodes) {
-    items.push({ label: "Node ids", value: stats.nodes.length ? stats.nodes.join(", ") : "none" });
-  }
-  if (stats.bus_load_peak_percent != null) {
-    const mean = stats.bus_load_mean_percent;
     items.push({
-      label: "Bus load",
-      value: `peak ${stats.bus_load_peak_percent.toFixed(1)} %${mean == null ? "" : `, mean ${mean.toFixed(1)} %`}`,
+      label: i18n.t("logs.page.stats.nodes"),
+      value: stats.nodes.length
+        ? stats.nodes.join(i18n.t("common.listSeparator"))
+        : i18n.t("logs.page.stats.noNodes"),
     });
   }
-  if (stats.bitrate) items.push({ label: "Bitrate", value: `${stats.bitrate / 1000} kbit/s` });
-  if (stats.events != null) items.push({ label: "Events", value: String(stats.events) });
-  if (stats.error_frames) items.push({ label: "Error frames", value: String(stats.error_frames) });
+  if (stats.bus_load_peak_percent != null) {
+    const peak = stats.bus_load_peak_percent.toFixed(1);
+    const mean = stats.bus_load_mean_percent;
+    items.push({
+      label: i18n.t("logs.page.stats.busLoad"),
+      value:
+        mean == null
+          ? i18n.t("logs.page.stats.peak", { peak })
+          : i18n.t("logs.page.stats.peakMean", { peak, mean: mean.toFixed(1) }),
+    });
+  }
+  if (stats.bitrate) {
+    items.push({
+      label: i18n.t("logs.page.stats.bitrate"),
+      value: `${stats.bitrate / 1000} kbit/s`,
+    });
+  }
+  if (stats.events != null) {
+    items.push({ label: i18n.t("logs.page.stats.events"), value: String(stats.events) });
+  }
+  if (stats.error_frames) {
+    items.push({ label: i18n.t("logs.page.stats.errorFrames"), value: String(stats.error_frames) });
+  }
   return items;
 }
 
@@ -78,7 +98,7 @@ export function countsText(counts: Record<string, number>): string {
   return Object.entries(counts)
     .filter(([kind, n]) => n > 0 && kind !== "frame")
     .sort((a, b) => b[1] - a[1] || a[0].localeCompare(b[0]))
-    .map(([kind, n]) => `${kind} ${n.toLocaleString("en-US")}`)
+    .map(([kind, n]) => `${kind} ${formatCount(n)}`)
     .join(" · ");
 }
 
@@ -106,17 +126,29 @@ export function pageBack(pager: Pager): Pager {
 export function pageLabel(page: readonly LogEvent[], total: number | null): string {
   const first = page[0];
   const last = page[page.length - 1];
-  if (!first || !last) return "No events";
-  const n = (v: number): string => v.toLocaleString("en-US");
-  const of = total == null ? "" : ` of ${n(total)}`;
-  return `Events ${n(first.seq + 1)}–${n(last.seq + 1)}${of}`;
+  if (!first || !last) return i18n.t("logs.page.events.none");
+  const range = { first: formatCount(first.seq + 1), last: formatCount(last.seq + 1) };
+  return total == null
+    ? i18n.t("logs.page.events.range", range)
+    : i18n.t("logs.page.events.rangeOf", { ...range, total: formatCount(total) });
 }
 
 /** "Recording BLF: 1,234 frames, 12.000 s (3 dropped)" or "Not recording". */
 export function recordingText(info: RecordingInfo, now: number): string {
-  if (!info.active) return "Not recording";
-  const format = info.format ? ` ${info.format.toUpperCase()}` : "";
-  const duration = info.since == null ? "" : `, ${formatDuration(Math.max(0, now - info.since))}`;
-  const dropped = info.dropped ? ` (${info.dropped.toLocaleString("en-US")} dropped)` : "";
-  return `Recording${format}: ${info.frames.toLocaleString("en-US")} frames${duration}${dropped}`;
+  if (!info.active) return i18n.t("logs.page.recording.off");
+  const duration =
+    info.since == null
+      ? ""
+      : i18n.t("logs.page.recording.duration", {
+          duration: formatDuration(Math.max(0, now - info.since)),
+        });
+  const dropped = info.dropped
+    ? i18n.t("logs.page.recording.dropped", { dropped: formatCount(info.dropped) })
+    : "";
+  return i18n.t("logs.page.recording.on", {
+    format: info.format ? ` ${info.format.toUpperCase()}` : "",
+    frames: formatCount(info.frames),
+    duration,
+    dropped,
+  });
 }

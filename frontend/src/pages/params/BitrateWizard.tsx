@@ -5,6 +5,7 @@ import type { BitrateChangeResult, BitrateOptions } from "../../api/types";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { formatBitrate } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
@@ -14,6 +15,7 @@ import { useMay } from "../../session/context";
  * rates the node's profile can set are offered; a drive that sets its bitrate elsewhere says
  * so instead of offering a change that cannot succeed. */
 export function BitrateWizard({ node }: { node: number }): ReactNode {
+  const { t } = useTranslation();
   const selectId = useId();
   const store = useLiveStore();
   const bus = useLive((s) => s.bus);
@@ -64,7 +66,7 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
     setOptions(null);
   }
 
-  const title = `Change the bitrate of node ${node}`;
+  const title = t("params.bitrate.title", { node });
   return (
     <>
       <button
@@ -73,9 +75,9 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
           setOpen(true);
           void fetchOptions.run();
         }}
-        {...configure.gate("change the bitrate")}
+        {...configure.gate(t("params.bitrate.gate"))}
       >
-        Change bitrate…
+        {t("params.bitrate.open")}
       </button>
       {open && !result && options && !options.settable && (
         <Dialog
@@ -83,15 +85,12 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
           onClose={close}
           actions={
             <button type="button" onClick={close}>
-              Close
+              {t("params.close")}
             </button>
           }
         >
           <p role="status">{options.note}</p>
-          <p>
-            Set the same bitrate on the drive itself, then reconnect the bus at it on the Network
-            page.
-          </p>
+          <p>{t("params.bitrate.elsewhere")}</p>
         </Dialog>
       )}
       {open && !result && !options && (
@@ -100,11 +99,11 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
           onClose={close}
           actions={
             <button type="button" onClick={close}>
-              Cancel
+              {t("params.cancel")}
             </button>
           }
         >
-          {fetchOptions.busy && <Spinner label="Reading the supported bitrates" />}
+          {fetchOptions.busy && <Spinner label={t("params.bitrate.reading")} />}
           <ErrorText error={fetchOptions.error} onRetry={() => void fetchOptions.run()} />
         </Dialog>
       )}
@@ -115,7 +114,7 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
           actions={
             <>
               <button type="button" onClick={close}>
-                Cancel
+                {t("params.cancel")}
               </button>
               <button
                 type="button"
@@ -123,43 +122,44 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
                 disabled={change.busy}
                 onClick={() => void change.run()}
               >
-                Change bitrate
+                {t("params.bitrate.submit")}
               </button>
-              {change.busy && <Spinner label="Changing bitrate" />}
+              {change.busy && <Spinner label={t("params.bitrate.changing")} />}
             </>
           }
         >
-          <label htmlFor={selectId}>New bitrate</label>
+          <label htmlFor={selectId}>{t("params.bitrate.label")}</label>
           <select id={selectId} value={bitrate} onChange={(e) => setBitrate(e.target.value)}>
             {options.supported.map((rate) => (
               <option key={rate} value={String(rate)}>
-                {formatBitrate(rate)}
-                {rate === options.current ? " (now)" : ""}
+                {rate === options.current
+                  ? t("params.bitrate.now", { rate: formatBitrate(rate) })
+                  : formatBitrate(rate)}
               </option>
             ))}
           </select>
           <p className="muted small">{options.note}</p>
+          <p>{t("params.bitrate.serverWill")}</p>
           <p>
-            The server will write the drive's bitrate parameter, store the parameters and reset the
-            node.
-          </p>
-          <p>
-            From then on node {node} talks only at {formatBitrate(Number(bitrate))}: it disappears
-            from this bus
-            {bus?.bitrate ? ` (now ${formatBitrate(bus.bitrate)})` : ""} until the bus is
-            reconnected at the new bitrate. Every other node on the bus must be changed too.
+            {bus?.bitrate
+              ? t("params.bitrate.disappearsNow", {
+                  node,
+                  rate: formatBitrate(Number(bitrate)),
+                  now: formatBitrate(bus.bitrate),
+                })
+              : t("params.bitrate.disappears", { node, rate: formatBitrate(Number(bitrate)) })}
           </p>
           <ErrorText error={change.error} />
         </Dialog>
       )}
       {open && result && (
         <Dialog
-          title="Bitrate changed"
+          title={t("params.bitrate.changed")}
           onClose={close}
           actions={
             <>
               <button type="button" onClick={close}>
-                Later
+                {t("params.bitrate.later")}
               </button>
               <button
                 type="button"
@@ -167,9 +167,9 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
                 disabled={reconnect.busy}
                 onClick={() => void reconnect.run(result.bitrate)}
               >
-                Reconnect the bus at {formatBitrate(result.bitrate)}
+                {t("params.bitrate.reconnect", { rate: formatBitrate(result.bitrate) })}
               </button>
-              {reconnect.busy && <Spinner label="Reconnecting" />}
+              {reconnect.busy && <Spinner label={t("params.bitrate.reconnecting")} />}
             </>
           }
         >
@@ -178,10 +178,7 @@ export function BitrateWizard({ node }: { node: number }): ReactNode {
               <li key={i}>{step}</li>
             ))}
           </ol>
-          <p>
-            The node now uses {formatBitrate(result.bitrate)}. Reconnect the bus at that bitrate to
-            talk to it again (the Network page's Connect form does the same).
-          </p>
+          <p>{t("params.bitrate.nowUses", { rate: formatBitrate(result.bitrate) })}</p>
           <ErrorText error={reconnect.error} />
         </Dialog>
       )}

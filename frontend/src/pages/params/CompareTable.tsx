@@ -1,6 +1,7 @@
 import { useId, useState, type ReactNode } from "react";
 
 import type { CompareResult } from "../../api/types";
+import { useTranslation } from "../../i18n";
 import { odAddress } from "../../lib/format";
 
 interface Props {
@@ -11,6 +12,7 @@ interface Props {
 
 /** Device vs file vs EDS default, differing rows highlighted, optionally only those. */
 export function CompareTable({ result, withFile }: Props): ReactNode {
+  const { t } = useTranslation();
   const filterId = useId();
   const [onlyDiffs, setOnlyDiffs] = useState(true);
   const differs = (row: CompareResult["rows"][number]): boolean =>
@@ -27,23 +29,24 @@ export function CompareTable({ result, withFile }: Props): ReactNode {
             checked={onlyDiffs}
             onChange={(e) => setOnlyDiffs(e.target.checked)}
           />
-          Only differences
+          {t("params.compare.onlyDifferences")}
         </label>
         <span className="muted small" role="status">
-          {count} of {result.rows.length} entries differ from the{" "}
-          {withFile ? "file" : "EDS default"}
+          {withFile
+            ? t("params.compare.differFromFile", { differ: count, total: result.rows.length })
+            : t("params.compare.differFromDefault", { differ: count, total: result.rows.length })}
         </span>
       </div>
       <div className="table-scroll compare-scroll">
         <table className="data-table">
           <thead>
             <tr>
-              <th scope="col">Name</th>
-              <th scope="col">Index</th>
-              <th scope="col">Device</th>
-              <th scope="col">File</th>
-              <th scope="col">EDS default</th>
-              <th scope="col">Unit</th>
+              <th scope="col">{t("params.compare.name")}</th>
+              <th scope="col">{t("params.compare.index")}</th>
+              <th scope="col">{t("params.compare.device")}</th>
+              <th scope="col">{t("params.compare.file")}</th>
+              <th scope="col">{t("params.compare.edsDefault")}</th>
+              <th scope="col">{t("params.compare.unit")}</th>
             </tr>
           </thead>
           <tbody>
@@ -66,7 +69,7 @@ export function CompareTable({ result, withFile }: Props): ReactNode {
             ))}
           </tbody>
         </table>
-        {rows.length === 0 && <p className="muted">No differences.</p>}
+        {rows.length === 0 && <p className="muted">{t("params.compare.none")}</p>}
       </div>
     </div>
   );

@@ -3,6 +3,7 @@ import { useState, type ReactNode } from "react";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 
 interface Props {
@@ -27,6 +28,7 @@ export function ConfirmAction({
   title,
   onConfirm,
 }: Props): ReactNode {
+  const { t } = useTranslation();
   const [open, setOpen] = useState(false);
   const [message, setMessage] = useState<string | null>(null);
   const action = useAction(async () => {
@@ -58,7 +60,7 @@ export function ConfirmAction({
           actions={
             <>
               <button type="button" onClick={() => setOpen(false)}>
-                Cancel
+                {t("params.cancel")}
               </button>
               <button
                 type="button"

@@ -5,6 +5,7 @@ import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import type { ApiError } from "../../api/errors";
+import { useTranslation } from "../../i18n";
 import { odAddress } from "../../lib/format";
 
 interface Props {
@@ -29,6 +30,7 @@ export function LoadDcfDialog({
   onWrite,
   onClose,
 }: Props): ReactNode {
+  const { t } = useTranslation();
   const [otherDevice, setOtherDevice] = useState(false);
   const changes = preview.rows.filter((row) => row.differs_from_file);
   const identity = preview.identity;
@@ -39,12 +41,12 @@ export function LoadDcfDialog({
   const count = changes.length;
   return (
     <Dialog
-      title={`Load ${filename} onto node ${node}`}
+      title={t("params.load.title", { filename, node })}
       onClose={onClose}
       actions={
         <>
           <button type="button" onClick={onClose}>
-            Cancel
+            {t("params.cancel")}
           </button>
           <button
             type="button"
@@ -52,9 +54,9 @@ export function LoadDcfDialog({
             disabled={busy || (mismatch && !otherDevice)}
             onClick={() => onWrite(mismatch)}
           >
-            {count === 0 ? "Write the set anyway" : `Write ${count} value${count === 1 ? "" : "s"}`}
+            {count === 0 ? t("params.load.writeAnyway") : t("params.load.writeValues", { count })}
           </button>
-          {busy && <Spinner label="Writing the parameter set" />}
+          {busy && <Spinner label={t("params.load.writing")} />}
         </>
       }
     >
@@ -65,15 +67,14 @@ export function LoadDcfDialog({
               {question === identity?.message ? (
                 <>
                   <strong>
-                    {otherKind
-                      ? "This file is for another device."
-                      : "This file cannot be checked against the node."}
+                    {otherKind ? t("params.load.otherDevice") : t("params.load.unchecked")}
                   </strong>{" "}
-                  {question}. Its values may mean something else on node {node}.
+                  {t("params.load.otherMeaning", { question, node })}
                 </>
               ) : (
                 <>
-                  <strong>Check before writing:</strong> {question}.
+                  <strong>{t("params.load.checkFirst")}</strong>{" "}
+                  {t("params.load.question", { question })}
                 </>
               )}
             </p>
@@ -84,25 +85,25 @@ export function LoadDcfDialog({
               checked={otherDevice}
               onChange={(e) => setOtherDevice(e.target.checked)}
             />
-            Write it to node {node} anyway
+            {t("params.load.writeToNode", { node })}
           </label>
         </div>
       )}
       <p>
         {count === 0
-          ? `Node ${node} already has every value of ${filename}: nothing would change.`
-          : `${count} value${count === 1 ? "" : "s"} on node ${node} would change. Nothing has been written yet.`}
+          ? t("params.load.nothing", { node, filename })
+          : t("params.load.wouldChange", { count, node })}
       </p>
       {count > 0 && (
         <div className="table-scroll compare-scroll">
-          <table className="data-table" aria-label="Values that would change">
+          <table className="data-table" aria-label={t("params.load.table")}>
             <thead>
               <tr>
-                <th scope="col">Name</th>
-                <th scope="col">Index</th>
-                <th scope="col">Device now</th>
-                <th scope="col">From the file</th>
-                <th scope="col">Unit</th>
+                <th scope="col">{t("params.load.name")}</th>
+                <th scope="col">{t("params.load.index")}</th>
+                <th scope="col">{t("params.load.deviceNow")}</th>
+                <th scope="col">{t("params.load.fromFile")}</th>
+                <th scope="col">{t("params.load.unit")}</th>
               </tr>
             </thead>
             <tbody>

@@ -6,6 +6,7 @@ import type { components } from "../../api/schema";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
 import { refreshNodes } from "../../live/nodes";
@@ -14,13 +15,16 @@ import { useMay } from "../../session/context";
 
 type NodeIdOptions = components["schemas"]["NodeIdOptions"];
 
+/** What the node's new page says: "Node 3 is now node 5" in its language, the server's steps. */
 export interface StepsNotice {
-  title: string;
+  oldNode: number;
+  newNode: number;
   steps: readonly string[];
 }
 
 /** Change the node id: the server writes it, stores, resets and follows the node. */
 export function NodeIdWizard({ node }: { node: number }): ReactNode {
+  const { t } = useTranslation();
   const inputId = useId();
   const navigate = useNavigate();
   const store = useLiveStore();
@@ -52,7 +56,8 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
     store.upsertInfo(result.node);
     void refreshNodes(store); // the old id is gone from the list
     const notice: StepsNotice = {
-      title: `Node ${result.old_node} is now node ${result.new_node}`,
+      oldNode: result.old_node,
+      newNode: result.new_node,
       steps: result.steps,
     };
     setOpen(false);
@@ -60,18 +65,18 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
   });
 
   const configure = useMay("configure");
-  const title = `Change the node ID of node ${node}`;
+  const title = t("params.nodeId.title", { node });
   const close = (): void => setOpen(false);
 
   function submit(event: SubmitEvent): void {
     event.preventDefault();
     const value = Number(text.trim());
     if (!/^\d+$/.test(text.trim()) || value < 1 || value > 127) {
-      setInputError("A node id is 1–127");
+      setInputError(t("params.nodeId.invalid"));
       return;
     }
     if (value === node) {
-      setInputError(`The node already has id ${node}`);
+      setInputError(t("params.nodeId.same", { node }));
       return;
     }
     setInputError(null);
@@ -86,9 +91,9 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
           setOpen(true);
           void fetchOptions.run();
         }}
-        {...configure.gate("change the node ID")}
+        {...configure.gate(t("params.nodeId.gate"))}
       >
-        Change node ID…
+        {t("params.nodeId.open")}
       </button>
       {open && !options && (
         <Dialog
@@ -96,11 +101,11 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
           onClose={close}
           actions={
             <button type="button" onClick={close}>
-              Cancel
+              {t("params.cancel")}
             </button>
           }
         >
-          {fetchOptions.busy && <Spinner label="Asking how the node's id is set" />}
+          {fetchOptions.busy && <Spinner label={t("params.nodeId.asking")} />}
           <ErrorText error={fetchOptions.error} onRetry={() => void fetchOptions.run()} />
         </Dialog>
       )}
@@ -110,12 +115,12 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
           onClose={close}
           actions={
             <button type="button" onClick={close}>
-              Close
+              {t("params.close")}
             </button>
           }
         >
           <p role="status">{options.note}</p>
-          <p>After changing it there, scan the bus on the Network page.</p>
+          <p>{t("params.nodeId.elsewhere")}</p>
         </Dialog>
       )}
       {open && options?.settable && (
@@ -125,7 +130,7 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
           actions={
             <>
               <button type="button" onClick={close}>
-                Cancel
+                {t("params.cancel")}
               </button>
               <button
                 type="submit"
@@ -133,14 +138,14 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
                 className="primary"
                 disabled={change.busy}
               >
-                Change node ID
+                {t("params.nodeId.submit")}
               </button>
-              {change.busy && <Spinner label="Changing node ID" />}
+              {change.busy && <Spinner label={t("params.nodeId.changing")} />}
             </>
           }
         >
           <form id={`${inputId}-form`} onSubmit={submit} noValidate>
-            <label htmlFor={inputId}>New node ID (1–127)</label>
+            <label htmlFor={inputId}>{t("params.nodeId.label")}</label>
             <input
               id={inputId}
               className="narrow num"
@@ -151,17 +156,14 @@ export function NodeIdWizard({ node }: { node: number }): ReactNode {
             />
           </form>
           <p className="muted small">{options.note}</p>
-          <p>The server will:</p>
+          <p>{t("params.nodeId.serverWill")}</p>
           <ol className="steps">
-            <li>write the new id to the drive's node-id parameter,</li>
-            <li>store the parameters (1010h) so the id survives a power cycle,</li>
-            <li>reset the node,</li>
-            <li>wait for its boot-up message at the new id and move this node there.</li>
+            <li>{t("params.nodeId.stepWrite")}</li>
+            <li>{t("params.nodeId.stepStore")}</li>
+            <li>{t("params.nodeId.stepReset")}</li>
+            <li>{t("params.nodeId.stepFollow")}</li>
           </ol>
-          <p className="muted small">
-            Anything else on the bus that talks to node {node} by id (a PLC, PDO COB-IDs derived
-            from the id) has to follow.
-          </p>
+          <p className="muted small">{t("params.nodeId.others", { node })}</p>
           <ErrorText error={inputError ?? change.error} />
         </Dialog>
       )}

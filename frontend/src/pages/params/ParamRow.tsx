@@ -4,6 +4,7 @@ import { api, call } from "../../api/client";
 import type { Param, ParamWriteResult } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { formatValue } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
@@ -23,9 +24,10 @@ function choiceText(param: Param, value: number | null | undefined): string {
 
 /** One catalogue parameter: its value editable in place, the server's answer beside it. */
 export const ParamRow = memo(function ParamRow({ node, param, onWritten }: Props): ReactNode {
+  const { t } = useTranslation();
   const inputId = useId();
   const configure = useMay("configure");
-  const why = configure.because("write parameters");
+  const why = configure.because(t("params.row.gate"));
   const [text, setText] = useState<string | null>(null);
   const [inputError, setInputError] = useState<string | null>(null);
   const [message, setMessage] = useState<string | null>(null);
@@ -86,7 +88,9 @@ export const ParamRow = memo(function ParamRow({ node, param, onWritten }: Props
               >
                 {param.value == null && <option value="">—</option>}
                 {param.value != null && !(String(param.value) in param.choices) && (
-                  <option value={String(param.value)}>{param.value} (not in list)</option>
+                  <option value={String(param.value)}>
+                    {t("params.row.notInList", { value: param.value })}
+                  </option>
                 )}
                 {choices.map(([value, text]) => (
                   <option key={value} value={value}>
@@ -114,12 +118,12 @@ export const ParamRow = memo(function ParamRow({ node, param, onWritten }: Props
             <button
               type="submit"
               className="small"
-              {...configure.gate("write parameters", { disabled: write.busy || !dirty })}
-              aria-label={`Write ${param.name}`}
+              {...configure.gate(t("params.row.gate"), { disabled: write.busy || !dirty })}
+              aria-label={t("params.row.writeNamed", { name: param.name })}
             >
-              Write
+              {t("params.row.write")}
             </button>
-            {write.busy && <Spinner label={`Writing ${param.name}`} />}
+            {write.busy && <Spinner label={t("params.row.writing", { name: param.name })} />}
           </form>
           {param.error && <ErrorText error={param.error} />}
         </td>
@@ -132,14 +136,11 @@ export const ParamRow = memo(function ParamRow({ node, param, onWritten }: Props
         </td>
         <td>
           <span className={`badge effect-${param.takes_effect}`}>
-            {TAKES_EFFECT_LABELS[param.takes_effect]}
+            {t(TAKES_EFFECT_LABELS[param.takes_effect])}
           </span>
           {param.pending && (
-            <span
-              className="badge pending"
-              title="Written since the drive last booted: it still works with the value it had"
-            >
-              pending until reset
+            <span className="badge pending" title={t("params.row.pendingTitle")}>
+              {t("params.row.pending")}
             </span>
           )}
         </td>

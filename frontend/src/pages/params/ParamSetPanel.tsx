@@ -7,6 +7,7 @@ import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { FilePicker } from "../../components/FilePicker";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { formatValue, odAddress } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
@@ -34,14 +35,19 @@ function download(text: string, filename: string): void {
 }
 
 function LoadResult({ result }: { result: DcfLoadResult }): ReactNode {
+  const { t } = useTranslation();
   return (
     <div className="load-result" role="status">
       <p>
-        Written {result.written}, skipped {result.skipped}, failed {result.failed.length}, differing
-        after read-back {result.differences.length}.
+        {t("params.set.result", {
+          written: result.written,
+          skipped: result.skipped,
+          failed: result.failed.length,
+          differing: result.differences.length,
+        })}
       </p>
       {result.warnings.length > 0 && (
-        <ul className="compact-list" aria-label="Written, but check">
+        <ul className="compact-list" aria-label={t("params.set.warnings")}>
           {result.warnings.map((warning) => (
             <li key={warning} className="warn-text">
               {warning}
@@ -53,7 +59,8 @@ function LoadResult({ result }: { result: DcfLoadResult }): ReactNode {
         <ul className="compact-list">
           {result.failed.map((f) => (
             <li key={`${f.index}:${f.subindex}`}>
-              <span className="mono">{odAddress(f.index, f.subindex)}</span> {f.name}:{" "}
+              <span className="mono">{odAddress(f.index, f.subindex)}</span>{" "}
+              {t("params.set.failed", { name: f.name })}{" "}
               <span className="error-text inline-error">
                 {f.abort_code ? `${f.abort_code} — ` : ""}
                 {f.message}
@@ -66,9 +73,10 @@ function LoadResult({ result }: { result: DcfLoadResult }): ReactNode {
         <ul className="compact-list">
           {result.differences.map((d) => (
             <li key={`${d.index}:${d.subindex}`}>
-              <span className="mono">{odAddress(d.index, d.subindex)}</span> {d.name}: expected{" "}
-              <span className="mono">{formatValue(d.expected)}</span>, device has{" "}
-              <span className="mono">{formatValue(d.actual)}</span>
+              <span className="mono">{odAddress(d.index, d.subindex)}</span>{" "}
+              {t("params.set.expected", { name: d.name })}{" "}
+              <span className="mono">{formatValue(d.expected)}</span>
+              {t("params.set.deviceHas")} <span className="mono">{formatValue(d.actual)}</span>
             </li>
           ))}
         </ul>
@@ -88,6 +96,7 @@ function CompareDialog({
   busy: boolean;
   error: ApiError | null;
 }): ReactNode {
+  const { t } = useTranslation();
   const fileId = useId();
   const [file, setFile] = useState<File | null>(null);
   function submit(event: SubmitEvent): void {
@@ -96,21 +105,21 @@ function CompareDialog({
   }
   return (
     <Dialog
-      title="Compare the node's parameters"
+      title={t("params.compareDialog.title")}
       onClose={onClose}
       actions={
         <>
           <button type="button" onClick={onClose}>
-            Cancel
+            {t("params.cancel")}
           </button>
           <button type="submit" form={`${fileId}-form`} className="primary" disabled={busy}>
-            Compare
+            {t("params.compareDialog.submit")}
           </button>
         </>
       }
     >
       <form id={`${fileId}-form`} onSubmit={submit}>
-        <label htmlFor={fileId}>DCF file to compare with (optional)</label>
+        <label htmlFor={fileId}>{t("params.compareDialog.file")}</label>
         <input
           id={fileId}
           type="file"
@@ -118,11 +127,8 @@ function CompareDialog({
           onChange={(e) => setFile(e.target.files?.[0] ?? null)}
         />
       </form>
-      <p className="muted small">
-        Reads every value from the device and lists it beside the file's value and the EDS default.
-        Without a file, the device is compared with the defaults only.
-      </p>
-      {busy && <Spinner label="Comparing" />}
+      <p className="muted small">{t("params.compareDialog.hint")}</p>
+      {busy && <Spinner label={t("params.compareDialog.comparing")} />}
       <ErrorText error={error} />
     </Dialog>
   );
@@ -178,26 +184,27 @@ export function ParamSetPanel({ node }: { node: number }): ReactNode {
     setComparison({ result, withFile: file !== null });
     setCompareOpen(false);
   });
+  const { t } = useTranslation();
   const busy = save.busy || preview.busy || load.busy || compare.busy;
   const configure = useMay("configure");
 
   return (
     <section className="card" aria-labelledby="paramset-heading">
       <header className="card-header">
-        <h2 id="paramset-heading">Parameter set</h2>
+        <h2 id="paramset-heading">{t("params.set.heading")}</h2>
         <button type="button" disabled={busy} onClick={() => void save.run()}>
-          Save DCF
+          {t("params.set.saveDcf")}
         </button>
         <FilePicker
-          label="Load DCF…"
+          label={t("params.set.loadDcf")}
           accept={DCF_TYPES}
-          {...configure.gate("load a DCF onto the node", { disabled: busy })}
+          {...configure.gate(t("params.set.gateLoad"), { disabled: busy })}
           onFile={(f) => void preview.run(f)}
         />
         <button type="button" disabled={busy} onClick={() => setCompareOpen(true)}>
-          Compare…
+          {t("params.set.compare")}
         </button>
-        {busy && <Spinner label="Working on the parameter set" />}
+        {busy && <Spinner label={t("params.set.working")} />}
       </header>
       <ErrorText
         error={

@@ -5,6 +5,7 @@ import { api, call } from "../../api/client";
 import type { ParamWriteResult } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import { BitrateWizard } from "./BitrateWizard";
@@ -17,17 +18,24 @@ import { ResetAfterRestore } from "./ResetAfterRestore";
 function isNotice(value: unknown): value is { notice: StepsNotice } {
   if (typeof value !== "object" || value === null || !("notice" in value)) return false;
   const { notice } = value;
-  return typeof notice === "object" && notice !== null && "steps" in notice;
+  return (
+    typeof notice === "object" &&
+    notice !== null &&
+    "steps" in notice &&
+    "oldNode" in notice &&
+    "newNode" in notice
+  );
 }
 
 /** Steps the server carried out for a node-id change, shown on the node's new page. */
 function Notice(): ReactNode {
+  const { t } = useTranslation();
   // Router state is whatever the previous page put there: checked before use.
   const state: unknown = useLocation().state;
   if (!isNotice(state)) return null;
   return (
     <section className="card notice" role="status">
-      <h2>{state.notice.title}</h2>
+      <h2>{t("params.nodeId.moved", { old: state.notice.oldNode, new: state.notice.newNode })}</h2>
       <ol className="steps">
         {state.notice.steps.map((step, i) => (
           <li key={i}>{step}</li>
@@ -39,6 +47,7 @@ function Notice(): ReactNode {
 
 /** The drive's parameters by their manual names (PA-14 …), and the node's parameter set. */
 export function ParamsPage({ node }: { node: number }): ReactNode {
+  const { t } = useTranslation();
   const params = useApi(
     (signal) => call(api.GET("/api/nodes/{node}/params", { params: { path: { node } }, signal })),
     `params-${node}`,
@@ -61,23 +70,17 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
       {!generic && (
         <section className="card" aria-labelledby="params-heading">
           <header className="card-header">
-            <h2 id="params-heading">Parameters</h2>
+            <h2 id="params-heading">{t("params.page.heading")}</h2>
             <button type="button" disabled={params.loading} onClick={params.reload}>
-              Read again
+              {t("params.page.readAgain")}
             </button>
-            {params.loading && <Spinner label="Reading parameters" />}
+            {params.loading && <Spinner label={t("params.page.reading")} />}
             <span className="spacer" />
             <ConfirmAction
-              label="Store parameters"
-              confirmLabel="Store"
-              {...configure.gate("store parameters")}
-              explanation={
-                <p>
-                  Writes "save" to 1010h:01: node {node} copies its current parameters into
-                  non-volatile memory and keeps them after a reset or power cycle. Parameters marked
-                  "after store + reset" only take effect once they are stored.
-                </p>
-              }
+              label={t("params.page.store.label")}
+              confirmLabel={t("params.page.store.confirm")}
+              {...configure.gate(t("params.page.store.gate"))}
+              explanation={<p>{t("params.page.store.explanation", { node })}</p>}
               onConfirm={async () =>
                 (
                   await call(
@@ -90,16 +93,10 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
               }
             />
             <ConfirmAction
-              label="Restore defaults"
-              confirmLabel="Restore defaults"
-              {...configure.gate("restore the defaults")}
-              explanation={
-                <p>
-                  Writes "load" to 1011h:01: node {node} replaces its stored parameters with the
-                  factory defaults. They take effect after the next reset; values you have not saved
-                  elsewhere (Save DCF) are lost.
-                </p>
-              }
+              label={t("params.page.restore.label")}
+              confirmLabel={t("params.page.restore.confirm")}
+              {...configure.gate(t("params.page.restore.gate"))}
+              explanation={<p>{t("params.page.restore.explanation", { node })}</p>}
               onConfirm={async () => {
                 await call(
                   api.POST("/api/nodes/{node}/restore-defaults", {
@@ -122,13 +119,13 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
               <table className="data-table params-table">
                 <thead>
                   <tr>
-                    <th scope="col">Name</th>
-                    <th scope="col">Label</th>
-                    <th scope="col">Value</th>
-                    <th scope="col">Unit</th>
-                    <th scope="col">Range</th>
-                    <th scope="col">Default</th>
-                    <th scope="col">Takes effect</th>
+                    <th scope="col">{t("params.page.column.name")}</th>
+                    <th scope="col">{t("params.page.column.label")}</th>
+                    <th scope="col">{t("params.page.column.value")}</th>
+                    <th scope="col">{t("params.page.column.unit")}</th>
+                    <th scope="col">{t("params.page.column.range")}</th>
+                    <th scope="col">{t("params.page.column.default")}</th>
+                    <th scope="col">{t("params.page.column.takesEffect")}</th>
                   </tr>
                 </thead>
                 <tbody>
@@ -143,12 +140,8 @@ export function ParamsPage({ node }: { node: number }): ReactNode {
       )}
       {generic && (
         <section className="card">
-          <h2>No parameter catalogue</h2>
-          <p>
-            Node {node} uses a generic profile, so ServoDesk has no list of named parameters for it.
-            Every object is still readable and writable on the Object dictionary tab, and its
-            configuration can be saved, loaded and compared as a DCF below.
-          </p>
+          <h2>{t("params.page.noCatalogue")}</h2>
+          <p>{t("params.page.generic", { node })}</p>
         </section>
       )}
       <ParamSetPanel node={node} />

@@ -1,6 +1,7 @@
 import type { ReactNode } from "react";
 
 import { api, call } from "../../api/client";
+import { useTranslation } from "../../i18n";
 import { useMay } from "../../session/context";
 import { ConfirmAction } from "./ConfirmAction";
 
@@ -20,6 +21,7 @@ export function ResetAfterRestore({
   node: number;
   onBack: () => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const configure = useMay("configure");
   async function reset(): Promise<string> {
     await call(
@@ -39,32 +41,22 @@ export function ResetAfterRestore({
           }),
         );
         onBack();
-        return `Node ${node} was reset and answers again: the values below are the ones it runs with now.`;
+        return t("params.reset.answers", { node });
       } catch {
         // still booting
       }
     }
-    throw new Error(
-      `node ${node} did not answer within ${BOOT_WAIT_MS / 1000} s after the reset; check its power and wiring, then use Read again`,
-    );
+    throw new Error(t("params.reset.noAnswer", { node, seconds: BOOT_WAIT_MS / 1000 }));
   }
 
   return (
-    <section className="card notice" role="status" aria-label="Restored defaults">
-      <p>
-        Node {node} restored its default parameters. They take effect after a reset of the node.
-      </p>
+    <section className="card notice" role="status" aria-label={t("params.reset.region")}>
+      <p>{t("params.reset.restored", { node })}</p>
       <ConfirmAction
-        label={`Reset node ${node} now`}
-        confirmLabel="Reset node"
-        {...configure.gate("reset the node")}
-        explanation={
-          <p>
-            Sends NMT "reset node" to node {node}: the drive restarts with the restored defaults.
-            Its communication stops for a moment and a running axis is disabled; parameters that
-            were not stored are lost.
-          </p>
-        }
+        label={t("params.reset.label", { node })}
+        confirmLabel={t("params.reset.confirm")}
+        {...configure.gate(t("params.reset.gate"))}
+        explanation={<p>{t("params.reset.explanation", { node })}</p>}
         onConfirm={reset}
       />
     </section>

@@ -1,6 +1,7 @@
 // Parameters are integers with a catalogue range (and sometimes a list of choices); checked
 // here before anything is sent so the user sees the reason at once.
 import type { Param } from "../../api/types";
+import { i18n, type MessageKey } from "../../i18n";
 
 export type ParsedParam = { ok: true; value: number } | { ok: false; error: string };
 
@@ -12,21 +13,30 @@ export function parseParamValue(
 ): ParsedParam {
   const trimmed = text.trim();
   const match = INTEGER.exec(trimmed);
-  if (!match) return { ok: false, error: `Enter a whole number (${param.min}…${param.max})` };
+  if (!match) {
+    return {
+      ok: false,
+      error: i18n.t("params.input.wholeNumber", { min: param.min, max: param.max }),
+    };
+  }
   const magnitude = Number(match[2]);
   const value = match[1] === "-" ? -magnitude : magnitude;
   if (value < param.min || value > param.max) {
-    return { ok: false, error: `${value} is outside ${param.min}…${param.max}` };
+    return {
+      ok: false,
+      error: i18n.t("params.input.outside", { value, min: param.min, max: param.max }),
+    };
   }
   const choices = Object.keys(param.choices);
   if (choices.length > 0 && !choices.includes(String(value))) {
-    return { ok: false, error: `${value} is not one of the allowed values` };
+    return { ok: false, error: i18n.t("params.input.notAllowed", { value }) };
   }
   return { ok: true, value };
 }
 
-export const TAKES_EFFECT_LABELS: Readonly<Record<Param["takes_effect"], string>> = {
-  immediately: "immediately",
-  after_reset: "after reset",
-  after_store_and_reset: "after store + reset",
+/** When a written value takes effect: catalogue keys, turned into text where shown. */
+export const TAKES_EFFECT_LABELS: Readonly<Record<Param["takes_effect"], MessageKey>> = {
+  immediately: "params.takesEffect.immediately",
+  after_reset: "params.takesEffect.after_reset",
+  after_store_and_reset: "params.takesEffect.after_store_and_reset",
 };

@@ -6,43 +6,53 @@ import { ErrorText } from "../../components/ErrorText";
 import { FilePicker, OD_FILE_TYPES } from "../../components/FilePicker";
 import { LintTable } from "../../components/LintTable";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { hex } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 
 function Summary({ result }: { result: OdCheckResult }): ReactNode {
+  const { t } = useTranslation();
   const counts = { error: 0, warning: 0, info: 0 };
   for (const w of result.warnings) counts[w.severity] += 1;
   return (
     <>
-      <dl className="facts" aria-label="File summary">
-        <dt>File</dt>
+      <dl className="facts" aria-label={t("logs.tools.check.summary")}>
+        <dt>{t("logs.tools.check.file")}</dt>
         <dd className="mono">{result.filename}</dd>
-        <dt>Format</dt>
+        <dt>{t("logs.tools.check.format")}</dt>
         <dd>{result.format.toUpperCase()}</dd>
-        <dt>Objects</dt>
+        <dt>{t("logs.tools.check.objects")}</dt>
         <dd className="num">{result.objects}</dd>
-        <dt>Vendor</dt>
+        <dt>{t("logs.tools.check.vendor")}</dt>
         <dd>
           {result.device.vendor_name || "—"}{" "}
           <span className="mono">{hex(result.device.vendor_number)}</span>
         </dd>
-        <dt>Product</dt>
+        <dt>{t("logs.tools.check.product")}</dt>
         <dd>
           {result.device.product_name || "—"}{" "}
           <span className="mono">{hex(result.device.product_number)}</span>
         </dd>
-        <dt>Findings</dt>
+        <dt>{t("logs.tools.check.findings")}</dt>
         <dd>
-          {counts.error} errors, {counts.warning} warnings, {counts.info} notes
+          {t("logs.tools.check.counts", {
+            errors: counts.error,
+            warnings: counts.warning,
+            notes: counts.info,
+          })}
         </dd>
       </dl>
-      <LintTable warnings={result.warnings} caption={`Findings in ${result.filename}`} />
+      <LintTable
+        warnings={result.warnings}
+        caption={t("logs.tools.check.caption", { name: result.filename })}
+      />
     </>
   );
 }
 
 /** Lint any EDS/DCF/XDD file without applying it to a node (POST /api/od/check). */
 export function EdsCheckPanel(): ReactNode {
+  const { t } = useTranslation();
   const [result, setResult] = useState<OdCheckResult | null>(null);
   const check = useAction(async (file: File) => {
     setResult(null);
@@ -51,19 +61,16 @@ export function EdsCheckPanel(): ReactNode {
   return (
     <section className="card" aria-labelledby="check-heading">
       <header className="card-header">
-        <h2 id="check-heading">Check an EDS file</h2>
+        <h2 id="check-heading">{t("logs.tools.check.heading")}</h2>
         <FilePicker
-          label="Choose EDS file to check…"
+          label={t("logs.tools.check.choose")}
           accept={OD_FILE_TYPES}
           disabled={check.busy}
           onFile={(f) => void check.run(f)}
         />
-        {check.busy && <Spinner label="Checking" />}
+        {check.busy && <Spinner label={t("logs.tools.check.checking")} />}
       </header>
-      <p className="muted small">
-        Reads an EDS, DCF or XDD file and lists what is wrong or unusual in it, without changing any
-        node.
-      </p>
+      <p className="muted small">{t("logs.tools.check.intro")}</p>
       <ErrorText error={check.error} />
       {result && <Summary result={result} />}
     </section>

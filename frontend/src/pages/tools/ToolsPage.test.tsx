@@ -4,6 +4,7 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 
 import { stubFetch } from "../../test/fetchStub";
 import { renderPage } from "../../test/render";
+import { CHECKED } from "./fixtures";
 import { ToolsPage } from "./ToolsPage";
 
 afterEach(() => {
@@ -13,37 +14,7 @@ afterEach(() => {
 describe("ToolsPage", () => {
   it("checks an EDS file and lists its findings", async () => {
     const fetch = stubFetch({
-      "POST /api/od/check": {
-        filename: "drive.eds",
-        format: "eds",
-        objects: 227,
-        device: {
-          vendor_name: "Nanotec",
-          vendor_number: 0x26c,
-          product_name: "C5-E",
-          product_number: 0x11,
-        },
-        warnings: [
-          {
-            file: "drive.eds",
-            line: 121,
-            section: "1018sub4",
-            key: "DefaultValue",
-            code: "empty-default",
-            message: "DefaultValue is empty",
-            severity: "info",
-          },
-          {
-            file: "drive.eds",
-            line: 40,
-            section: "1000",
-            key: "DataType",
-            code: "bad-type",
-            message: "Unknown data type",
-            severity: "error",
-          },
-        ],
-      },
+      "POST /api/od/check": CHECKED,
     });
     renderPage(<ToolsPage />, "/tools");
     const file = new File(["[FileInfo]\nFileName=drive.eds\n"], "drive.eds", {
