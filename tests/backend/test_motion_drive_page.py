@@ -279,3 +279,39 @@ def test_a_move_held_at_a_limit_short_of_its_target_says_so(statusword: int, pha
     if phase == "interrupted":
         assert state.move.message is not None
         assert "stopped at a limit" in state.move.message
+
+
+@pytest.mark.parametrize(
+    ("taken_at", "statusword", "phase"),
+    [
+        (9.5, 0x0637, None),  # begun before the drive took the start: shows the drive before it
+        (10.5, 0x0637, "interrupted"),  # after it: bit 10 without bit 12, not started
+        (None, 0x0637, "interrupted"),  # a reading of just now
+        (9.5, 0x1637, None),  # even attained bits wait for a reading from after the start
+        (10.5, 0x1637, "attained"),
+        (10.5, 0x0237, "running"),
+    ],
+)
+def test_a_reading_begun_before_the_homing_start_does_not_end_the_run(
+    taken_at: float | None, statusword: int, phase: str | None
+) -> None:
+    """A page's reading that began before the drive took the homing start and finished after
+    it still shows the drive at rest (bit 10 without bit 12): the run must not end
+    "interrupted" on it, and the card shows nothing until a reading from after the start."""
+    axis = Axis(node=3, limits=MotionLimits(max_velocity_rpm=3000, max_torque_pct=100))
+    axis.homing_method, axis.homing_since = 35, 10.0
+    reading = Snapshot(
+        statusword=statusword,
+        controlword=0x001F,
+        mode=6,
+        mode_display=6,
+        position=0,
+        velocity=0,
+        torque=0,
+        following_error=0,
+        inputs=0,
+        error_code=0,
+        taken_at=taken_at,
+    )
+    state = build_state(axis, reading, nmt_state="operational", data=None, fault_source="")
+    assert (state.homing.phase if state.homing else None) == phase

@@ -71,6 +71,9 @@ class Axis:
     last_transition: str | None = None
     homing_method: int | None = None
     homing: HomingProgress | None = None  # the last run's progress, final once it ended
+    # time.monotonic() once the drive took the last homing start: a reading begun before it
+    # shows the drive from before the run (bit 10 without bit 12) and must not end the run
+    homing_since: float = 0.0
     homed: bool = False
     move: MoveProgress | None = None
     target_user: int | None = None  # the last accepted PP target, for relative moves
@@ -226,6 +229,8 @@ def _homing(
     last = axis.homing
     if axis.homing_method is None or (last is not None and last.phase != "running"):
         return last
+    if snap.taken_at is not None and snap.taken_at < axis.homing_since:
+        return last  # begun before the drive took the start: it cannot judge this run
     if snap.mode_display != OperationMode.HOMING:
         progress = HomingProgress(
             method=axis.homing_method,

@@ -114,6 +114,9 @@ class Snapshot:
     error_code: int | None  # 603Fh
     # where each value came from: "TPDO2", "SDO" (a field left out was not read)
     sources: Mapping[str, str] = field(default_factory=dict)
+    # time.monotonic() when the reading began (None: just now); a reading that began before
+    # a command may finish after it and show the drive from before it
+    taken_at: float | None = None
 
 
 # Snapshot field -> (object, signed): what a reading holds, in the order SDO reads them

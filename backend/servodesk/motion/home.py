@@ -1,16 +1,20 @@
 """Homing (6060h = 6): the method, speeds, acceleration and offset written, then started by
-bit 4 0 → 1; its progress shows in the drive state (homing.py reads it from the statusword)."""
+bit 4 0 → 1 and waited for until the drive shows it took the start; its progress shows in the
+drive state (homing.py reads it from the statusword)."""
 
 from __future__ import annotations
+
+import math
+import time
 
 from servodesk.errors import InvalidValueError
 from servodesk.models.motion import DriveState, HomeRequest, HomingMethodInfo
 from servodesk.motion import drive_io as io
-from servodesk.motion.core import DriveIo
+from servodesk.motion.core import DriveIo, state_of
 from servodesk.motion.drive_limits import Limits
-from servodesk.motion.homing import methods_for
+from servodesk.motion.homing import homing_phase, methods_for
 from servodesk.motion.readings import Readings
-from servodesk_protocol.cia402 import OperationMode, make_enable_operation
+from servodesk_protocol.cia402 import Cia402State, OperationMode, make_enable_operation
 
 
 class Homing:
@@ -64,4 +68,19 @@ class Homing:
         axis.homing = None  # a new run: the last one's end is no longer shown
         axis.homed = False
         axis.target_user = None
+        axis.homing_since = math.inf  # no reading judges the run before the drive took it
+        try:
+            await self._readings.wait(node, _took_start, self._readings.transition_timeout(node))
+        finally:
+            # Read by SDO after the start went out, the drive answers in order: a TPDO or a
+            # page's reading from before the start (bit 10 without bit 12, "not started")
+            # can no longer end the run. Not taken in time, the next reading says so.
+            axis.homing_since = time.monotonic()
         return await self._readings.state(node)
+
+
+def _took_start(statusword: int) -> bool:
+    """The drive shows the run (in progress, attained or error), or left Operation enabled."""
+    if state_of(statusword) is not Cia402State.OPERATION_ENABLED:
+        return True
+    return homing_phase(statusword)[0] != "interrupted"

@@ -8,6 +8,7 @@ from __future__ import annotations
 import asyncio
 import time
 from collections.abc import Callable
+from dataclasses import replace
 
 import canopen
 
@@ -88,6 +89,7 @@ class Readings:
                 value = getattr(snap, name)
                 if name in asked and value is not None:
                     axis.sent[index] = value
+        snap = replace(snap, taken_at=started)
         self._drive.saw_statusword(node, snap.statusword)
         if started >= axis.last_at:  # a reading that started earlier keeps older values
             axis.last, axis.last_at = snap, started
