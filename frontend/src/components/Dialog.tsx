@@ -1,5 +1,7 @@
 import { useEffect, useId, useRef, type ReactNode } from "react";
 
+import { useTranslation } from "../i18n";
+
 interface Props {
   title: string;
   onClose: () => void;
@@ -13,6 +15,7 @@ interface Props {
  * needs only Escape to close, focus on open and focus restored on close.
  */
 export function Dialog({ title, onClose, children, actions }: Props): ReactNode {
+  const { t } = useTranslation();
   const titleId = useId();
   const panel = useRef<HTMLDivElement>(null);
   const onCloseRef = useRef(onClose);
@@ -51,7 +54,7 @@ export function Dialog({ title, onClose, children, actions }: Props): ReactNode 
           <button
             type="button"
             className="icon-button"
-            aria-label="Close dialog"
+            aria-label={t("common.closeDialog")}
             data-dialog-close
             onClick={onClose}
           >

@@ -3,6 +3,7 @@ import { useCallback, useState, type ReactNode } from "react";
 import { getRecord, listRecords } from "../../api/commissionApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useApi } from "../../lib/useApi";
 import { RecordHeader } from "./RecordHeader";
 import { DEFAULT_RUN_SETTINGS, type RunSettings } from "./RunInputs";
@@ -14,6 +15,7 @@ import type { CommissioningRecord, CommissioningStep, StepKey } from "./types";
 /** The guided, resumable commissioning flow of one axis: start a record or resume the latest,
  * run or sign off its nine steps in order, open the hand-over report. */
 export function CommissionPage({ node }: { node: number }): ReactNode {
+  const { t } = useTranslation();
   const records = useApi((signal) => listRecords(node, signal), `commission-list-${node}`);
   const [chosen, setChosen] = useState<number | null>(null);
   const [starting, setStarting] = useState(false);
@@ -56,7 +58,9 @@ export function CommissionPage({ node }: { node: number }): ReactNode {
   return (
     <div className="commission-page">
       <ErrorText error={records.data ? null : records.error} onRetry={records.reload} />
-      {records.data === undefined && !records.error && <Spinner label="Loading the records" />}
+      {records.data === undefined && !records.error && (
+        <Spinner label={t("commission.page.loading")} />
+      )}
       {showStart && (
         <StartForm
           node={node}
@@ -73,7 +77,7 @@ export function CommissionPage({ node }: { node: number }): ReactNode {
             onNew={() => setStarting(true)}
           />
           <ErrorText error={record.error} onRetry={record.reload} />
-          <ol className="step-list" aria-label="Commissioning steps">
+          <ol className="step-list" aria-label={t("commission.page.steps")}>
             {orderedSteps(current).map((step, i) => (
               <StepItem
                 key={`${current.id}-${step.key}`}

@@ -1,5 +1,6 @@
 import type { ReactNode } from "react";
 
+import { i18n, useTranslation, type MessageKey } from "../../i18n";
 import { isRecordLike, plain, rowsOf, valueText } from "./steps";
 
 // Columns of an evidence list in a useful order; others follow in the order they come.
@@ -7,14 +8,27 @@ const FIRST = ["object", "name", "value", "expected", "now", "old", "new", "mode
 // Carried by `object` (index, subindex) or folded into `value` (text).
 const HIDDEN = new Set(["index", "subindex", "text"]);
 
-const LIST_TITLES: Record<string, string> = {
-  values: "Values read",
-  entries: "Writes since the record was made",
-  objects: "Objects changed",
-  checked: "Read back after the reset",
-  lost: "Not kept over the reset",
-  consumers: "Heartbeat consumers",
-  jogs: "Jogs",
+const LIST_TITLES: Record<string, MessageKey> = {
+  values: "commission.evidence.list.values",
+  entries: "commission.evidence.list.entries",
+  objects: "commission.evidence.list.objects",
+  checked: "commission.evidence.list.checked",
+  lost: "commission.evidence.list.lost",
+  consumers: "commission.evidence.list.consumers",
+  jogs: "commission.evidence.list.jogs",
+};
+
+// The page's words for the usual columns; any other column is named by its (server) key.
+const COLUMN_TITLES: Record<string, MessageKey> = {
+  object: "commission.evidence.column.object",
+  name: "commission.evidence.column.name",
+  value: "commission.evidence.column.value",
+  expected: "commission.evidence.column.expected",
+  now: "commission.evidence.column.now",
+  old: "commission.evidence.column.old",
+  new: "commission.evidence.column.new",
+  mode: "commission.evidence.column.mode",
+  source: "commission.evidence.column.source",
 };
 
 function columnsOf(rows: Record<string, unknown>[]): string[] {
@@ -24,8 +38,14 @@ function columnsOf(rows: Record<string, unknown>[]): string[] {
   return [...first, ...[...seen].filter((k) => !first.includes(k))];
 }
 
+/** Own properties only: an evidence key such as "constructor" is not a catalogue entry. */
+function titleOf(titles: Record<string, MessageKey>, key: string): string {
+  const title = Object.hasOwn(titles, key) ? titles[key] : undefined;
+  return title ? i18n.t(title) : key.replace(/_/g, " ");
+}
+
 function heading(key: string): string {
-  return LIST_TITLES[key] ?? key.replace(/_/g, " ");
+  return titleOf(LIST_TITLES, key);
 }
 
 function Cell({ row, column }: { row: Record<string, unknown>; column: string }): ReactNode {
@@ -46,6 +66,7 @@ export function EvidenceTable({
   rows: Record<string, unknown>[];
   label: string;
 }): ReactNode {
+  useTranslation(); // the headings follow the language
   const columns = columnsOf(rows);
   return (
     <table className={`data-table compact evidence-table evidence-${name}`} aria-label={label}>
@@ -54,7 +75,7 @@ export function EvidenceTable({
         <tr>
           {columns.map((c) => (
             <th key={c} scope="col">
-              {c.replace(/_/g, " ")}
+              {titleOf(COLUMN_TITLES, c)}
             </th>
           ))}
         </tr>
@@ -80,18 +101,19 @@ export function EvidenceView({
   title: string;
   evidence: Record<string, unknown> | undefined;
 }): ReactNode {
+  const { t } = useTranslation();
   const entries = Object.entries(evidence ?? {});
   if (entries.length === 0) return null;
   const tables = entries.filter(([, v]) => rowsOf(v).length > 0);
   const lines = entries.filter(([, v]) => !(Array.isArray(v) && rowsOf(v).length > 0));
   return (
-    <div className="evidence" aria-label={`Evidence of ${title}`}>
+    <div className="evidence" aria-label={t("commission.evidence.label", { title })}>
       {tables.map(([key, value]) => (
         <EvidenceTable
           key={key}
           name={key}
           rows={rowsOf(value)}
-          label={`${heading(key)} (${title})`}
+          label={t("commission.evidence.table", { list: heading(key), step: title })}
         />
       ))}
       {lines.length > 0 && (

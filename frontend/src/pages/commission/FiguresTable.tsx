@@ -1,5 +1,6 @@
 import type { ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import { figureRows } from "./steps";
 
 /** A step's figures: name, value, unit. */
@@ -10,17 +11,21 @@ export function FiguresTable({
   title: string;
   figures: Record<string, number> | undefined;
 }): ReactNode {
+  const { t } = useTranslation();
   const rows = figureRows(figures);
   if (rows.length === 0) return null;
   return (
-    <table className="data-table compact figures-table" aria-label={`Figures of ${title}`}>
+    <table
+      className="data-table compact figures-table"
+      aria-label={t("commission.figures.label", { title })}
+    >
       <thead>
         <tr>
-          <th scope="col">Figure</th>
+          <th scope="col">{t("commission.figures.figure")}</th>
           <th scope="col" className="num">
-            Value
+            {t("commission.figures.value")}
           </th>
-          <th scope="col">Unit</th>
+          <th scope="col">{t("commission.figures.unit")}</th>
         </tr>
       </thead>
       <tbody>

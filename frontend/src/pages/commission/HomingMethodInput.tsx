@@ -1,6 +1,7 @@
 import type { ReactNode } from "react";
 
 import { homingMethods } from "../../api/driveApi";
+import { useTranslation } from "../../i18n";
 import { useApi } from "../../lib/useApi";
 
 /** The homing step's method: the drive's own (6098h) unless one of its methods is chosen. */
@@ -15,17 +16,18 @@ export function HomingMethodInput({
   disabled: boolean;
   onChange: (value: string) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const methods = useApi((signal) => homingMethods(node, signal), `homing:${node}`);
   return (
     <label className="inline">
-      Method{" "}
+      {t("commission.run.method")}{" "}
       <select
         value={value}
         disabled={disabled}
-        aria-label="Homing method"
+        aria-label={t("commission.run.methodLabel")}
         onChange={(e) => onChange(e.target.value)}
       >
-        <option value="">As set in the drive (6098h)</option>
+        <option value="">{t("commission.run.methodAsSet")}</option>
         {(methods.data ?? []).map((m) => (
           <option key={m.method} value={String(m.method)}>
             {m.method}: {m.name}

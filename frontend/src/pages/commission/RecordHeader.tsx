@@ -1,19 +1,32 @@
 import type { ReactNode } from "react";
 
 import { reportUrl } from "../../api/commissionApi";
-import { RecordChip, RECORD_STATUS_TEXT } from "../../components/StatusChip";
+import { RecordChip } from "../../components/StatusChip";
+import { i18n, useTranslation, type MessageKey } from "../../i18n";
 import { hex } from "../../lib/format";
 import { useMay } from "../../session/context";
-import { progress } from "./steps";
-import type { CommissioningRecord } from "./types";
+import { localDateTime, progress } from "./steps";
+import type { CommissioningRecord, RecordStatus } from "./types";
+
+/** The record's status in words: the shell's, as its badge says it. */
+const RECORD_STATUS: Record<RecordStatus, MessageKey> = {
+  in_progress: "status.record.inProgress",
+  done: "status.record.done",
+  failed: "status.record.failed",
+};
 
 function created(record: CommissioningRecord): string {
-  return new Date(record.created * 1000).toLocaleString();
+  return localDateTime(record.created);
 }
 
 /** "#3 Axis X — 27/11/2026, 10:02 (In progress)" for the record chooser. */
 export function recordLabel(record: CommissioningRecord): string {
-  return `#${record.id} ${record.title || "untitled"} — ${created(record)} (${RECORD_STATUS_TEXT[record.status]})`;
+  return i18n.t("commission.record.option", {
+    id: record.id,
+    title: record.title || i18n.t("commission.record.untitled"),
+    created: created(record),
+    status: i18n.t(RECORD_STATUS[record.status]),
+  });
 }
 
 /** The record's overall status, the drive it was made for, the chooser and the report links. */
@@ -28,6 +41,7 @@ export function RecordHeader({
   onChoose: (id: number) => void;
   onNew: () => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const operate = useMay("operate");
   const { closed, total } = progress(record);
   const id = record.identity;
@@ -35,48 +49,53 @@ export function RecordHeader({
     <section className="card record-header" aria-labelledby="record-heading">
       <header className="card-header">
         <h2 id="record-heading">
-          Record #{record.id}
-          {record.title ? `: ${record.title}` : ""}
+          {record.title
+            ? t("commission.record.headingTitled", { id: record.id, title: record.title })
+            : t("commission.record.heading", { id: record.id })}
         </h2>
         <RecordChip status={record.status} />
-        <span className="muted" aria-label="Progress">
-          {closed} of {total} steps done or skipped
+        <span className="muted" aria-label={t("commission.record.progressLabel")}>
+          {t("commission.record.progress", { closed, total })}
         </span>
         <span className="spacer" />
-        <button type="button" {...operate.gate("start a commissioning record")} onClick={onNew}>
-          New record…
+        <button type="button" {...operate.gate(t("commission.start.gate"))} onClick={onNew}>
+          {t("commission.record.new")}
         </button>
       </header>
       <dl className="record-facts">
         <div>
-          <dt>Drive</dt>
+          <dt>{t("commission.record.drive")}</dt>
           <dd>
             {id.name ?? "—"} <span className="muted">({id.profile_label})</span>
           </dd>
         </div>
         <div>
-          <dt>Identity (1018h)</dt>
+          <dt>{t("commission.record.identity")}</dt>
           <dd className="mono small">
-            vendor {hex(id.vendor_id)} · product {hex(id.product_code)} · rev {hex(id.revision)} ·
-            SN {hex(id.serial)}
+            {t("commission.record.identityLine", {
+              vendor: hex(id.vendor_id),
+              product: hex(id.product_code),
+              revision: hex(id.revision),
+              serial: hex(id.serial),
+            })}
           </dd>
         </div>
         <div>
-          <dt>Modes</dt>
+          <dt>{t("commission.record.modes")}</dt>
           <dd>{record.modes.map((m) => m.toUpperCase()).join(" · ") || "—"}</dd>
         </div>
         <div>
-          <dt>Started</dt>
+          <dt>{t("commission.record.started")}</dt>
           <dd>{created(record)}</dd>
         </div>
       </dl>
       <div className="button-row">
         {records.length > 1 && (
           <label className="inline">
-            Record
+            {t("commission.record.choose")}
             <select
               value={record.id}
-              aria-label="Choose a record"
+              aria-label={t("commission.record.chooseLabel")}
               onChange={(e) => onChoose(Number(e.target.value))}
             >
               {records.map((r) => (
@@ -88,14 +107,14 @@ export function RecordHeader({
           </label>
         )}
         <span className="spacer" />
-        <span className="group-label">Hand-over report</span>
+        <span className="group-label">{t("commission.record.report")}</span>
         <a
           className="button-link"
           href={reportUrl(record.id, "html")}
           target="_blank"
           rel="noopener"
         >
-          Report (HTML)
+          {t("commission.record.reportHtml")}
         </a>
         <a
           className="button-link"
@@ -106,7 +125,7 @@ export function RecordHeader({
           PDF
         </a>
         <a className="button-link" href={reportUrl(record.id, "zip")} download>
-          Bundle (zip)
+          {t("commission.record.bundle")}
         </a>
       </div>
     </section>

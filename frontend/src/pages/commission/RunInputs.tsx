@@ -1,6 +1,7 @@
 import type { ReactNode } from "react";
 import { Link } from "react-router";
 
+import { i18n, Trans, useTranslation, type MessageKey } from "../../i18n";
 import { nodeUrl } from "../../nav/paths";
 import { HomingMethodInput } from "./HomingMethodInput";
 import { DEFAULT_DISTANCE_REV, DEFAULT_SPEED_RPM, MAX_DISTANCE_REV } from "./steps";
@@ -31,15 +32,14 @@ export function runBody(
 ): { body: RunBody } | { invalid: string } {
   if (key === "stop_test") {
     const speed = Number(settings.speedRpm);
-    if (!Number.isFinite(speed) || speed <= 0) return { invalid: "The speed must be above 0 rpm." };
+    if (!Number.isFinite(speed) || speed <= 0)
+      return { invalid: i18n.t("commission.run.badSpeed") };
     return { body: { speed_rpm: speed } };
   }
   if (key === "test_move") {
     const distance = Number(settings.distanceRev);
     if (!Number.isFinite(distance) || distance === 0 || Math.abs(distance) > MAX_DISTANCE_REV) {
-      return {
-        invalid: `The distance must be between −${MAX_DISTANCE_REV} and ${MAX_DISTANCE_REV} rev, not 0.`,
-      };
+      return { invalid: i18n.t("commission.run.badDistance", { max: MAX_DISTANCE_REV }) };
     }
     return { body: { distance } };
   }
@@ -50,11 +50,10 @@ export function runBody(
   return { body: {} };
 }
 
-const MOVES: Partial<Record<StepKey, string>> = {
-  stop_test:
-    "ServoDesk jogs it toward the farther end of travel, quick-stops it, then jogs it back and lets the keep-alive lapse.",
-  test_move: "ServoDesk jogs it for a second in each chosen mode, then makes a relative PP move.",
-  homing: "ServoDesk enables the drive and runs its homing until the drive reports home attained.",
+const MOVES: Partial<Record<StepKey, MessageKey>> = {
+  stop_test: "commission.run.moves.stop_test",
+  test_move: "commission.run.moves.test_move",
+  homing: "commission.run.moves.homing",
 };
 
 /** The pdo step's choice: check the mapping as it is, or apply the recommended one first. */
@@ -69,6 +68,7 @@ export function PdoRunInput({
   disabled: boolean;
   mayConfigure: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   return (
     <div className="run-inputs">
       <label className="inline">
@@ -78,12 +78,12 @@ export function PdoRunInput({
           disabled={disabled || !mayConfigure}
           onChange={(e) => onChange({ ...settings, applyPdo: e.target.checked })}
         />{" "}
-        Apply the manuals&apos; recommended mapping for the record&apos;s modes first
+        {t("commission.run.applyPdo")}
       </label>{" "}
       <span className="muted small">
         {mayConfigure
-          ? "(writes the PDOs; without it the step checks the mapping as it is)"
-          : "(writing PDOs needs the engineer role: the step checks the mapping as it is)"}
+          ? t("commission.run.applyPdoWrites")
+          : t("commission.run.applyPdoNeedsEngineer")}
       </span>
     </div>
   );
@@ -103,12 +103,16 @@ export function RunInputs({
   onChange: (settings: RunSettings) => void;
   disabled: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
+  const moves = MOVES[stepKey];
   return (
     <div className="run-inputs">
-      <p className="warning" role="note" aria-label="The axis will move">
-        <strong>The axis will move.</strong> {MOVES[stepKey] ?? ""} Keep clear of the machine.
-        Anyone can stop it with the quick stop on the{" "}
-        <Link to={nodeUrl(node, "drive")}>Drive page</Link> (or Quick stop all on the Network page).
+      <p className="warning" role="note" aria-label={t("commission.run.moveLabel")}>
+        <Trans
+          i18nKey="commission.run.warning"
+          values={{ moves: moves ? t(moves) : "" }}
+          components={{ strong: <strong />, page: <Link to={nodeUrl(node, "drive")} /> }}
+        />
       </p>
       {stepKey === "homing" ? (
         <HomingMethodInput
@@ -119,7 +123,7 @@ export function RunInputs({
         />
       ) : stepKey === "stop_test" ? (
         <label className="inline">
-          Speed{" "}
+          {t("commission.run.speed")}{" "}
           <input
             className="narrow"
             type="number"
@@ -127,14 +131,14 @@ export function RunInputs({
             step={10}
             value={settings.speedRpm}
             disabled={disabled}
-            aria-label="Stop test speed (rpm)"
+            aria-label={t("commission.run.speedLabel")}
             onChange={(e) => onChange({ ...settings, speedRpm: e.target.value })}
           />{" "}
-          rpm <span className="muted small">(at most half the speed limit)</span>
+          rpm <span className="muted small">{t("commission.run.speedHint")}</span>
         </label>
       ) : (
         <label className="inline">
-          PP move{" "}
+          {t("commission.run.ppMove")}{" "}
           <input
             className="narrow"
             type="number"
@@ -143,10 +147,10 @@ export function RunInputs({
             max={MAX_DISTANCE_REV}
             value={settings.distanceRev}
             disabled={disabled}
-            aria-label="Test move distance (rev)"
+            aria-label={t("commission.run.distanceLabel")}
             onChange={(e) => onChange({ ...settings, distanceRev: e.target.value })}
           />{" "}
-          rev <span className="muted small">(relative, at 120 rpm)</span>
+          rev <span className="muted small">{t("commission.run.distanceHint")}</span>
         </label>
       )}
     </div>

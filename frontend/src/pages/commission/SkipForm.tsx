@@ -1,5 +1,8 @@
 import { useState, type SubmitEvent, type ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
+import { titleInSentence } from "./steps";
+
 /** Skip needs a reason: the record says why a step was not done. */
 export function SkipForm({
   title,
@@ -12,6 +15,7 @@ export function SkipForm({
   onSkip: (reason: string) => void;
   onCancel: () => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const [reason, setReason] = useState("");
   const ready = reason.trim() !== "";
   function submit(event: SubmitEvent): void {
@@ -19,26 +23,31 @@ export function SkipForm({
     if (ready) onSkip(reason.trim());
   }
   return (
-    <form className="skip-form" onSubmit={submit} aria-label={`Skip ${title}`}>
+    <form
+      className="skip-form"
+      onSubmit={submit}
+      aria-label={t("commission.skip.label", { title })}
+    >
       <label className="block">
-        Why is {title.toLowerCase()} skipped? <span className="muted small">(required)</span>
+        {t("commission.skip.why", { step: titleInSentence(title) })}{" "}
+        <span className="muted small">{t("commission.skip.required")}</span>
         <textarea
           rows={2}
           maxLength={500}
           value={reason}
           required
-          aria-label={`Reason to skip ${title}`}
+          aria-label={t("commission.skip.reasonLabel", { title })}
           onChange={(e) => setReason(e.target.value)}
         />
       </label>
       <div className="button-row">
         <button type="submit" disabled={!ready || busy}>
-          Skip step
+          {t("commission.skip.submit")}
         </button>
         <button type="button" className="link-button" onClick={onCancel}>
-          Cancel
+          {t("commission.cancel")}
         </button>
-        {!ready && <span className="muted small">Give a reason to skip.</span>}
+        {!ready && <span className="muted small">{t("commission.skip.giveReason")}</span>}
       </div>
     </form>
   );

@@ -4,19 +4,20 @@ import { createRecord } from "../../api/commissionApi";
 import { getDrive } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation, type MessageKey } from "../../i18n";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import type { CommissioningRecord } from "./types";
 
-const MODE_NAMES: Record<string, string> = {
-  pp: "Profile position",
-  pv: "Profile velocity",
-  pt: "Profile torque",
-  hm: "Homing",
-  ip: "Interpolated position",
-  csp: "Cyclic sync position",
-  csv: "Cyclic sync velocity",
-  cst: "Cyclic sync torque",
+const MODE_NAMES: Record<string, MessageKey> = {
+  pp: "commission.mode.pp",
+  pv: "commission.mode.pv",
+  pt: "commission.mode.pt",
+  hm: "commission.mode.hm",
+  ip: "commission.mode.ip",
+  csp: "commission.mode.csp",
+  csv: "commission.mode.csv",
+  cst: "commission.mode.cst",
 };
 
 /** Checked at first: the modes a test move exercises, where the drive has them. */
@@ -32,6 +33,7 @@ export function StartForm({
   onStarted: (record: CommissioningRecord) => void;
   onCancel?: () => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const operate = useMay("operate");
   const drive = useApi((signal) => getDrive(node, signal), `commission-drive-${node}`);
   const supported = drive.data?.supported_modes ?? [];
@@ -40,6 +42,10 @@ export function StartForm({
   const [title, setTitle] = useState("");
   const start = useAction(async () => onStarted(await createRecord(node, modes, title)));
 
+  function modeName(mode: string): string {
+    const key = MODE_NAMES[mode];
+    return key ? t(key) : "";
+  }
   function toggle(mode: string, on: boolean): void {
     setPicked(on ? [...modes, mode] : modes.filter((m) => m !== mode));
   }
@@ -51,19 +57,19 @@ export function StartForm({
   return (
     <form className="card start-form" onSubmit={submit} aria-labelledby="start-heading">
       <header className="card-header">
-        <h2 id="start-heading">Start commissioning node {node}</h2>
+        <h2 id="start-heading">{t("commission.start.heading", { node })}</h2>
       </header>
-      <p className="muted small">
-        A record walks through nine steps, keeps the evidence of each and makes the hand-over
-        report. Pick the operating modes this axis will run in.
-      </p>
+      <p className="muted small">{t("commission.start.intro")}</p>
       {drive.error && !drive.data && <ErrorText error={drive.error} onRetry={drive.reload} />}
-      {!drive.data && !drive.error && <Spinner label="Reading the supported modes" />}
+      {!drive.data && !drive.error && <Spinner label={t("commission.start.readingModes")} />}
       {drive.data && (
         <fieldset className="mode-picks">
           <legend>
-            Modes (the drive supports{" "}
-            {supported.length ? supported.join(", ").toUpperCase() : "none"})
+            {t("commission.start.modes", {
+              modes: supported.length
+                ? supported.join(", ").toUpperCase()
+                : t("commission.start.noModes"),
+            })}
           </legend>
           {supported.map((mode) => (
             <label key={mode} className="check">
@@ -73,19 +79,20 @@ export function StartForm({
                 onChange={(e) => toggle(mode, e.target.checked)}
               />
               <span>
-                <span className="mono">{mode.toUpperCase()}</span> {MODE_NAMES[mode] ?? ""}
+                <span className="mono">{mode.toUpperCase()}</span> {modeName(mode)}
               </span>
             </label>
           ))}
         </fieldset>
       )}
       <label className="inline">
-        Title <span className="muted small">(optional)</span>
+        {t("commission.start.title")}{" "}
+        <span className="muted small">{t("commission.start.optional")}</span>
         <input
           className="wide"
           value={title}
           maxLength={200}
-          placeholder={`e.g. Axis X, machine 4711`}
+          placeholder={t("commission.start.titlePlaceholder")}
           onChange={(e) => setTitle(e.target.value)}
         />
       </label>
@@ -93,19 +100,19 @@ export function StartForm({
         <button
           type="submit"
           className="primary"
-          {...operate.gate("start a commissioning record", {
+          {...operate.gate(t("commission.start.gate"), {
             disabled: start.busy || !drive.data || modes.length === 0,
           })}
         >
-          Start record
+          {t("commission.start.submit")}
         </button>
         {onCancel && (
           <button type="button" className="link-button" onClick={onCancel}>
-            Cancel
+            {t("commission.cancel")}
           </button>
         )}
         {drive.data && modes.length === 0 && (
-          <span className="muted small">Pick at least one mode.</span>
+          <span className="muted small">{t("commission.start.pickOne")}</span>
         )}
       </div>
       <ErrorText error={start.error} />

@@ -5,6 +5,7 @@ import { runStep, signOffStep } from "../../api/commissionApi";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { StepChip } from "../../components/StatusChip";
+import { Trans, useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { nodeUrl } from "../../nav/paths";
 import { useMay } from "../../session/context";
@@ -13,7 +14,16 @@ import { FiguresTable } from "./FiguresTable";
 import { RunError } from "./RunError";
 import { PdoRunInput, RunInputs, runBody, type RunBody, type RunSettings } from "./RunInputs";
 import { SkipForm } from "./SkipForm";
-import { AUTOMATED, lostLines, MANUAL_PAGE, MOVING, RUNNING_TEXT, whoWhen } from "./steps";
+import {
+  AUTOMATED,
+  lostLines,
+  MANUAL_PAGE,
+  MOVING,
+  RUNNING_TEXT,
+  stepTitle,
+  titleInSentence,
+  whoWhen,
+} from "./steps";
 import type { CommissioningStep, StepKey } from "./types";
 
 export interface StepItemProps {
@@ -33,11 +43,12 @@ export interface StepItemProps {
 
 /** What a failed store_verify lost, one line each. */
 function LostValues({ step }: { step: CommissioningStep }): ReactNode {
+  const { t } = useTranslation();
   const lines = lostLines(step);
   if (lines.length === 0) return null;
   return (
-    <div className="lost-values" role="alert" aria-label="Values lost over the reset">
-      <strong>Not kept over the reset:</strong>
+    <div className="lost-values" role="alert" aria-label={t("commission.step.lostLabel")}>
+      <strong>{t("commission.step.lostHeading")}</strong>
       <ul>
         {lines.map((line) => (
           <li key={line} className="mono">
@@ -53,6 +64,8 @@ function LostValues({ step }: { step: CommissioningStep }): ReactNode {
 export function StepItem(props: StepItemProps): ReactNode {
   const { node, recordId, index, step, running, onRunning, settings, onSettings, onChanged } =
     props;
+  const { t } = useTranslation();
+  const title = stepTitle(step);
   const operate = useMay("operate");
   const configure = useMay("configure");
   const [skipping, setSkipping] = useState(false);
@@ -88,36 +101,41 @@ export function StepItem(props: StepItemProps): ReactNode {
   }
 
   const runPermit = step.key === "store_verify" ? configure : operate;
-  const runLabel = step.status === "to_do" ? "Run" : "Run again";
+  const again = step.status !== "to_do";
+  const runLabel = again ? t("commission.step.runAgain") : t("commission.step.run");
+  const runName = again
+    ? t("commission.step.runAgainNamed", { title })
+    : t("commission.step.runNamed", { title });
   const busy = running !== null || sign.busy;
   const who = whoWhen(step);
   return (
     <li
       className={`step-item step-item-${step.status}`}
-      aria-label={`Step ${index}: ${step.title}`}
+      aria-label={t("commission.step.label", { index, title })}
     >
       <header className="step-header">
         <span className="step-number">{index}</span>
-        <h3>{step.title}</h3>
+        <h3>{title}</h3>
         <StepChip status={step.status} />
         {who && <span className="muted small">{who}</span>}
       </header>
       {step.reason && (
         <p className={step.status === "failed" ? "step-reason error-text" : "step-reason muted"}>
-          {step.status === "failed" ? "Failed: " : "Reason: "}
-          {step.reason}
+          {step.status === "failed"
+            ? t("commission.step.failed", { reason: step.reason })
+            : t("commission.step.reason", { reason: step.reason })}
         </p>
       )}
       <LostValues step={step} />
-      <FiguresTable title={step.title} figures={step.figures} />
+      <FiguresTable title={title} figures={step.figures} />
       {Object.keys(step.evidence ?? {}).length > 0 && (
         // The moving steps' evidence is long (captures, decelerations): folded until asked.
         <details
           className="step-evidence"
           open={step.status === "failed" || !MOVING.has(step.key) || undefined}
         >
-          <summary>Evidence</summary>
-          <EvidenceView title={step.title} evidence={step.evidence} />
+          <summary>{t("commission.step.evidence")}</summary>
+          <EvidenceView title={title} evidence={step.evidence} />
         </details>
       )}
       {automated && MOVING.has(step.key) && (
@@ -139,7 +157,11 @@ export function StepItem(props: StepItemProps): ReactNode {
       )}
       {manual && (
         <p className="small">
-          <Link to={nodeUrl(node, manual.tab)}>{manual.label}</Link>, then sign this step off here.
+          <Trans
+            i18nKey="commission.step.signHere"
+            values={{ what: t(manual.label) }}
+            components={{ page: <Link to={nodeUrl(node, manual.tab)} /> }}
+          />
         </p>
       )}
       <div className="button-row step-actions">
@@ -148,8 +170,10 @@ export function StepItem(props: StepItemProps): ReactNode {
             type="button"
             className="primary"
             onClick={start}
-            aria-label={`${runLabel} ${step.title}`}
-            {...runPermit.gate(`run ${step.title.toLowerCase()}`, { disabled: busy })}
+            aria-label={runName}
+            {...runPermit.gate(t("commission.step.gateRun", { step: titleInSentence(title) }), {
+              disabled: busy,
+            })}
           >
             {runLabel}
           </button>
@@ -157,29 +181,32 @@ export function StepItem(props: StepItemProps): ReactNode {
         <button
           type="button"
           onClick={() => void sign.run("done")}
-          aria-label={`Sign off ${step.title}`}
-          {...operate.gate("sign a step off", { disabled: busy || step.status === "done" })}
+          aria-label={t("commission.step.signOffNamed", { title })}
+          {...operate.gate(t("commission.step.gateSignOff"), {
+            disabled: busy || step.status === "done",
+          })}
         >
-          Sign off
+          {t("commission.step.signOff")}
         </button>
         <button
           type="button"
           onClick={() => setSkipping((s) => !s)}
-          aria-label={`Skip ${step.title}…`}
+          aria-label={t("commission.step.skipNamed", { title })}
           aria-expanded={skipping}
-          {...operate.gate("skip a step", { disabled: busy })}
+          {...operate.gate(t("commission.step.gateSkip"), { disabled: busy })}
         >
-          Skip…
+          {t("commission.step.skip")}
         </button>
         {isRunning && (
           <span className="step-running" role="status">
-            <Spinner label={`Running ${step.title}`} /> {RUNNING_TEXT[step.key] ?? "Running…"}
+            <Spinner label={t("commission.step.runningNamed", { title })} />{" "}
+            {t(RUNNING_TEXT[step.key] ?? "commission.step.running")}
           </span>
         )}
       </div>
       {skipping && (
         <SkipForm
-          title={step.title}
+          title={title}
           busy={busy}
           onSkip={(reason) => void sign.run("skipped", reason)}
           onCancel={() => setSkipping(false)}

@@ -1,5 +1,8 @@
 // What the page knows about the nine steps: which the server runs, which move the axis, where
 // a manual one is done, and how figures and evidence read (pure functions, table-tested).
+// The page's own words come from the catalogue; the server's texts (reasons,
+// evidence values) stay as sent.
+import { currentLanguage, currentLocale, i18n, type MessageKey } from "../../i18n";
 import type { CommissioningRecord, CommissioningStep, StepKey } from "./types";
 
 export const STEP_KEYS: readonly StepKey[] = [
@@ -21,9 +24,9 @@ export const AUTOMATED: ReadonlySet<StepKey> = new Set<StepKey>(STEP_KEYS);
 export const MOVING: ReadonlySet<StepKey> = new Set<StepKey>(["stop_test", "test_move", "homing"]);
 
 /** Where a step can also be done by hand (then signed off here): the node tab and its label. */
-export const MANUAL_PAGE: Partial<Record<StepKey, { tab: string; label: string }>> = {
-  pdo: { tab: "pdos", label: "Or map the PDOs by hand on the PDOs page" },
-  homing: { tab: "drive", label: "Or home the axis with the wizard on the Drive page" },
+export const MANUAL_PAGE: Partial<Record<StepKey, { tab: string; label: MessageKey }>> = {
+  pdo: { tab: "pdos", label: "commission.manual.pdo" },
+  homing: { tab: "drive", label: "commission.manual.homing" },
 };
 
 /** Run defaults, as the server's (docs/api.md): stop test 200 rpm, test move 0.5 rev. */
@@ -32,13 +35,53 @@ export const DEFAULT_DISTANCE_REV = 0.5;
 export const MAX_DISTANCE_REV = 100;
 
 /** While it runs: what the user waits for. */
-export const RUNNING_TEXT: Partial<Record<StepKey, string>> = {
-  stop_test: "Running the stop test: a quick stop and a keep-alive loss stop, with captures…",
-  test_move: "Running the test move: a jog per mode and a PP move, with a capture…",
-  pdo: "Reading the mapping and listening to every TPDO for a few of its periods…",
-  homing: "Homing: waiting for the drive to report home attained…",
-  store_verify: "Storing, resetting the node, waiting for its boot-up and reading back…",
+export const RUNNING_TEXT: Partial<Record<StepKey, MessageKey>> = {
+  stop_test: "commission.runningText.stop_test",
+  test_move: "commission.runningText.test_move",
+  pdo: "commission.runningText.pdo",
+  homing: "commission.runningText.homing",
+  store_verify: "commission.runningText.store_verify",
 };
+
+/** The steps' titles in the page's language. */
+const STEP_TITLES: Record<StepKey, MessageKey> = {
+  identity: "commission.stepTitle.identity",
+  communication: "commission.stepTitle.communication",
+  parameters: "commission.stepTitle.parameters",
+  pdo: "commission.stepTitle.pdo",
+  limits: "commission.stepTitle.limits",
+  stop_test: "commission.stepTitle.stop_test",
+  test_move: "commission.stepTitle.test_move",
+  homing: "commission.stepTitle.homing",
+  store_verify: "commission.stepTitle.store_verify",
+};
+
+/** A step's title: in English the server's own (the record keeps it), in another language the
+ * catalogue's for the step's key. */
+export function stepTitle(step: Pick<CommissioningStep, "key" | "title">): string {
+  return currentLanguage() === "en" ? step.title : i18n.t(STEP_TITLES[step.key]);
+}
+
+/** A step's (server-sent, English) title inside a sentence: lower case in English ("run
+ * homing"), as sent in languages without case. */
+export function titleInSentence(title: string): string {
+  return currentLanguage() === "en" ? title.toLowerCase() : title;
+}
+
+/** A UNIX time as local date and time: the browser's own format in English (as the page always
+ * printed it), the chosen language's otherwise. */
+export function localDateTime(unixSeconds: number): string {
+  const date = new Date(unixSeconds * 1000);
+  return currentLanguage() === "en" ? date.toLocaleString() : date.toLocaleString(currentLocale());
+}
+
+/** A UNIX time as local time of day, like localDateTime. */
+export function localTime(unixSeconds: number): string {
+  const date = new Date(unixSeconds * 1000);
+  return currentLanguage() === "en"
+    ? date.toLocaleTimeString()
+    : date.toLocaleTimeString(currentLocale());
+}
 
 /** The steps in the flow's order (the server's list is already in it; unknown keys last). */
 export function orderedSteps(record: CommissioningRecord): CommissioningStep[] {
@@ -121,10 +164,12 @@ export function valueText(entry: { index?: unknown; value?: unknown; text?: unkn
 export function plain(value: unknown, key = ""): string {
   if (value === null || value === undefined) return "—";
   if ((key === "at" || key.endsWith("_at")) && typeof value === "number" && value > 1e9) {
-    return new Date(value * 1000).toLocaleTimeString();
+    return localTime(value);
   }
   if (typeof value === "number") return formatNumber(value);
-  if (typeof value === "boolean") return value ? "yes" : "no";
+  if (typeof value === "boolean") {
+    return value ? i18n.t("commission.evidence.yes") : i18n.t("commission.evidence.no");
+  }
   if (typeof value === "string") return value;
   if (Array.isArray(value)) return value.map((v) => plain(v)).join(", ") || "—";
   if (isRecordLike(value)) {
@@ -145,16 +190,20 @@ export function rowsOf(value: unknown): Record<string, unknown>[] {
 
 /** The values store_verify found lost over the reset, in words: "2006:08 PA-103: expected 5000, now 6000". */
 export function lostLines(step: CommissioningStep): string[] {
-  return rowsOf(step.evidence?.lost).map(
-    (row) =>
-      `${plain(row.object)}${row.name ? ` ${plain(row.name)}` : ""}: expected ${plain(row.expected)}, now ${plain(row.now)}`,
+  return rowsOf(step.evidence?.lost).map((row) =>
+    i18n.t("commission.step.lostLine", {
+      what: `${plain(row.object)}${row.name ? ` ${plain(row.name)}` : ""}`,
+      expected: plain(row.expected),
+      now: plain(row.now),
+    }),
   );
 }
 
-/** "12:03 by local" style line; empty for a step nobody touched. */
+/** "by local, 27/11/2026, 12:03" style line; empty for a step nobody touched. */
 export function whoWhen(step: CommissioningStep): string {
-  const parts: string[] = [];
-  if (step.by) parts.push(`by ${step.by}`);
-  if (step.at) parts.push(new Date(step.at * 1000).toLocaleString());
-  return parts.join(", ");
+  const at = step.at ? localDateTime(step.at) : "";
+  if (!step.by) return at;
+  return at
+    ? i18n.t("commission.step.byAt", { who: step.by, at })
+    : i18n.t("commission.step.by", { who: step.by });
 }

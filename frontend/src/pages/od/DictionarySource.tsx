@@ -6,6 +6,7 @@ import { ErrorText } from "../../components/ErrorText";
 import { FilePicker, OD_FILE_TYPES } from "../../components/FilePicker";
 import { LintTable } from "../../components/LintTable";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { shortPath } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
@@ -20,6 +21,7 @@ interface Props {
 
 /** Where the node's dictionary comes from; import an EDS for it or go back to the profile's. */
 export function DictionarySource({ node, tree, onChanged }: Props): ReactNode {
+  const { t } = useTranslation();
   const store = useLiveStore();
   const [showWarnings, setShowWarnings] = useState(false);
   const [imported, setImported] = useState<readonly LintWarning[] | null>(null);
@@ -53,24 +55,24 @@ export function DictionarySource({ node, tree, onChanged }: Props): ReactNode {
     <>
       <div className="dictionary-source">
         <FilePicker
-          label="Load EDS…"
+          label={t("od.source.loadEds")}
           accept={OD_FILE_TYPES}
-          {...configure.gate("load an object dictionary", { disabled: busy })}
+          {...configure.gate(t("od.source.gateLoad"), { disabled: busy })}
           onFile={(f) => void load.run(f)}
         />
         <button
           type="button"
           onClick={() => void revert.run()}
-          {...configure.gate("change the object dictionary", {
+          {...configure.gate(t("od.source.gateChange"), {
             disabled: busy || tree?.source !== "upload",
           })}
         >
-          Use profile dictionary
+          {t("od.source.useProfile")}
         </button>
-        {busy && <Spinner label="Loading dictionary" />}
+        {busy && <Spinner label={t("od.page.loading")} />}
         {tree && (
           <span className="small" data-testid="od-source">
-            {tree.source === "upload" ? "Imported" : "Profile"}:{" "}
+            {tree.source === "upload" ? t("od.source.imported") : t("od.source.profile")}:{" "}
             <span className="mono" title={tree.filename}>
               {shortPath(tree.filename)}
             </span>{" "}
@@ -81,7 +83,7 @@ export function DictionarySource({ node, tree, onChanged }: Props): ReactNode {
               aria-expanded={showWarnings}
               onClick={() => setShowWarnings((v) => !v)}
             >
-              {warnings.length} warning{warnings.length === 1 ? "" : "s"}
+              {t("od.source.warnings", { count: warnings.length })}
             </button>
           </span>
         )}
@@ -93,7 +95,7 @@ export function DictionarySource({ node, tree, onChanged }: Props): ReactNode {
       )}
       {showWarnings && (
         <div className="toolbar-panel">
-          <LintTable warnings={warnings} caption="Dictionary import warnings" />
+          <LintTable warnings={warnings} caption={t("od.source.warningsCaption")} />
         </div>
       )}
     </>

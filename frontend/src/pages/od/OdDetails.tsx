@@ -4,19 +4,20 @@ import { api, call, odPath } from "../../api/client";
 import type { OdEntry, SdoValue } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { type MessageKey, useTranslation } from "../../i18n";
 import { typeClass } from "../../lib/dataTypes";
 import { formatValue, odAddress } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { parseValue, rangeHint } from "../../lib/valueInput";
 import { useMay } from "../../session/context";
 
-const ACCESS_LABELS: Readonly<Record<string, string>> = {
-  ro: "read only",
-  wo: "write only",
-  rw: "read / write",
-  rwr: "read / write (TPDO)",
-  rww: "read / write (RPDO)",
-  const: "constant",
+const ACCESS_LABELS: Readonly<Record<string, MessageKey>> = {
+  ro: "od.details.access.ro",
+  wo: "od.details.access.wo",
+  rw: "od.details.access.rw",
+  rwr: "od.details.access.rwr",
+  rww: "od.details.access.rww",
+  const: "od.details.access.const",
 };
 
 export function canRead(entry: OdEntry): boolean {
@@ -33,15 +34,16 @@ export function canWrite(entry: OdEntry): boolean {
 }
 
 function ReadResult({ value }: { value: SdoValue }): ReactNode {
+  const { t } = useTranslation();
   return (
-    <dl className="facts read-result" aria-label="Value read">
-      <dt>Value</dt>
+    <dl className="facts read-result" aria-label={t("od.details.valueRead")}>
+      <dt>{t("od.details.value")}</dt>
       <dd className="mono" data-testid="sdo-value">
         {formatValue(value.value)}
       </dd>
-      <dt>Raw</dt>
+      <dt>{t("od.details.raw")}</dt>
       <dd className="mono">{value.raw_hex || "—"}</dd>
-      <dt>Text</dt>
+      <dt>{t("od.details.text")}</dt>
       <dd className="mono">{value.text}</dd>
     </dl>
   );
@@ -55,6 +57,7 @@ interface Props {
 
 /** One entry: what the dictionary says about it, and read / write against the device. */
 export function OdDetails({ node, entry, onValue }: Props): ReactNode {
+  const { t } = useTranslation();
   const inputId = useId();
   const configure = useMay("configure");
   const [last, setLast] = useState<SdoValue | null>(null);
@@ -103,14 +106,15 @@ export function OdDetails({ node, entry, onValue }: Props): ReactNode {
 
   const kind = typeClass(entry.data_type_name);
   const hint = rangeHint(entry);
+  const accessKey = ACCESS_LABELS[entry.access];
   const placeholder =
     kind === "bytes"
-      ? "hex bytes, e.g. 01 02 0A"
+      ? t("od.details.placeholder.bytes")
       : kind === "text"
-        ? "text"
+        ? t("od.details.placeholder.text")
         : kind === "boolean"
-          ? "0 or 1"
-          : "decimal or 0x hex";
+          ? t("od.details.placeholder.boolean")
+          : t("od.details.placeholder.number");
 
   return (
     <section className="card od-details" aria-labelledby="od-entry-heading">
@@ -119,21 +123,21 @@ export function OdDetails({ node, entry, onValue }: Props): ReactNode {
         <span className="mono muted">{odAddress(entry.index, entry.subindex)}</span>
       </header>
       <dl className="facts">
-        <dt>Data type</dt>
+        <dt>{t("od.details.dataType")}</dt>
         <dd className="mono">{entry.data_type_name}</dd>
-        <dt>Access</dt>
-        <dd>{ACCESS_LABELS[entry.access] ?? entry.access}</dd>
-        <dt>PDO mappable</dt>
-        <dd>{entry.pdo_mappable ? "yes" : "no"}</dd>
-        <dt>Default</dt>
+        <dt>{t("od.details.accessLabel")}</dt>
+        <dd>{accessKey ? t(accessKey) : entry.access}</dd>
+        <dt>{t("od.details.pdoMappable")}</dt>
+        <dd>{entry.pdo_mappable ? t("od.details.yes") : t("od.details.no")}</dd>
+        <dt>{t("od.details.default")}</dt>
         <dd className="mono">{formatValue(entry.default)}</dd>
-        <dt>Limits</dt>
+        <dt>{t("od.details.limits")}</dt>
         <dd className="mono">
           {entry.low != null || entry.high != null
             ? `${formatValue(entry.low)} … ${formatValue(entry.high)}`
             : "—"}
         </dd>
-        <dt>Unit</dt>
+        <dt>{t("od.details.unit")}</dt>
         <dd>{entry.unit || "—"}</dd>
       </dl>
       {entry.description && <p className="description">{entry.description}</p>}
@@ -141,9 +145,9 @@ export function OdDetails({ node, entry, onValue }: Props): ReactNode {
       {canRead(entry) && (
         <div className="button-row">
           <button type="button" disabled={read.busy} onClick={() => void read.run()}>
-            Read
+            {t("od.details.read")}
           </button>
-          {read.busy && <Spinner label="Reading" />}
+          {read.busy && <Spinner label={t("od.details.reading")} />}
         </div>
       )}
       <ErrorText error={read.error} />
@@ -151,7 +155,7 @@ export function OdDetails({ node, entry, onValue }: Props): ReactNode {
 
       {canWrite(entry) || force ? (
         <form className="write-form" onSubmit={submit} noValidate>
-          <label htmlFor={inputId}>New value</label>
+          <label htmlFor={inputId}>{t("od.details.newValue")}</label>
           <div className="inline">
             <input
               id={inputId}
@@ -169,11 +173,11 @@ export function OdDetails({ node, entry, onValue }: Props): ReactNode {
             <button
               type="submit"
               className="primary"
-              {...configure.gate("write to the object dictionary", { disabled: write.busy })}
+              {...configure.gate(t("od.details.gateWrite"), { disabled: write.busy })}
             >
-              Write
+              {t("od.details.write")}
             </button>
-            {write.busy && <Spinner label="Writing" />}
+            {write.busy && <Spinner label={t("od.details.writing")} />}
           </div>
           <p id={`${inputId}-hint`} className="muted small">
             {entry.data_type_name}
@@ -187,15 +191,15 @@ export function OdDetails({ node, entry, onValue }: Props): ReactNode {
               disabled={write.busy || !configure.allowed}
               onClick={confirmWrite}
             >
-              Write anyway
+              {t("od.details.writeAnyway")}
             </button>
           )}
         </form>
       ) : (
         <p className="muted small">
-          {entry.access === "const" ? "Constant" : "Read-only"} in the dictionary.{" "}
+          {entry.access === "const" ? t("od.details.constant") : t("od.details.readOnly")}{" "}
           <button type="button" className="link-button" onClick={() => setForce(true)}>
-            Write anyway…
+            {t("od.details.forceWrite")}
           </button>
         </p>
       )}

@@ -4,6 +4,7 @@ import { api, call } from "../../api/client";
 import type { JobResult, OdEntry, SdoValue } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { countEntries, filterOd, parseOdQuery } from "../../lib/odFilter";
 import { useApi } from "../../lib/useApi";
 import { DictionarySource } from "./DictionarySource";
@@ -14,6 +15,7 @@ import { fromRead, mergeResults, valueKey, type ValueMap } from "./values";
 
 /** Browse the node's object dictionary, read and write any entry, upload all values. */
 export function OdPage({ node }: { node: number }): ReactNode {
+  const { t } = useTranslation();
   const searchId = useId();
   const tree = useApi(
     (signal) => call(api.GET("/api/nodes/{node}/od", { params: { path: { node } }, signal })),
@@ -66,23 +68,23 @@ export function OdPage({ node }: { node: number }): ReactNode {
       </div>
       <ErrorText error={tree.error} />
       <div className="od-split">
-        <section className="card od-browser" aria-label="Objects">
+        <section className="card od-browser" aria-label={t("od.page.objects")}>
           <div className="od-search">
             <label htmlFor={searchId} className="visually-hidden">
-              Search objects
+              {t("od.page.search")}
             </label>
             <input
               id={searchId}
               type="search"
-              placeholder="Search: 6041, 0x1018, 1018:2 or a name"
+              placeholder={t("od.page.searchPlaceholder")}
               value={query}
               onChange={(e) => setQuery(e.target.value)}
             />
             <span className="muted small" aria-live="polite">
               {tree.loading && !objects ? (
-                <Spinner label="Loading dictionary" />
+                <Spinner label={t("od.page.loading")} />
               ) : (
-                `${countEntries(items)} of ${total}`
+                t("od.page.count", { shown: countEntries(items), total })
               )}
             </span>
           </div>
@@ -109,7 +111,7 @@ export function OdPage({ node }: { node: number }): ReactNode {
             />
           ) : (
             <section className="card">
-              <p className="muted">Select an entry to see its details, read it or write it.</p>
+              <p className="muted">{t("od.page.selectHint")}</p>
             </section>
           )}
         </div>

@@ -1,6 +1,7 @@
 import { memo, type ReactNode } from "react";
 
 import type { OdEntry, OdObject } from "../../api/types";
+import { useTranslation } from "../../i18n";
 import type { FilteredObject } from "../../lib/odFilter";
 import { valueKey, type ValueMap } from "./values";
 
@@ -47,6 +48,7 @@ function ValueCell({ values, entry }: { values: ValueMap; entry: OdEntry }): Rea
 }
 
 function ObjectRowView({ item, open, selected, values, onToggle, onSelect }: RowProps): ReactNode {
+  const { t } = useTranslation();
   const { object } = item;
   const single = isSingle(object);
   const first = object.subs[0];
@@ -61,7 +63,10 @@ function ObjectRowView({ item, open, selected, values, onToggle, onSelect }: Row
             type="button"
             className="od-toggle"
             aria-expanded={open}
-            aria-label={`${open ? "Collapse" : "Expand"} ${hex4(object.index)}h ${object.name}`}
+            aria-label={t(open ? "od.tree.collapse" : "od.tree.expand", {
+              index: hex4(object.index),
+              name: object.name,
+            })}
             onClick={() => onToggle(object.index)}
           >
             {open ? "▾" : "▸"}
@@ -83,7 +88,9 @@ function ObjectRowView({ item, open, selected, values, onToggle, onSelect }: Row
         {single && first ? (
           <ValueCell values={values} entry={first} />
         ) : (
-          <span className="od-value muted small">{object.subs.length} entries</span>
+          <span className="od-value muted small">
+            {t("od.tree.entries", { entries: object.subs.length })}
+          </span>
         )}
       </div>
       {!single && open && (
@@ -152,9 +159,10 @@ export function OdTreeView({
   onToggle,
   onSelect,
 }: TreeProps): ReactNode {
-  if (items.length === 0) return <p className="muted od-empty">No entry matches.</p>;
+  const { t } = useTranslation();
+  if (items.length === 0) return <p className="muted od-empty">{t("od.tree.noMatch")}</p>;
   return (
-    <ul className="od-tree" aria-label="Object dictionary">
+    <ul className="od-tree" aria-label={t("od.tree.label")}>
       {items.map((item) => (
         <ObjectRow
           key={item.object.index}

@@ -4,8 +4,16 @@ import { api, call } from "../../api/client";
 import { asApiError, type ApiError } from "../../api/errors";
 import type { Job, JobResult } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
+import { type MessageKey, useTranslation } from "../../i18n";
 
 export const POLL_MS = 250;
+
+const STATE_WORDS = {
+  running: "od.upload.state.running",
+  done: "od.upload.state.done",
+  cancelled: "od.upload.state.cancelled",
+  failed: "od.upload.state.failed",
+} as const satisfies Record<Job["state"], MessageKey>;
 
 interface Props {
   node: number;
@@ -17,6 +25,7 @@ const unreadable = (result: JobResult): boolean => Boolean(result.abort_code ?? 
 
 /** "Upload all": read every readable entry as a server-side job, with progress and Cancel. */
 export function UploadAll({ node, onResults }: Props): ReactNode {
+  const { t } = useTranslation();
   const [job, setJob] = useState<Job | null>(null);
   const [failed, setFailed] = useState(0);
   const [error, setError] = useState<ApiError | null>(null);
@@ -96,20 +105,25 @@ export function UploadAll({ node, onResults }: Props): ReactNode {
     <div className="upload-all">
       {running ? (
         <button type="button" onClick={() => void cancel()}>
-          Cancel
+          {t("od.upload.cancel")}
         </button>
       ) : (
         <button type="button" className="primary" onClick={() => void start()}>
-          Upload all
+          {t("od.upload.uploadAll")}
         </button>
       )}
       {job && (
         <>
-          <progress max={Math.max(job.total, 1)} value={job.done} aria-label="Upload progress" />
+          <progress
+            max={Math.max(job.total, 1)}
+            value={job.done}
+            aria-label={t("od.upload.progress")}
+          />
           <span className="small" role="status">
             {job.done}/{job.total}
-            {job.state !== "running" && ` · ${job.state} in ${job.elapsed_s.toFixed(1)} s`}
-            {failed > 0 && ` · ${failed} not readable`}
+            {job.state !== "running" &&
+              ` · ${t("od.upload.finished", { state: t(STATE_WORDS[job.state]), seconds: job.elapsed_s.toFixed(1) })}`}
+            {failed > 0 && ` · ${t("od.upload.notReadable", { failed })}`}
           </span>
         </>
       )}

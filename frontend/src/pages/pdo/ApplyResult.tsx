@@ -1,6 +1,7 @@
 import type { ReactNode } from "react";
 
 import { formatAbortCode } from "../../api/errors";
+import { useTranslation } from "../../i18n";
 import type { ApplyOutcome } from "./pdoApi";
 
 /** What came of the last apply: the read-back, or the step that failed and what was restored. */
@@ -11,66 +12,58 @@ export function ApplyResult({
   outcome: ApplyOutcome;
   onClose: () => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const close = (
     <button type="button" className="small" onClick={onClose}>
-      Dismiss
+      {t("pdo.result.dismiss")}
     </button>
   );
   if (outcome.result === "applied") {
     const valid = outcome.pdos.filter((p) => p.valid).length;
     return (
-      <section className="card notice" role="status" aria-label="Apply result">
+      <section className="card notice" role="status" aria-label={t("pdo.result.label")}>
         <header className="card-header">
-          <h2>Applied</h2>
+          <h2>{t("pdo.result.applied")}</h2>
           <span className="spacer" />
           {close}
         </header>
-        <p>
-          Read back from the device: {outcome.pdos.length} PDOs, {valid} valid. The PDOs below show
-          what the device now has.
-        </p>
+        <p>{t("pdo.result.readBack", { total: outcome.pdos.length, valid })}</p>
       </section>
     );
   }
   if (outcome.result === "rejected") {
     return (
-      <section className="card pdo-failure" role="alert" aria-label="Apply result">
+      <section className="card pdo-failure" role="alert" aria-label={t("pdo.result.label")}>
         <header className="card-header">
-          <h2>Not applied</h2>
+          <h2>{t("pdo.result.notApplied")}</h2>
           <span className="spacer" />
           {close}
         </header>
         <p>{outcome.message}</p>
-        <p className="small">
-          Each problem is shown below at the PDO, field or mapped object it is about.
-        </p>
+        <p className="small">{t("pdo.result.eachProblem")}</p>
       </section>
     );
   }
   const { failure } = outcome;
   return (
-    <section className="card pdo-failure" role="alert" aria-label="Apply result">
+    <section className="card pdo-failure" role="alert" aria-label={t("pdo.result.label")}>
       <header className="card-header">
-        <h2>Apply failed</h2>
+        <h2>{t("pdo.result.failed")}</h2>
         <span className="spacer" />
         {close}
       </header>
       <dl className="facts">
-        <dt>Step</dt>
+        <dt>{t("pdo.result.step")}</dt>
         <dd>{failure.step}</dd>
-        <dt>Answer</dt>
+        <dt>{t("pdo.result.answer")}</dt>
         <dd className="error-text">
           {failure.abort_code && (
             <span className="mono">{formatAbortCode(failure.abort_code)} — </span>
           )}
           {failure.message}
         </dd>
-        <dt>Device</dt>
-        <dd>
-          {failure.restored
-            ? "Restored: the previous PDO settings were written back."
-            : "Not restored: the PDOs may be half-configured. Read them again and check before starting the node."}
-        </dd>
+        <dt>{t("pdo.result.device")}</dt>
+        <dd>{failure.restored ? t("pdo.result.restored") : t("pdo.result.notRestored")}</dd>
       </dl>
     </section>
   );

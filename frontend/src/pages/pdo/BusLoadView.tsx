@@ -1,6 +1,7 @@
 import { Fragment, useId, useState, type ReactNode } from "react";
 
 import { LoadBar } from "../../components/LoadBar";
+import { useTranslation } from "../../i18n";
 import { formatBitrate } from "../../lib/format";
 import { formatCobId, formatPercent, formatRate, pdoLabel } from "./model";
 import type { BusLoad, LoadSettings } from "./types";
@@ -66,6 +67,7 @@ export function BusLoadView({
   settings: LoadSettings;
   onSettings: (settings: LoadSettings) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const threshold = load.threshold_percent;
   const mine = load.nodes.find((n) => n.node === node);
@@ -75,19 +77,22 @@ export function BusLoadView({
         <h2 id={`${id}-h`}>{title}</h2>
         <span className="muted small">
           {formatBitrate(load.bitrate)}
-          {load.sync_period_us ? ` · SYNC every ${load.sync_period_us / 1000} ms` : " · no SYNC"}
+          {" · "}
+          {load.sync_period_us
+            ? t("pdo.load.syncEvery", { ms: load.sync_period_us / 1000 })
+            : t("pdo.load.noSync")}
         </span>
         <span className="spacer" />
         <SettingInput
-          label="Master cycle"
+          label={t("pdo.load.masterCycle")}
           unit="ms"
-          title="How often the master sends each event-driven RPDO, assumed while no SYNC runs"
+          title={t("pdo.load.masterCycleTitle")}
           initial={settings.masterPeriodMs}
           ok={(ms) => ms > 0 && ms <= 10_000}
           onValue={(masterPeriodMs) => onSettings({ ...settings, masterPeriodMs })}
         />
         <SettingInput
-          label="Warn above"
+          label={t("pdo.load.warnAbove")}
           unit="%"
           initial={settings.threshold}
           ok={(percent) => percent >= 1 && percent <= 100}
@@ -96,34 +101,37 @@ export function BusLoadView({
       </header>
       {load.over_threshold && (
         <p className="warning" role="alert">
-          The bus would be {formatPercent(load.percent)} loaded, above {threshold} %: frames may be
-          delayed. Slow down SYNC, raise inhibit times or map fewer PDOs.
+          {t("pdo.load.overThreshold", { percent: formatPercent(load.percent), threshold })}
         </p>
       )}
       <div className="load-rows">
-        <span>All nodes</span>
-        <LoadBar percent={load.percent} threshold={threshold} label="Total bus load" />
+        <span>{t("pdo.load.allNodes")}</span>
+        <LoadBar percent={load.percent} threshold={threshold} label={t("pdo.load.total")} />
         <span className="muted small num">{Math.round(load.total_bits_per_s)} bit/s</span>
         {load.nodes.map((n) => (
           <Fragment key={n.node}>
-            <span>Node {n.node}</span>
-            <LoadBar percent={n.percent} threshold={threshold} label={`Node ${n.node} load`} />
+            <span>{t("pdo.load.node", { node: n.node })}</span>
+            <LoadBar
+              percent={n.percent}
+              threshold={threshold}
+              label={t("pdo.load.nodeLoad", { node: n.node })}
+            />
             <span className="muted small num">{Math.round(n.bits_per_s)} bit/s</span>
           </Fragment>
         ))}
       </div>
       {mine && mine.pdos.length > 0 && (
         <details className="pdo-load-details" open={open}>
-          <summary>How node {node}'s PDOs are counted</summary>
+          <summary>{t("pdo.load.howCounted", { node })}</summary>
           <table className="data-table pdo-load-table">
             <thead>
               <tr>
                 <th>PDO</th>
                 <th>COB-ID</th>
-                <th>Frames</th>
-                <th>Bits / frame</th>
-                <th>Load</th>
-                <th>Counted as</th>
+                <th>{t("pdo.load.frames")}</th>
+                <th>{t("pdo.load.bitsPerFrame")}</th>
+                <th>{t("pdo.load.load")}</th>
+                <th>{t("pdo.load.countedAs")}</th>
               </tr>
             </thead>
             <tbody>
@@ -143,10 +151,7 @@ export function BusLoadView({
       )}
       {load.notes.length > 0 && (
         <details className="pdo-load-details">
-          <summary>
-            {load.notes.length === 1 ? "1 note" : `${load.notes.length} notes`} on how the load is
-            estimated
-          </summary>
+          <summary>{t("pdo.load.notes", { count: load.notes.length })}</summary>
           <ul className="muted small pdo-notes">
             {load.notes.map((note, i) => (
               <li key={i}>{note}</li>

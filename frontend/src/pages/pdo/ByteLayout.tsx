@@ -1,5 +1,6 @@
 import { useId, type CSSProperties, type ReactNode } from "react";
 
+import { i18n, useTranslation } from "../../i18n";
 import { odAddress } from "../../lib/format";
 import { MAX_BITS, type Layout, type LayoutBlock } from "./model";
 
@@ -8,7 +9,12 @@ const BYTES = Array.from({ length: MAX_BITS / 8 }, (_, i) => i);
 function blockText(block: LayoutBlock): string {
   const address = odAddress(block.index, block.subindex);
   const unit = block.unit ? ` · ${block.unit}` : "";
-  return `${block.name ?? address} (${address}, ${block.bits} bit${unit})`;
+  return i18n.t("pdo.frame.block", {
+    name: block.name ?? address,
+    address,
+    bits: block.bits,
+    unit,
+  });
 }
 
 function Block({
@@ -20,6 +26,7 @@ function Block({
   flagged: boolean;
   describedBy?: string | undefined;
 }): ReactNode {
+  const { t } = useTranslation();
   const span = Math.min(block.bits, MAX_BITS - block.startBit);
   const style: CSSProperties = { gridColumn: `${block.startBit + 1} / span ${span}` };
   const classes = [
@@ -42,7 +49,7 @@ function Block({
         {block.name ?? (block.known ? "" : odAddress(block.index, block.subindex))}
       </span>
       <span className="frame-meta mono">
-        {odAddress(block.index, block.subindex)} · {block.bits} bit
+        {odAddress(block.index, block.subindex)} · {t("pdo.frame.bits", { bits: block.bits })}
         {block.unit && ` · ${block.unit}`}
       </span>
     </div>
@@ -72,6 +79,7 @@ export function ByteLayout({
   /** Problem messages by mapping position. */
   problems?: ReadonlyMap<number, readonly string[]>;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const inside = layout.blocks.filter((b) => b.startBit < MAX_BITS);
   const outside = layout.blocks.filter((b) => b.startBit >= MAX_BITS || b.overflow);
@@ -87,7 +95,7 @@ export function ByteLayout({
             className={`frame-byte${byte * 8 < layout.usedBits ? " used" : ""}`}
             style={{ gridColumn: `${byte * 8 + 1} / span 8` }}
           >
-            Byte {byte}
+            {t("pdo.frame.byte", { byte })}
           </div>
         ))}
       </div>
@@ -108,7 +116,11 @@ export function ByteLayout({
             className="frame-free"
             style={{ gridColumn: `${MAX_BITS - free + 1} / span ${free}` }}
           >
-            {layout.blocks.length === 0 ? "nothing mapped" : free >= 8 ? `${free} bits free` : ""}
+            {layout.blocks.length === 0
+              ? t("pdo.frame.nothingMapped")
+              : free >= 8
+                ? t("pdo.frame.bitsFree", { free })
+                : ""}
           </div>
         )}
       </div>
@@ -128,12 +140,13 @@ export function ByteLayout({
       )}
       <div className="frame-foot muted small">
         <span>
-          {layout.usedBits} of {MAX_BITS} bits · {layout.bytes} byte{layout.bytes === 1 ? "" : "s"}{" "}
-          sent
+          {t("pdo.frame.used", { used: layout.usedBits, max: MAX_BITS, count: layout.bytes })}
         </span>
         {outside.length > 0 && (
           <span className="error-text small" role="alert">
-            Does not fit in 8 bytes: {outside.map(blockText).join(", ")}
+            {t("pdo.frame.doesNotFit", {
+              objects: outside.map(blockText).join(t("common.listSeparator")),
+            })}
           </span>
         )}
       </div>

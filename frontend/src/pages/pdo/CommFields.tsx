@@ -1,5 +1,6 @@
 import { useId, useState, type ReactNode } from "react";
 
+import { type MessageKey, useTranslation } from "../../i18n";
 import {
   fixedCobIdReason,
   formatCobId,
@@ -20,6 +21,7 @@ export function pdoWords(pdo: Pdo): string {
 
 /** The communication parameter (14xxh / 18xxh) as read. */
 export function CommFacts({ pdo }: { pdo: Pdo }): ReactNode {
+  const { t } = useTranslation();
   return (
     <dl className="pdo-facts">
       <div>
@@ -27,22 +29,25 @@ export function CommFacts({ pdo }: { pdo: Pdo }): ReactNode {
         <dd className="mono">{formatCobId(pdo.cob_id)}</dd>
       </div>
       <div>
-        <dt>Transmission</dt>
+        <dt>{t("pdo.comm.transmission")}</dt>
         <dd>
-          {pdoWords(pdo)} <span className="muted small">(type {pdo.transmission_type})</span>
+          {pdoWords(pdo)}{" "}
+          <span className="muted small">
+            {t("pdo.comm.typeNumber", { type: pdo.transmission_type })}
+          </span>
         </dd>
       </div>
       <div>
-        <dt>Inhibit time</dt>
+        <dt>{t("pdo.comm.inhibitTime")}</dt>
         <dd>{inhibitMs(pdo.inhibit_time_100us)} ms</dd>
       </div>
       <div>
-        <dt>Event timer</dt>
-        <dd>{pdo.event_timer_ms ? `${pdo.event_timer_ms} ms` : "off"}</dd>
+        <dt>{t("pdo.comm.eventTimer")}</dt>
+        <dd>{pdo.event_timer_ms ? `${pdo.event_timer_ms} ms` : t("pdo.comm.off")}</dd>
       </div>
       {pdo.kind === "tpdo" && (
         <div>
-          <dt>SYNC start</dt>
+          <dt>{t("pdo.comm.syncStart")}</dt>
           <dd>{pdo.sync_start || "—"}</dd>
         </div>
       )}
@@ -100,6 +105,7 @@ function Field({
   /** Told the reason on a try to change a fixed field, and null when the field is left. */
   onRefused?: (reason: string | null) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const [text, setText] = useState(initial);
   return (
@@ -130,17 +136,17 @@ function Field({
           if (value !== null) onValue(value);
         }}
       />
-      {fixed !== null && <span className="muted small">fixed by the drive</span>}
+      {fixed !== null && <span className="muted small">{t("pdo.comm.fixedByDrive")}</span>}
     </>
   );
 }
 
-const FIELD_LABELS: Readonly<Record<CommField, string>> = {
-  cob_id: "COB-ID",
-  transmission_type: "Transmission type",
-  inhibit_time: "Inhibit time",
-  event_timer: "Event timer",
-  sync_start: "SYNC start",
+const FIELD_LABELS: Readonly<Record<CommField, MessageKey | null>> = {
+  cob_id: null, // "COB-ID" in every language
+  transmission_type: "pdo.comm.transmissionType",
+  inhibit_time: "pdo.comm.inhibitTime",
+  event_timer: "pdo.comm.eventTimer",
+  sync_start: "pdo.comm.syncStart",
 };
 
 /** The communication parameter as a draft's inputs (the card is keyed per draft, so the
@@ -157,9 +163,14 @@ export function CommEditor({
   problems: ReadonlyMap<CommField, readonly Problem[]>;
   onChange: (pdo: Pdo) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const id = useId();
   const label = pdoLabel(pdo);
   const [refused, setRefused] = useState<string | null>(null);
+  const fieldLabel = (field: CommField): string => {
+    const key = FIELD_LABELS[field];
+    return key ? t(key) : "COB-ID";
+  };
   const at = (field: CommField): { problemId?: string; hasProblem: boolean } =>
     problems.has(field) ? { problemId: `${id}-${field}`, hasProblem: true } : { hasProblem: false };
   return (
@@ -171,13 +182,13 @@ export function CommEditor({
             checked={pdo.valid}
             onChange={(e) => onChange({ ...pdo, valid: e.target.checked })}
           />
-          Valid
+          {t("pdo.comm.valid")}
         </label>
         <Field
           label="COB-ID"
-          name={`${label} COB-ID`}
+          name={t("pdo.comm.name.cobId", { label })}
           className="narrow mono"
-          title="CAN identifier in hex, 001h–7FFh"
+          title={t("pdo.comm.cobIdTitle")}
           initial={formatCobId(pdo.cob_id)}
           parse={parseCobId}
           onValue={(cob_id) => onChange({ ...pdo, cob_id })}
@@ -186,8 +197,8 @@ export function CommEditor({
           {...at("cob_id")}
         />
         <Field
-          label="Transmission type"
-          name={`${label} transmission type`}
+          label={t("pdo.comm.transmissionType")}
+          name={t("pdo.comm.name.transmissionType", { label })}
           initial={String(pdo.transmission_type)}
           parse={intIn(255)}
           onValue={(transmission_type) => onChange({ ...pdo, transmission_type })}
@@ -195,16 +206,16 @@ export function CommEditor({
         />
         <span className="muted small pdo-words">{pdoWords({ ...pdo, transmission: "" })}</span>
         <Field
-          label="Inhibit ms"
-          name={`${label} inhibit time ms`}
+          label={t("pdo.comm.inhibitMs")}
+          name={t("pdo.comm.name.inhibitTime", { label })}
           initial={String(inhibitMs(pdo.inhibit_time_100us))}
           parse={msIn}
           onValue={(inhibit_time_100us) => onChange({ ...pdo, inhibit_time_100us })}
           {...at("inhibit_time")}
         />
         <Field
-          label="Event timer ms"
-          name={`${label} event timer ms`}
+          label={t("pdo.comm.eventTimerMs")}
+          name={t("pdo.comm.name.eventTimer", { label })}
           initial={String(pdo.event_timer_ms)}
           parse={intIn(65535)}
           onValue={(event_timer_ms) => onChange({ ...pdo, event_timer_ms })}
@@ -212,8 +223,8 @@ export function CommEditor({
         />
         {pdo.kind === "tpdo" && (
           <Field
-            label="SYNC start"
-            name={`${label} SYNC start`}
+            label={t("pdo.comm.syncStart")}
+            name={t("pdo.comm.name.syncStart", { label })}
             initial={String(pdo.sync_start)}
             parse={intIn(240)}
             onValue={(sync_start) => onChange({ ...pdo, sync_start })}
@@ -227,10 +238,14 @@ export function CommEditor({
         </p>
       )}
       {problems.size > 0 && (
-        <ul className="pdo-problems pdo-field-problems" aria-label={`${label} parameter problems`}>
+        <ul
+          className="pdo-problems pdo-field-problems"
+          aria-label={t("pdo.comm.parameterProblems", { label })}
+        >
           {[...problems].map(([field, list]) => (
             <li key={field} id={`${id}-${field}`} className="error-text">
-              <strong>{FIELD_LABELS[field]}:</strong> {list.map((p) => p.message).join(" ")}
+              <strong>{t("pdo.comm.fieldProblems", { field: fieldLabel(field) })}</strong>{" "}
+              {list.map((p) => p.message).join(" ")}
             </li>
           ))}
         </ul>

@@ -5,6 +5,7 @@ import type { NmtStateName } from "../../api/types";
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { i18n, useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import { draftChanges, isSynchronous, pdoLabel } from "./model";
@@ -12,14 +13,12 @@ import { applyPdos, type ApplyOutcome } from "./pdoApi";
 import { SyncChoice } from "./SyncChoice";
 import type { Pdo, PdoRules, Validation } from "./types";
 
-const DEFAULT_PROCEDURE = "each changed PDO is made invalid, remapped and made valid again";
-
 /** The check's outcome in a few words: problems first, then a SYNC nobody provides. */
 function validationWords(validation: Validation): string {
   const count = validation.problems.length;
-  if (count > 0) return `${count} problem${count === 1 ? "" : "s"}`;
-  if (!validation.ok) return "No SYNC on the bus";
-  return "Checked: no problems";
+  if (count > 0) return i18n.t("pdo.draft.problems", { count });
+  if (!validation.ok) return i18n.t("pdo.draft.noSync");
+  return i18n.t("pdo.draft.checked");
 }
 
 /** `text` ending in one full stop. */
@@ -64,6 +63,7 @@ export function DraftBar({
   onOutcome,
   onDiscard,
 }: Props): ReactNode {
+  const { t } = useTranslation();
   const configure = useMay("configure");
   const [confirming, setConfirming] = useState(false);
   const changes = draftChanges(device, draft);
@@ -75,14 +75,17 @@ export function DraftBar({
   });
 
   return (
-    <section className="card pdo-draft-bar" aria-label="Draft">
+    <section className="card pdo-draft-bar" aria-label={t("pdo.draft.heading")}>
       <header className="card-header">
-        <h2>Draft</h2>
+        <h2>{t("pdo.draft.heading")}</h2>
         <span className="badge pdo-draft">{source}</span>
         <span className="muted small">
           {changes.length === 0
-            ? "Same as the device."
-            : `${changes.length === 1 ? "1 PDO differs" : `${changes.length} PDOs differ`} from the device: ${changes.map((c) => pdoLabel(c.pdo)).join(", ")}.`}
+            ? t("pdo.draft.same")
+            : t("pdo.draft.differs", {
+                count: changes.length,
+                pdos: changes.map((c) => pdoLabel(c.pdo)).join(t("common.listSeparator")),
+              })}
         </span>
         {validation && (
           <span className={`badge ${validation.ok ? "pdo-valid" : "pdo-bad"}`} role="status">
@@ -91,23 +94,23 @@ export function DraftBar({
         )}
         <span className="spacer" />
         <button type="button" disabled={validating} onClick={onValidate}>
-          Validate
+          {t("pdo.draft.validate")}
         </button>
         <button
           type="button"
           className="primary"
-          {...configure.gate("apply a PDO mapping", { disabled: changes.length === 0 })}
+          {...configure.gate(t("pdo.draft.gateApply"), { disabled: changes.length === 0 })}
           onClick={() => {
             apply.clearError();
             setConfirming(true);
           }}
         >
-          Apply…
+          {t("pdo.draft.apply")}
         </button>
         <button type="button" onClick={onDiscard}>
-          Discard draft
+          {t("pdo.draft.discard")}
         </button>
-        {validating && <Spinner label="Validating" />}
+        {validating && <Spinner label={t("pdo.draft.validating")} />}
       </header>
       <SyncChoice
         draft={draft}
@@ -121,12 +124,12 @@ export function DraftBar({
       <ErrorText error={validateError} />
       {confirming && (
         <Dialog
-          title={`Apply PDO mapping to node ${node}`}
+          title={t("pdo.draft.dialogTitle", { node })}
           onClose={() => setConfirming(false)}
           actions={
             <>
               <button type="button" onClick={() => setConfirming(false)}>
-                Cancel
+                {t("pdo.draft.cancel")}
               </button>
               <button
                 type="button"
@@ -134,51 +137,44 @@ export function DraftBar({
                 disabled={apply.busy}
                 onClick={() => void apply.run()}
               >
-                Apply
+                {t("pdo.draft.confirm")}
               </button>
-              {apply.busy && <Spinner label="Applying" />}
+              {apply.busy && <Spinner label={t("pdo.draft.applying")} />}
             </>
           }
         >
-          <p>Node {node} will get these PDO settings:</p>
+          <p>{t("pdo.draft.willGet", { node })}</p>
           <ul className="pdo-confirm-list">
             {changes.map(({ pdo, changes: words }) => (
               <li key={`${pdo.kind}${pdo.number}`}>
-                <strong>{pdoLabel(pdo)}</strong>: {words.join("; ")}
+                <strong>{pdoLabel(pdo)}</strong>: {words.join(t("pdo.card.changeSeparator"))}
               </li>
             ))}
           </ul>
           <p className="pdo-procedure">
-            <strong>How node {node} takes the new mapping:</strong>{" "}
-            {sentence(rules?.procedure ?? DEFAULT_PROCEDURE)} If a step fails, the previous settings
-            are written back.
+            <strong>{t("pdo.draft.howTakes", { node })}</strong>{" "}
+            {rules?.procedure ? sentence(rules.procedure) : t("pdo.draft.defaultProcedure")}{" "}
+            {t("pdo.draft.rollback")}
           </p>
           {rules?.needs_pre_operational && nmtState === "operational" && (
-            <p className="warning">
-              Node {node} is operational: it goes to pre-operational for the change, so it neither
-              sends nor takes PDOs until it is back.
-            </p>
+            <p className="warning">{t("pdo.draft.operational", { node })}</p>
           )}
           {validation && validation.problems.length > 0 && (
             <p className="warning">
-              The last check found {validation.problems.length} problem
-              {validation.problems.length === 1 ? "" : "s"}; the drive will likely refuse it.
+              {t("pdo.draft.lastCheck", { count: validation.problems.length })}
             </p>
           )}
           {synchronous &&
             (syncExternal ? (
-              <p className="small">SYNC comes from the machine&apos;s controller (PLC).</p>
+              <p className="small">{t("pdo.draft.syncExternal")}</p>
             ) : (
               validation &&
               !validation.ok &&
               validation.problems.length === 0 && (
-                <p className="warning">
-                  No SYNC is produced or heard on the bus: start the SYNC producer, or say that SYNC
-                  comes from the machine&apos;s controller.
-                </p>
+                <p className="warning">{t("pdo.draft.noSyncWarning")}</p>
               )
             ))}
-          {!validation && <p className="muted small">Not validated yet.</p>}
+          {!validation && <p className="muted small">{t("pdo.draft.notValidated")}</p>}
           <ErrorText error={apply.error} />
         </Dialog>
       )}

@@ -2,12 +2,13 @@ import { useState, type ReactNode } from "react";
 
 import { Dialog } from "../../components/Dialog";
 import { ErrorText } from "../../components/ErrorText";
+import { type MessageKey, useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
 import { exportPdos, type ExportFormat } from "./pdoApi";
 
-const FORMATS: Record<ExportFormat, { label: string; title: string; file: string }> = {
-  dcf: { label: "DCF fragment", title: "DCF fragment", file: "pdos.dcf" },
-  python: { label: "python-canopen snippet", title: "python-canopen snippet", file: "pdos.py" },
+const FORMATS: Record<ExportFormat, { label: MessageKey; file: string }> = {
+  dcf: { label: "pdo.export.dcf", file: "pdos.dcf" },
+  python: { label: "pdo.export.python", file: "pdos.py" },
 };
 
 function download(text: string, name: string): void {
@@ -21,6 +22,7 @@ function download(text: string, name: string): void {
 
 /** The device's PDO configuration as a DCF fragment or a python-canopen snippet. */
 export function ExportButtons({ node }: { node: number }): ReactNode {
+  const { t } = useTranslation();
   const [shown, setShown] = useState<{ format: ExportFormat; text: string } | null>(null);
   const fetchText = useAction(async (format: ExportFormat) => {
     setShown({ format, text: await exportPdos(node, format) });
@@ -29,7 +31,7 @@ export function ExportButtons({ node }: { node: number }): ReactNode {
   const fileName = meta ? `node${node}-${meta.file}` : "";
   return (
     <>
-      <span className="muted small">Export:</span>
+      <span className="muted small">{t("pdo.export.label")}</span>
       {(Object.keys(FORMATS) as ExportFormat[]).map((format) => (
         <button
           key={format}
@@ -37,25 +39,25 @@ export function ExportButtons({ node }: { node: number }): ReactNode {
           disabled={fetchText.busy}
           onClick={() => void fetchText.run(format)}
         >
-          {FORMATS[format].label}
+          {t(FORMATS[format].label)}
         </button>
       ))}
       <ErrorText error={fetchText.error} inline />
       {shown && meta && (
         <Dialog
-          title={`Node ${node}: ${meta.title}`}
+          title={t("pdo.export.title", { node, what: t(meta.label) })}
           onClose={() => setShown(null)}
           actions={
             <>
               <button type="button" onClick={() => setShown(null)}>
-                Close
+                {t("pdo.export.close")}
               </button>
               <button
                 type="button"
                 className="primary"
                 onClick={() => download(shown.text, fileName)}
               >
-                Download {fileName}
+                {t("pdo.export.download", { file: fileName })}
               </button>
             </>
           }
@@ -63,7 +65,7 @@ export function ExportButtons({ node }: { node: number }): ReactNode {
           <textarea
             readOnly
             rows={18}
-            aria-label={meta.title}
+            aria-label={t(meta.label)}
             className="pdo-export"
             value={shown.text}
           />

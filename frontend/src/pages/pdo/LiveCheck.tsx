@@ -3,6 +3,7 @@ import type { ReactNode } from "react";
 import { api, call } from "../../api/client";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { odAddress } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
@@ -15,6 +16,7 @@ import { useLiveCapture } from "./useLiveCapture";
  * meaning in words when it has one ("0x0250 · Switch on disabled"), the frame's bytes and the
  * raw number in the tooltip. */
 function Value({ value: v }: { value: LiveValue }): ReactNode {
+  const { t } = useTranslation();
   const address = odAddress(v.index, v.subindex);
   const raw = v.value == null ? "" : ` = ${String(v.value)}${v.unit ? ` (${v.unit})` : ""}`;
   let shown: string;
@@ -24,7 +26,10 @@ function Value({ value: v }: { value: LiveValue }): ReactNode {
   return (
     <div>
       <dt title={address}>{v.name ?? address}</dt>
-      <dd className="num" title={v.raw ? `${address} bytes: ${v.raw}${raw}` : undefined}>
+      <dd
+        className="num"
+        title={v.raw ? t("pdo.live.bytes", { address, raw: v.raw, value: raw }) : undefined}
+      >
         {shown}
         {v.text && <span className="pdo-value-text"> · {v.text}</span>}
       </dd>
@@ -33,6 +38,7 @@ function Value({ value: v }: { value: LiveValue }): ReactNode {
 }
 
 function Row({ row }: { row: LivePdo }): ReactNode {
+  const { t } = useTranslation();
   return (
     <tr className={row.kind === "rpdo" ? "pdo-live-master" : undefined}>
       <td className="mono">{formatCobId(row.cob_id)}</td>
@@ -43,7 +49,7 @@ function Row({ row }: { row: LivePdo }): ReactNode {
       </td>
       <td>
         {row.frames === 0 ? (
-          <span className="muted small">none yet</span>
+          <span className="muted small">{t("pdo.live.noneYet")}</span>
         ) : (
           <dl className="pdo-values">
             {row.values.map((v) => (
@@ -59,6 +65,7 @@ function Row({ row }: { row: LivePdo }): ReactNode {
 /** After an apply: start the node, give it SYNC if the mapping needs it, and watch the PDOs
  * arrive with their rate and decoded values. */
 export function LiveCheck({ node, device }: { node: number; device: readonly Pdo[] }): ReactNode {
+  const { t } = useTranslation();
   const live = useLiveCapture(node);
   const needsSync = device.some((p) => p.valid && isSynchronous(p.transmission_type));
 
@@ -83,46 +90,45 @@ export function LiveCheck({ node, device }: { node: number; device: readonly Pdo
   return (
     <section className="card" aria-labelledby="pdo-live-heading">
       <header className="card-header">
-        <h2 id="pdo-live-heading">Live check</h2>
-        <span className="muted small">
-          Start the node and watch its PDOs: measured rate and decoded values.
-        </span>
+        <h2 id="pdo-live-heading">{t("pdo.live.heading")}</h2>
+        <span className="muted small">{t("pdo.live.intro")}</span>
       </header>
       <div className="button-row">
         {live.running ? (
           <button type="button" onClick={() => void live.stop()}>
-            Stop watching
+            {t("pdo.live.stop")}
           </button>
         ) : (
           <button
             type="button"
             className="primary"
             onClick={() => void startAll.run()}
-            {...configure.gate("start the node", { disabled: startAll.busy })}
+            {...configure.gate(t("pdo.live.gateStart"), { disabled: startAll.busy })}
           >
-            Start node and watch PDOs
+            {t("pdo.live.start")}
           </button>
         )}
-        {live.running && <span className="badge pdo-valid">watching</span>}
+        {live.running && <span className="badge pdo-valid">{t("pdo.live.watching")}</span>}
         {needsSync && <SyncControl />}
-        {startAll.busy && <Spinner label="Starting" />}
+        {startAll.busy && <Spinner label={t("pdo.live.starting")} />}
       </div>
       <ErrorText error={startAll.error ?? live.error} />
       {live.capture && (
-        <table className="data-table pdo-live-table" aria-label="Received PDOs">
+        <table className="data-table pdo-live-table" aria-label={t("pdo.live.table")}>
           <thead>
             <tr>
               <th>COB-ID</th>
               <th>PDO</th>
-              <th>Frames</th>
-              <th>Rate</th>
-              <th>Values</th>
+              <th>{t("pdo.live.frames")}</th>
+              <th>{t("pdo.live.rate")}</th>
+              <th>{t("pdo.live.values")}</th>
             </tr>
           </thead>
-          <tbody aria-label={`Sent by node ${node}`}>
+          <tbody aria-label={t("pdo.live.sentByNode", { node })}>
             <tr className="pdo-live-group">
               <th colSpan={5} scope="colgroup">
-                Sent by node {node} <span className="muted small">(its TPDOs)</span>
+                {t("pdo.live.sentByNode", { node })}{" "}
+                <span className="muted small">{t("pdo.live.itsTpdos")}</span>
               </th>
             </tr>
             {sent.map((row) => (
@@ -131,16 +137,17 @@ export function LiveCheck({ node, device }: { node: number; device: readonly Pdo
             {sent.length === 0 && (
               <tr>
                 <td colSpan={5} className="muted">
-                  No TPDO received yet.
+                  {t("pdo.live.noTpdo")}
                 </td>
               </tr>
             )}
           </tbody>
           {received.length > 0 && (
-            <tbody className="pdo-live-master" aria-label="Sent by the master">
+            <tbody className="pdo-live-master" aria-label={t("pdo.live.sentByMaster")}>
               <tr className="pdo-live-group">
                 <th colSpan={5} scope="colgroup">
-                  Sent by the master to node {node} <span className="muted small">(its RPDOs)</span>
+                  {t("pdo.live.sentByMasterTo", { node })}{" "}
+                  <span className="muted small">{t("pdo.live.itsRpdos")}</span>
                 </th>
               </tr>
               {seen.map((row) => (
@@ -149,8 +156,11 @@ export function LiveCheck({ node, device }: { node: number; device: readonly Pdo
               {unseen.length > 0 && (
                 <tr>
                   <td colSpan={5} className="muted small">
-                    None seen from the master:{" "}
-                    {unseen.map((r) => `${pdoLabel(r)} (${formatCobId(r.cob_id)})`).join(", ")}.
+                    {t("pdo.live.noneFromMaster", {
+                      pdos: unseen
+                        .map((r) => `${pdoLabel(r)} (${formatCobId(r.cob_id)})`)
+                        .join(t("common.listSeparator")),
+                    })}
                   </td>
                 </tr>
               )}

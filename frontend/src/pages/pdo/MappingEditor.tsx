@@ -1,5 +1,6 @@
 import type { ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import { odAddress } from "../../lib/format";
 import { moveEntry, pdoLabel, type FitRules, type Lookup, type ObjectInfo } from "./model";
 import { ObjectPicker } from "./ObjectPicker";
@@ -19,11 +20,12 @@ export function MappingEditor({
   rules: FitRules;
   onChange: (pdo: Pdo) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const label = pdoLabel(pdo);
   const setMapping = (mapping: Pdo["mapping"]): void => onChange({ ...pdo, mapping });
   return (
     <div className="pdo-mapping-editor">
-      <ol className="pdo-entries" aria-label={`${label} mapped objects`}>
+      <ol className="pdo-entries" aria-label={t("pdo.mapping.entries", { label })}>
         {pdo.mapping.map((entry, i) => {
           const address = odAddress(entry.index, entry.subindex);
           const name = lookup(entry.index, entry.subindex)?.name ?? entry.name ?? address;
@@ -31,13 +33,13 @@ export function MappingEditor({
             <li key={`${address}-${i}`}>
               <span className="pdo-entry-name">{name}</span>
               <span className="mono small muted">
-                {address} · {entry.bits} bit
+                {address} · {t("pdo.frame.bits", { bits: entry.bits })}
               </span>
               <span className="spacer" />
               <button
                 type="button"
                 className="small"
-                aria-label={`Move ${name} earlier`}
+                aria-label={t("pdo.mapping.moveEarlier", { name })}
                 disabled={i === 0}
                 onClick={() => setMapping(moveEntry(pdo.mapping, i, i - 1))}
               >
@@ -46,7 +48,7 @@ export function MappingEditor({
               <button
                 type="button"
                 className="small"
-                aria-label={`Move ${name} later`}
+                aria-label={t("pdo.mapping.moveLater", { name })}
                 disabled={i === pdo.mapping.length - 1}
                 onClick={() => setMapping(moveEntry(pdo.mapping, i, i + 1))}
               >
@@ -55,10 +57,10 @@ export function MappingEditor({
               <button
                 type="button"
                 className="small"
-                aria-label={`Remove ${name} from ${label}`}
+                aria-label={t("pdo.mapping.removeFrom", { name, label })}
                 onClick={() => setMapping(pdo.mapping.filter((_, j) => j !== i))}
               >
-                Remove
+                {t("pdo.mapping.remove")}
               </button>
             </li>
           );

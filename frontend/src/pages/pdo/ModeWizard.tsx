@@ -2,10 +2,19 @@ import { useState, type ReactNode } from "react";
 
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { type MessageKey, useTranslation } from "../../i18n";
 import { useAction } from "../../lib/useApi";
-import { MODES } from "./model";
+import { MODES, type ModeChoice } from "./model";
 import { recommendedPdos } from "./pdoApi";
 import type { Pdo } from "./types";
+
+const MODE_NAMES: Readonly<Record<ModeChoice["code"], MessageKey>> = {
+  pp: "pdo.mode.pp",
+  pv: "pdo.mode.pv",
+  pt: "pdo.mode.pt",
+  hm: "pdo.mode.hm",
+  ip: "pdo.mode.ip",
+};
 
 /** Pick the operating modes the axis will run in; the server proposes a mapping for them. */
 export function ModeWizard({
@@ -19,11 +28,15 @@ export function ModeWizard({
   onEditCurrent: () => void;
   disabled: boolean;
 }): ReactNode {
+  const { t } = useTranslation();
   const [modes, setModes] = useState<ReadonlySet<string>>(() => new Set(["pp"]));
   const recommend = useAction(async () => {
     const codes = MODES.filter((m) => modes.has(m.code)).map((m) => m.code);
     const pdos = await recommendedPdos(node, codes);
-    onDraft(pdos, `recommended for ${codes.map((c) => c.toUpperCase()).join(" + ")}`);
+    onDraft(
+      pdos,
+      t("pdo.wizard.recommendedFor", { modes: codes.map((c) => c.toUpperCase()).join(" + ") }),
+    );
   });
 
   function toggle(code: string, on: boolean): void {
@@ -38,13 +51,11 @@ export function ModeWizard({
   return (
     <section className="card" aria-labelledby="pdo-wizard-heading">
       <header className="card-header">
-        <h2 id="pdo-wizard-heading">Map by purpose</h2>
-        <span className="muted small">
-          Choose the modes this axis runs in; the draft maps what they need to command and watch.
-        </span>
+        <h2 id="pdo-wizard-heading">{t("pdo.wizard.heading")}</h2>
+        <span className="muted small">{t("pdo.wizard.intro")}</span>
       </header>
       <fieldset className="pdo-modes">
-        <legend className="visually-hidden">Operating modes</legend>
+        <legend className="visually-hidden">{t("pdo.wizard.modes")}</legend>
         {MODES.map((mode) => (
           <label key={mode.code} className="check">
             <input
@@ -52,7 +63,7 @@ export function ModeWizard({
               checked={modes.has(mode.code)}
               onChange={(e) => toggle(mode.code, e.target.checked)}
             />
-            {mode.name} ({mode.code.toUpperCase()})
+            {t(MODE_NAMES[mode.code])} ({mode.code.toUpperCase()})
           </label>
         ))}
       </fieldset>
@@ -63,12 +74,12 @@ export function ModeWizard({
           disabled={disabled || modes.size === 0 || recommend.busy}
           onClick={() => void recommend.run()}
         >
-          Recommend mapping
+          {t("pdo.wizard.recommend")}
         </button>
         <button type="button" disabled={disabled} onClick={onEditCurrent}>
-          Edit current mapping
+          {t("pdo.wizard.editCurrent")}
         </button>
-        {recommend.busy && <Spinner label="Asking for a mapping" />}
+        {recommend.busy && <Spinner label={t("pdo.wizard.asking")} />}
       </div>
       <ErrorText error={recommend.error} />
     </section>

@@ -1,5 +1,6 @@
 import { useMemo, useState, type ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import { odAddress } from "../../lib/format";
 import { fitProblem, pdoLabel, type FitRules, type ObjectInfo } from "./model";
 import type { Pdo } from "./types";
@@ -32,6 +33,7 @@ export function ObjectPicker({
   rules: FitRules;
   onAdd: (object: ObjectInfo) => void;
 }): ReactNode {
+  const { t } = useTranslation();
   const label = pdoLabel(pdo);
   const [query, setQuery] = useState("");
   const [refused, setRefused] = useState<string | null>(null);
@@ -48,8 +50,8 @@ export function ObjectPicker({
       <input
         type="search"
         className="wide"
-        aria-label={`Find an object to map into ${label}`}
-        placeholder="Add an object: name, 6064 or 6064:00"
+        aria-label={t("pdo.picker.find", { label })}
+        placeholder={t("pdo.picker.placeholder")}
         value={query}
         onChange={(e) => {
           setQuery(e.target.value);
@@ -62,7 +64,7 @@ export function ObjectPicker({
         </p>
       )}
       {query.trim() !== "" && (
-        <ul className="pdo-picker-list" aria-label={`Objects for ${label}`}>
+        <ul className="pdo-picker-list" aria-label={t("pdo.picker.objectsFor", { label })}>
           {found.slice(0, SHOWN).map((object) => {
             const problem = fitProblem(pdo, object, rules);
             const address = odAddress(object.index, object.subindex);
@@ -71,23 +73,23 @@ export function ObjectPicker({
                 <span className="mono small">{address}</span>
                 <span className="pdo-picker-name">{object.name}</span>
                 <span className="muted small">
-                  {object.bits ?? "?"} bit · {object.access}
+                  {t("pdo.frame.bits", { bits: object.bits ?? "?" })} · {object.access}
                   {object.unit && ` · ${object.unit}`}
                 </span>
                 <button
                   type="button"
                   className="small"
-                  aria-label={`Add ${object.name} ${address}`}
+                  aria-label={t("pdo.picker.add", { name: object.name, address })}
                   onClick={() => add(object)}
                 >
-                  Add
+                  {t("pdo.picker.addButton")}
                 </button>
               </li>
             );
           })}
-          {found.length === 0 && <li className="muted">No PDO-mappable object matches.</li>}
+          {found.length === 0 && <li className="muted">{t("pdo.picker.noMatch")}</li>}
           {found.length > SHOWN && (
-            <li className="muted small">{found.length - SHOWN} more: narrow the search.</li>
+            <li className="muted small">{t("pdo.picker.more", { more: found.length - SHOWN })}</li>
           )}
         </ul>
       )}

@@ -1,5 +1,6 @@
 import { memo, useMemo, type ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import { odAddress } from "../../lib/format";
 import { ByteLayout } from "./ByteLayout";
 import { CommEditor, CommFacts } from "./CommFields";
@@ -11,6 +12,7 @@ import {
   pdoLabel,
   pdoObjects,
   placeProblems,
+  sameMapping,
   type FitRules,
   type Lookup,
   type ObjectInfo,
@@ -42,10 +44,11 @@ export const PdoCard = memo(function PdoCard({
   rules,
   onChange,
 }: Props): ReactNode {
+  const { t } = useTranslation();
   const label = pdoLabel(pdo);
   const layout = useMemo(() => frameLayout(pdo.mapping, lookup), [pdo.mapping, lookup]);
   const changes = draft ? pdoChanges(device, pdo) : [];
-  const mappingChanged = changes.some((c) => c.startsWith("mapping"));
+  const mappingChanged = draft && device !== undefined && !sameMapping(device.mapping, pdo.mapping);
   const placed = useMemo(() => placeProblems(pdo, problems), [pdo, problems]);
   // Objects inside the frame carry their problems; those past 64 bits and the rest are
   // listed under the PDO (with the comm fields' when not editing: no field to show them at).
@@ -66,15 +69,17 @@ export const PdoCard = memo(function PdoCard({
   return (
     <section
       className={classes.filter(Boolean).join(" ")}
-      aria-label={`${label}${draft ? " draft" : ""}`}
+      aria-label={draft ? t("pdo.card.draftLabel", { label }) : label}
       data-testid={`pdo-${pdo.kind}${pdo.number}`}
     >
       <header className="card-header">
         <h3>{label}</h3>
         <span className={`badge ${pdo.valid ? "pdo-valid" : "pdo-off"}`}>
-          {pdo.valid ? "valid" : "not valid"}
+          {pdo.valid ? t("pdo.card.valid") : t("pdo.card.notValid")}
         </span>
-        {changes.length > 0 && <span className="badge pdo-draft">draft: changed</span>}
+        {changes.length > 0 && (
+          <span className="badge pdo-draft">{t("pdo.card.draftChanged")}</span>
+        )}
         <span className="muted small">{pdoObjects(pdo)}</span>
       </header>
       {draft ? (
@@ -82,23 +87,23 @@ export const PdoCard = memo(function PdoCard({
       ) : (
         <CommFacts pdo={pdo} />
       )}
-      <ByteLayout layout={layout} label={`${label} frame`} problems={frameNotes} />
-      {mappingChanged && device && (
+      <ByteLayout layout={layout} label={t("pdo.card.frame", { label })} problems={frameNotes} />
+      {mappingChanged && (
         <div className="pdo-device-now">
-          <span className="muted small">On the device now:</span>
+          <span className="muted small">{t("pdo.card.onDevice")}</span>
           <ByteLayout
             layout={frameLayout(device.mapping, lookup)}
-            label={`${label} frame on the device`}
+            label={t("pdo.card.frameOnDevice", { label })}
           />
         </div>
       )}
       {changes.length > 0 && (
         <p className="small pdo-changes">
-          <strong>Changes:</strong> {changes.join("; ")}
+          <strong>{t("pdo.card.changes")}</strong> {changes.join(t("pdo.card.changeSeparator"))}
         </p>
       )}
       {listed.length > 0 && (
-        <ul className="pdo-problems" aria-label={`${label} problems`}>
+        <ul className="pdo-problems" aria-label={t("pdo.card.problems", { label })}>
           {listed.map((p, i) => (
             <li key={i} className="error-text">
               {p.index != null && (

@@ -1,5 +1,7 @@
 import { useState, type ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
+import type { MessageKey } from "../../i18n";
 import { PdoCard } from "./PdoCard";
 import { pdoChanges, pdoKey, pdoLabel, type FitRules, type Lookup, type ObjectInfo } from "./model";
 import type { Pdo, PdoKind, Problem } from "./types";
@@ -18,9 +20,9 @@ interface Props {
   onChange: (pdo: Pdo) => void;
 }
 
-const GROUPS: { kind: PdoKind; title: string; hint: string }[] = [
-  { kind: "rpdo", title: "Receive PDOs", hint: "commands the drive takes from the bus" },
-  { kind: "tpdo", title: "Transmit PDOs", hint: "what the drive sends" },
+const GROUPS: { kind: PdoKind; title: MessageKey; hint: MessageKey }[] = [
+  { kind: "rpdo", title: "pdo.list.rpdoTitle", hint: "pdo.list.rpdoHint" },
+  { kind: "tpdo", title: "pdo.list.tpdoTitle", hint: "pdo.list.tpdoHint" },
 ];
 
 function unused(pdo: Pdo): boolean {
@@ -39,6 +41,7 @@ export function PdoList({
   rules,
   onChange,
 }: Props): ReactNode {
+  const { t } = useTranslation();
   const [showUnused, setShowUnused] = useState(false);
   const deviceByKey = new Map(device.map((p) => [pdoKey(p), p]));
   return (
@@ -55,10 +58,10 @@ export function PdoList({
                 !(draft && pdoChanges(deviceByKey.get(pdoKey(p)), p).length > 0),
             );
         return (
-          <section key={group.kind} className="pdo-group" aria-label={group.title}>
+          <section key={group.kind} className="pdo-group" aria-label={t(group.title)}>
             <header className="pdo-group-header">
-              <h2>{group.title}</h2>
-              <span className="muted small">{group.hint}</span>
+              <h2>{t(group.title)}</h2>
+              <span className="muted small">{t(group.hint)}</span>
             </header>
             {pdos
               .filter((p) => !hidden.includes(p))
@@ -77,9 +80,11 @@ export function PdoList({
               ))}
             {hidden.length > 0 && (
               <p className="muted small pdo-unused">
-                Not valid and nothing mapped: {hidden.map(pdoLabel).join(", ")}.{" "}
+                {t("pdo.list.unused", {
+                  pdos: hidden.map(pdoLabel).join(t("common.listSeparator")),
+                })}{" "}
                 <button type="button" className="link-button" onClick={() => setShowUnused(true)}>
-                  Show them
+                  {t("pdo.list.showThem")}
                 </button>
               </p>
             )}

@@ -4,6 +4,7 @@ import { api, call } from "../../api/client";
 import type { OdObject } from "../../api/types";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useLive } from "../../live/context";
 import { useAction, useApi } from "../../lib/useApi";
 import { ApplyResult } from "./ApplyResult";
@@ -29,6 +30,8 @@ const DEFAULT_SETTINGS: LoadSettings = { threshold: 70, masterPeriodMs: 10 };
 interface Draft {
   pdos: Pdo[];
   source: string;
+  /** Changed by hand since it was made ("… (edited)"). */
+  edited: boolean;
   version: number;
 }
 
@@ -51,6 +54,7 @@ function objectInfos(objects: readonly OdObject[]): ObjectInfo[] {
 /** The node's PDOs as the device has them; a draft by purpose or by hand; validate, apply,
  * and check the result live. */
 export function PdoPage({ node }: { node: number }): ReactNode {
+  const { t } = useTranslation();
   const pdos = useApi((signal) => listPdos(node, signal), `pdos-${node}`);
   const od = useApi(
     (signal) => call(api.GET("/api/nodes/{node}/od", { params: { path: { node } }, signal })),
@@ -116,6 +120,7 @@ export function PdoPage({ node }: { node: number }): ReactNode {
       setDraft((old) => ({
         pdos: sortPdos(mergePdos(device, next)),
         source,
+        edited: false,
         version: (old?.version ?? 0) + 1,
       }));
       forgetValidation();
@@ -130,7 +135,7 @@ export function PdoPage({ node }: { node: number }): ReactNode {
           old && {
             ...old,
             pdos: old.pdos.map((p) => (pdoKey(p) === pdoKey(pdo) ? pdo : p)),
-            source: old.source.endsWith("(edited)") ? old.source : `${old.source} (edited)`,
+            edited: true,
           },
       );
       forgetValidation();
@@ -159,9 +164,9 @@ export function PdoPage({ node }: { node: number }): ReactNode {
     <div className="pdo-page">
       <div className="toolbar">
         <button type="button" disabled={pdos.loading} onClick={pdos.reload}>
-          Read again
+          {t("pdo.page.readAgain")}
         </button>
-        {pdos.loading && <Spinner label="Reading PDOs" />}
+        {pdos.loading && <Spinner label={t("pdo.page.reading")} />}
         <span className="spacer" />
         <span className="inline">
           <ExportButtons node={node} />
@@ -175,14 +180,14 @@ export function PdoPage({ node }: { node: number }): ReactNode {
         node={node}
         disabled={!pdos.data}
         onDraft={startDraft}
-        onEditCurrent={() => startDraft(device, "from the device")}
+        onEditCurrent={() => startDraft(device, t("pdo.page.fromDevice"))}
       />
       {draft && (
         <DraftBar
           node={node}
           device={device}
           draft={draft.pdos}
-          source={draft.source}
+          source={draft.edited ? t("pdo.page.edited", { source: draft.source }) : draft.source}
           rules={rulesApi.data}
           nmtState={nmtState}
           validation={validation}
@@ -202,7 +207,7 @@ export function PdoPage({ node }: { node: number }): ReactNode {
         <BusLoadView
           load={load}
           node={node}
-          title={validation ? "Bus load with the draft" : "Bus load now"}
+          title={validation ? t("pdo.page.busLoadDraft") : t("pdo.page.busLoadNow")}
           open={validation !== null}
           settings={settings}
           onSettings={changeSettings}

@@ -1,5 +1,6 @@
 import type { ReactNode } from "react";
 
+import { useTranslation } from "../../i18n";
 import { isSynchronous, pdoLabel } from "./model";
 import { SyncControl } from "./SyncControl";
 import type { Pdo, Validation } from "./types";
@@ -24,29 +25,27 @@ export function SyncChoice({
   onExternal,
   onSyncStarted,
 }: Props): ReactNode {
+  const { t } = useTranslation();
   const synchronous = draft.filter((p) => p.valid && isSynchronous(p.transmission_type));
   if (synchronous.length === 0) return null;
-  const labels = synchronous.map(pdoLabel).join(", ");
+  const labels = synchronous.map(pdoLabel).join(t("common.listSeparator"));
   const sync = validation?.sync;
   if (sync?.heard) {
-    const period = sync.heard_period_us ? ` every ${sync.heard_period_us / 1000} ms` : "";
     return (
       <p className="small pdo-sync-choice" role="status">
-        SYNC heard on the bus from another producer{period}: {labels} get it.
+        {sync.heard_period_us
+          ? t("pdo.sync.heardEvery", { ms: sync.heard_period_us / 1000, pdos: labels })
+          : t("pdo.sync.heard", { pdos: labels })}
       </p>
     );
   }
   const warned = (validation?.warnings ?? []).length > 0;
   return (
-    <div className="pdo-sync-choice" role="group" aria-label="SYNC for the synchronous PDOs">
+    <div className="pdo-sync-choice" role="group" aria-label={t("pdo.sync.group")}>
       {warned && (
         <p className="warning" role="alert">
-          {synchronous.length === 1 ? `${labels} is` : `${labels} are`} synchronous but no SYNC is
-          produced or heard on the bus: {synchronous.length === 1 ? "it acts" : "they act"} only
-          once SYNC comes.{" "}
-          {external
-            ? "It can be written: SYNC comes from the machine's controller."
-            : "Start the SYNC producer, or say that SYNC comes from the machine's controller, to write it."}
+          {t("pdo.sync.notProduced", { count: synchronous.length, pdos: labels })}{" "}
+          {external ? t("pdo.sync.canWrite") : t("pdo.sync.startOrSay")}
         </p>
       )}
       <span className="inline">
@@ -56,7 +55,7 @@ export function SyncChoice({
             checked={external}
             onChange={(e) => onExternal(e.target.checked)}
           />{" "}
-          SYNC comes from the machine&apos;s controller (PLC)
+          {t("pdo.sync.external")}
         </label>
         <SyncControl onStarted={onSyncStarted} />
       </span>

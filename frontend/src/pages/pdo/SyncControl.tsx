@@ -3,12 +3,14 @@ import { useState, type ReactNode } from "react";
 import { api, call } from "../../api/client";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
+import { useTranslation } from "../../i18n";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 
 /** For a synchronous mapping: whether SYNC is produced, and a way to start it (`onStarted`
  * then, e.g. to check a draft again). */
 export function SyncControl({ onStarted }: { onStarted?: () => void } = {}): ReactNode {
+  const { t } = useTranslation();
   const sync = useApi((signal) => call(api.GET("/api/sync", { signal })), "sync");
   const [periodMs, setPeriodMs] = useState("10");
   const configure = useMay("configure");
@@ -27,15 +29,15 @@ export function SyncControl({ onStarted }: { onStarted?: () => void } = {}): Rea
   if (sync.data?.producing) {
     return (
       <span className="inline pdo-sync small" role="status">
-        SYNC produced every {(sync.data.period_us ?? 0) / 1000} ms
+        {t("pdo.sync.produced", { ms: (sync.data.period_us ?? 0) / 1000 })}
       </span>
     );
   }
   return (
     <span className="inline pdo-sync">
-      <span className="small">The mapping is synchronous and SYNC is off:</span>
+      <span className="small">{t("pdo.sync.off")}</span>
       <label className="small" htmlFor="pdo-sync-ms">
-        every
+        {t("pdo.sync.every")}
       </label>
       <input
         id="pdo-sync-ms"
@@ -49,13 +51,13 @@ export function SyncControl({ onStarted }: { onStarted?: () => void } = {}): Rea
       <button
         type="button"
         onClick={() => void produce.run()}
-        {...configure.gate("start SYNC", {
+        {...configure.gate(t("pdo.sync.gate"), {
           disabled: !periodOk || produce.busy || sync.loading,
         })}
       >
-        Produce SYNC
+        {t("pdo.sync.produce")}
       </button>
-      {produce.busy && <Spinner label="Starting SYNC" />}
+      {produce.busy && <Spinner label={t("pdo.sync.starting")} />}
       <ErrorText error={produce.error ?? sync.error} inline />
     </span>
   );

@@ -128,3 +128,73 @@ export function loadFor(request: Request, percent = LOAD.percent): BusLoad {
     over_threshold: percent > threshold,
   };
 }
+
+/** A live capture of node 1: two TPDOs decoded, the master's two RPDOs not seen. */
+export const LIVE = {
+  node: 1,
+  active: true,
+  since: 1_700_000_000,
+  pdos: [
+    {
+      cob_id: 0x181,
+      kind: "tpdo",
+      number: 1,
+      frames: 42,
+      rate_hz: 100,
+      age_ms: 5,
+      values: [
+        {
+          index: 0x6041,
+          subindex: 0,
+          name: "Statusword",
+          value: 592,
+          raw: "50 02",
+          unit: "",
+          text: "Switch on disabled",
+          display: "0x0250",
+        },
+        {
+          index: 0x6077,
+          subindex: 0,
+          name: "Torque actual value",
+          value: 0,
+          raw: "00 00",
+          unit: "0.1 %",
+          text: null,
+          display: "0.0 %",
+        },
+        {
+          index: 0x6064,
+          subindex: 0,
+          name: "Position actual value",
+          value: 1234,
+          raw: "D2 04 00 00",
+          unit: "inc",
+          text: null,
+        },
+      ],
+    },
+    {
+      cob_id: 0x281,
+      kind: "tpdo",
+      number: 2,
+      frames: 1,
+      rate_hz: null, // one frame: no rate yet
+      age_ms: 5,
+      values: [
+        {
+          index: 0x6061,
+          subindex: 0,
+          name: null,
+          value: 1,
+          raw: "01",
+          unit: "",
+          text: "Profile position",
+        },
+      ],
+    },
+    { cob_id: 0x201, kind: "rpdo", number: 1, frames: 0, rate_hz: null, age_ms: null, values: [] },
+    { cob_id: 0x301, kind: "rpdo", number: 2, frames: 0, rate_hz: null, age_ms: null, values: [] },
+  ],
+  drive_page: "The Drive page does not send its commands in these RPDOs: it uses SDO.",
+};

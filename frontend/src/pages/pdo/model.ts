@@ -1,5 +1,6 @@
 // Pure PDO helpers: the byte layout of a frame, what fits, transmission types in words and
 // what a draft changes against the device. No I/O; table-tested in model.test.ts.
+import { i18n } from "../../i18n";
 import { integerType } from "../../lib/dataTypes";
 import { formatCobId, formatPercent, formatRate, odAddress } from "../../lib/format";
 import type { MappedObject, Pdo, PdoKind, PdoRules, Problem } from "./types";
@@ -58,31 +59,43 @@ export function inhibitFromMs(ms: number): number {
   return Math.round(ms * 10);
 }
 
+const ORDINALS = {
+  st: "pdo.transmission.ordinal.st",
+  nd: "pdo.transmission.ordinal.nd",
+  rd: "pdo.transmission.ordinal.rd",
+  th: "pdo.transmission.ordinal.th",
+} as const;
+
 function ordinal(n: number): string {
   const suffix =
-    n % 100 >= 10 && n % 100 <= 20 ? "th" : ({ 1: "st", 2: "nd", 3: "rd" }[n % 10] ?? "th");
-  return `${n}${suffix}`;
+    n % 100 >= 10 && n % 100 <= 20
+      ? "th"
+      : (({ 1: "st", 2: "nd", 3: "rd" } as const)[n % 10] ?? "th");
+  return i18n.t(ORDINALS[suffix], { n });
 }
 
 /** A transmission type in words (CiA 301 §7.5.2.35), used when the server sends none. */
 export function transmissionWords(type: number, kind: PdoKind): string {
   const tpdo = kind === "tpdo";
+  const t = i18n.t;
   if (type === 0) {
-    return tpdo
-      ? "synchronous, acyclic (at the next SYNC after a change)"
-      : "synchronous (applied at the next SYNC)";
+    return tpdo ? t("pdo.transmission.syncAcyclicTpdo") : t("pdo.transmission.syncAcyclicRpdo");
   }
-  if (type === 1) return "every SYNC";
-  if (type <= 240) return tpdo ? `every ${ordinal(type)} SYNC` : "synchronous";
-  if (type === 252) return "sampled at SYNC, sent on remote request";
-  if (type === 253) return "sent on remote request";
+  if (type === 1) return t("pdo.transmission.everySync");
+  if (type <= 240) {
+    return tpdo
+      ? t("pdo.transmission.everyNthSync", { nth: ordinal(type) })
+      : t("pdo.transmission.synchronous");
+  }
+  if (type === 252) return t("pdo.transmission.rtrSampled");
+  if (type === 253) return t("pdo.transmission.rtr");
   if (type === 254 || type === 255) {
-    const which = type === 254 ? "manufacturer-specific" : "device-profile";
+    const which = type === 254 ? t("pdo.transmission.manufacturer") : t("pdo.transmission.profile");
     return tpdo
-      ? `on change + event timer (${which} event)`
-      : `applied on arrival (${which} event)`;
+      ? t("pdo.transmission.eventTpdo", { which })
+      : t("pdo.transmission.eventRpdo", { which });
   }
-  return `reserved (${type})`;
+  return t("pdo.transmission.reserved", { type });
 }
 
 /** Types 0–240 and 252 act on SYNC: they need a SYNC producer on the bus. */
@@ -178,32 +191,36 @@ export function fitRules(rules: PdoRules | undefined): FitRules {
 export function fixedCobIdReason(pdo: { number: number }, rules: FitRules): string | null {
   const n = rules.fixedCobIds;
   if (n <= 0 || pdo.number > n) return null;
-  const which = n === 1 ? "PDO 1" : `PDOs 1–${n}`;
-  return `This drive fixes the CAN id of ${which} to the pre-defined set; only the valid bit can change.`;
+  return n === 1 ? i18n.t("pdo.fit.fixedCobIdOne") : i18n.t("pdo.fit.fixedCobIdMany", { n });
 }
 
 /** Why `object` cannot be added to `pdo`, in words; null when it fits. */
 export function fitProblem(pdo: Pdo, object: ObjectInfo, rules: FitRules): string | null {
+  const t = i18n.t;
   const what = `${object.name} (${odAddress(object.index, object.subindex)})`;
-  if (!object.mappable) return `${what} is not PDO-mappable.`;
-  if (object.bits === null) {
-    return `${what} is a ${object.dataTypeName}: it has no fixed size to map.`;
-  }
+  if (!object.mappable) return t("pdo.fit.notMappable", { what });
+  if (object.bits === null) return t("pdo.fit.noSize", { what, type: object.dataTypeName });
   if (pdo.kind === "rpdo" && !isWritable(object.access)) {
-    return `An RPDO writes into the drive, but ${what} is read-only.`;
+    return t("pdo.fit.rpdoReadOnly", { what });
   }
   if (pdo.kind === "tpdo" && !isReadable(object.access)) {
-    return `A TPDO sends what the drive reads, but ${what} is write-only.`;
+    return t("pdo.fit.tpdoWriteOnly", { what });
   }
   if (rules.byteGranular && object.bits % 8 !== 0) {
-    return `This drive maps whole bytes only; ${what} has ${object.bits} bits.`;
+    return t("pdo.fit.wholeBytes", { what, bits: object.bits });
   }
   if (pdo.mapping.length >= MAX_ENTRIES) {
-    return `${pdoLabel(pdo)} already maps ${MAX_ENTRIES} objects, the most a PDO holds.`;
+    return t("pdo.fit.full", { label: pdoLabel(pdo), max: MAX_ENTRIES });
   }
   const used = usedBits(pdo.mapping);
   if (used + object.bits > MAX_BITS) {
-    return `${what} needs ${object.bits} bits; ${pdoLabel(pdo)} has ${MAX_BITS - used} of ${MAX_BITS} left.`;
+    return t("pdo.fit.tooBig", {
+      what,
+      bits: object.bits,
+      label: pdoLabel(pdo),
+      left: MAX_BITS - used,
+      max: MAX_BITS,
+    });
   }
   return null;
 }
@@ -272,38 +289,49 @@ export function moveEntry<T>(list: readonly T[], from: number, to: number): T[] 
   return out;
 }
 
-function sameMapping(a: readonly MappedObject[], b: readonly MappedObject[]): boolean {
+export function sameMapping(a: readonly MappedObject[], b: readonly MappedObject[]): boolean {
   const key = (e: MappedObject): string => `${e.index}:${e.subindex}:${e.bits}`;
   return a.map(key).join(",") === b.map(key).join(",");
 }
 
 /** What the draft changes on one PDO, in words; empty when nothing. */
 export function pdoChanges(before: Pdo | undefined, after: Pdo): string[] {
-  if (!before) return ["new PDO"];
+  const t = i18n.t;
+  if (!before) return [t("pdo.change.newPdo")];
   const out: string[] = [];
   if (before.cob_id !== after.cob_id) {
     out.push(`COB-ID ${formatCobId(before.cob_id)} → ${formatCobId(after.cob_id)}`);
   }
-  if (before.valid !== after.valid) out.push(after.valid ? "made valid" : "made invalid");
+  if (before.valid !== after.valid) {
+    out.push(after.valid ? t("pdo.change.madeValid") : t("pdo.change.madeInvalid"));
+  }
   if (before.transmission_type !== after.transmission_type) {
     out.push(
-      `transmission ${before.transmission_type} → ${after.transmission_type} (${transmissionWords(after.transmission_type, after.kind)})`,
+      t("pdo.change.transmission", {
+        from: before.transmission_type,
+        to: after.transmission_type,
+        words: transmissionWords(after.transmission_type, after.kind),
+      }),
     );
   }
   if (before.inhibit_time_100us !== after.inhibit_time_100us) {
     out.push(
-      `inhibit ${inhibitMs(before.inhibit_time_100us)} → ${inhibitMs(after.inhibit_time_100us)} ms`,
+      t("pdo.change.inhibit", {
+        from: inhibitMs(before.inhibit_time_100us),
+        to: inhibitMs(after.inhibit_time_100us),
+      }),
     );
   }
   if (before.event_timer_ms !== after.event_timer_ms) {
-    out.push(`event timer ${before.event_timer_ms} → ${after.event_timer_ms} ms`);
+    out.push(t("pdo.change.eventTimer", { from: before.event_timer_ms, to: after.event_timer_ms }));
   }
   if (before.sync_start !== after.sync_start) {
-    out.push(`SYNC start ${before.sync_start} → ${after.sync_start}`);
+    out.push(t("pdo.change.syncStart", { from: before.sync_start, to: after.sync_start }));
   }
   if (!sameMapping(before.mapping, after.mapping)) {
     const names = after.mapping.map((e) => e.name ?? odAddress(e.index, e.subindex));
-    out.push(`mapping → ${names.length ? names.join(", ") : "nothing"}`);
+    const objects = names.length ? names.join(t("common.listSeparator")) : t("pdo.change.nothing");
+    out.push(t("pdo.change.mapping", { objects }));
   }
   return out;
 }
