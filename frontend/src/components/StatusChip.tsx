@@ -18,13 +18,6 @@ const RECORD_STATUS: Record<RecordStatus, MessageKey> = {
   failed: "status.record.failed",
 };
 
-/** English words for the Commission tab's record line (that page is not translated yet). */
-export const RECORD_STATUS_TEXT: Record<RecordStatus, string> = {
-  in_progress: "In progress",
-  done: "Done",
-  failed: "Failed",
-};
-
 /** A step's status: to do / done / failed / skipped. */
 export function StepChip({ status }: { status: StepStatus }): ReactNode {
   const { t } = useTranslation();

@@ -3,23 +3,17 @@
 // arrives; no bare catalogue key anywhere.
 import { screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { describe, expect, it } from "vitest";
 
-import { i18n } from "../../i18n";
 import { LiveStore } from "../../live/store";
 import { stubFetch } from "../../test/fetchStub";
+import { inChinese } from "../../test/inChinese";
 import { pageWords } from "../../test/pageWords";
 import { renderPage, sessionAs } from "../../test/render";
 import { AuditPage } from "./AuditPage";
 import { FAILED, UNDO, WRITE } from "./fixtures";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
-
-afterEach(() => {
-  vi.unstubAllGlobals();
-});
+inChinese();
 
 /** The English the page showed before, none of which may be left in Chinese. */
 const ENGLISH = [

@@ -3,9 +3,8 @@
 // them; none of the page's English texts left, no bare catalogue key anywhere.
 import { screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { describe, expect, it } from "vitest";
 
-import { i18n } from "../../i18n";
 import { json, stubFetch } from "../../test/fetchStub";
 import {
   identityDone,
@@ -13,19 +12,13 @@ import {
   stopTestDone,
   storeVerifyLost,
 } from "../../test/fixtures/commission";
+import { inChinese } from "../../test/inChinese";
 import { pageWords } from "../../test/pageWords";
 import { renderPage, sessionAs } from "../../test/render";
 import { CommissionPage } from "./CommissionPage";
 import { serve } from "./fixtures";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
-
-afterEach(async () => {
-  vi.unstubAllGlobals();
-  await i18n.changeLanguage("en");
-});
+inChinese();
 
 /** The step titles in Chinese (the server sends them in English). */
 const TITLES = [

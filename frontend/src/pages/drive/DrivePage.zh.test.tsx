@@ -2,22 +2,15 @@
 // zh-CN catalogue; no English left on the main controls, no bare catalogue key anywhere.
 import { screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { describe, expect, it } from "vitest";
 
-import { i18n } from "../../i18n";
+import { inChinese } from "../../test/inChinese";
 import { stubFetch } from "../../test/fetchStub";
 import { CONTROLLER, DRIVE, ENABLED, METHODS } from "../../test/fixtures/drive";
 import { renderPage } from "../../test/render";
 import { DrivePage } from "./DrivePage";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
-
-afterEach(async () => {
-  vi.unstubAllGlobals();
-  await i18n.changeLanguage("en");
-});
+inChinese();
 
 /** Words of the English UI that must not be left on the page's controls. */
 const ENGLISH =

@@ -1,21 +1,15 @@
 // The Faults page in Simplified Chinese: headings, columns and buttons from the zh-CN
 // catalogue; the fault texts stay as the server sends them; no bare catalogue key anywhere.
 import { screen, within } from "@testing-library/react";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { describe, expect, it, vi } from "vitest";
 
-import { i18n } from "../../i18n";
+import { inChinese } from "../../test/inChinese";
 import { stubFetch } from "../../test/fetchStub";
 import { mdiAlarm4 } from "../../test/fixtures/faults";
 import { renderPage } from "../../test/render";
 import { FaultsPage } from "./FaultsPage";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
-
-afterEach(() => {
-  vi.unstubAllGlobals();
-});
+inChinese();
 
 describe("FaultsPage in zh-CN", () => {
   it("shows Chinese headings, columns and buttons", async () => {

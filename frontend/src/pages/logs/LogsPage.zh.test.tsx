@@ -2,22 +2,16 @@
 // catalogue; the server's summary and decoded events stay as they arrive; no bare catalogue key.
 import { screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { describe, expect, it } from "vitest";
 
-import { i18n } from "../../i18n";
 import { stubFetch } from "../../test/fetchStub";
+import { inChinese } from "../../test/inChinese";
 import { pageWords } from "../../test/pageWords";
 import { renderPage } from "../../test/render";
 import { decoded, event, kept, notRecording } from "./fixtures";
 import { LogsPage } from "./LogsPage";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
-
-afterEach(() => {
-  vi.unstubAllGlobals();
-});
+inChinese();
 
 /** The English the page showed before, none of which may be left in Chinese. */
 const ENGLISH = [

@@ -2,21 +2,15 @@
 // catalogue, no English left in the headings, no bare catalogue key anywhere.
 import { screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { describe, expect, it } from "vitest";
 
-import { i18n } from "../../i18n";
+import { inChinese } from "../../test/inChinese";
 import { stubFetch } from "../../test/fetchStub";
 import { INFO } from "../../test/fixtures/node";
 import { renderPage } from "../../test/render";
 import { NetworkPage } from "./NetworkPage";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
-
-afterEach(() => {
-  vi.unstubAllGlobals();
-});
+inChinese();
 
 describe("NetworkPage in zh-CN", () => {
   it("shows Chinese headings, columns and states", async () => {

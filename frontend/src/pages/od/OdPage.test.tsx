@@ -4,7 +4,7 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 
 import { json, stubFetch } from "../../test/fetchStub";
 import { renderPage } from "../../test/render";
-import { TREE } from "./fixtures";
+import { TREE, UPLOAD_ALL } from "./fixtures";
 import { OdPage } from "./OdPage";
 
 afterEach(() => {
@@ -111,35 +111,9 @@ describe("OdPage", () => {
   });
 
   it("fills the values column from an upload-all job, polling only for new results", async () => {
-    const job = { id: "j1", kind: "upload-all" as const, node: 3, total: 2, error: null };
     const fetch = stubFetch({
       "GET /api/nodes/3/od": TREE,
-      "POST /api/nodes/3/upload-all": {
-        ...job,
-        state: "running",
-        done: 1,
-        elapsed_s: 0.1,
-        results_from: 0,
-        results: [
-          { index: 0x1000, subindex: 0, name: "Device type", value: 1, text: "0x00000001 (1)" },
-        ],
-      },
-      "GET /api/jobs/j1": {
-        ...job,
-        state: "done",
-        done: 2,
-        elapsed_s: 0.3,
-        results_from: 1,
-        results: [
-          {
-            index: 0x6060,
-            subindex: 0,
-            name: "Modes of operation",
-            abort_code: "0x06020000",
-            message: "Object does not exist in the object dictionary",
-          },
-        ],
-      },
+      ...UPLOAD_ALL,
     });
     renderPage(<OdPage node={3} />, "/nodes/3/od");
     await userEvent.click(await screen.findByRole("button", { name: "Upload all" }));

@@ -3,25 +3,18 @@
 // server's messages stay as sent; none of the page's English texts left, no bare catalogue key.
 import { screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { describe, expect, it } from "vitest";
 
 import type { OdTree } from "../../api/types";
-import { i18n } from "../../i18n";
 import { stubFetch } from "../../test/fetchStub";
+import { inChinese } from "../../test/inChinese";
 import { pageWords } from "../../test/pageWords";
 import { renderPage, sessionAs } from "../../test/render";
 import { LiveStore } from "../../live/store";
-import { TREE } from "./fixtures";
+import { TREE, UPLOAD_ALL } from "./fixtures";
 import { OdPage } from "./OdPage";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
-
-afterEach(async () => {
-  vi.unstubAllGlobals();
-  await i18n.changeLanguage("en");
-});
+inChinese();
 
 /** The page's English texts, replaced by the catalogue: none may be left in Chinese. */
 const ENGLISH = [
@@ -164,35 +157,9 @@ describe("OdPage in zh-CN", () => {
   });
 
   it("uploads all values with progress in Chinese", async () => {
-    const job = { id: "j1", kind: "upload-all" as const, node: 3, total: 2, error: null };
     stubFetch({
       "GET /api/nodes/3/od": TREE,
-      "POST /api/nodes/3/upload-all": {
-        ...job,
-        state: "running",
-        done: 1,
-        elapsed_s: 0.1,
-        results_from: 0,
-        results: [
-          { index: 0x1000, subindex: 0, name: "Device type", value: 1, text: "0x00000001 (1)" },
-        ],
-      },
-      "GET /api/jobs/j1": {
-        ...job,
-        state: "done",
-        done: 2,
-        elapsed_s: 0.3,
-        results_from: 1,
-        results: [
-          {
-            index: 0x6060,
-            subindex: 0,
-            name: "Modes of operation",
-            abort_code: "0x06020000",
-            message: "Object does not exist in the object dictionary",
-          },
-        ],
-      },
+      ...UPLOAD_ALL,
     });
     const { container } = renderPage(<OdPage node={3} />, "/nodes/3/od");
     await userEvent.click(await screen.findByRole("button", { name: "全部上传" }));

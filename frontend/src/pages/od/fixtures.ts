@@ -86,3 +86,35 @@ export const TREE: OdTree = {
     },
   ],
 };
+
+const UPLOAD_JOB = { id: "j1", kind: "upload-all" as const, node: 3, total: 2, error: null };
+
+/** Node 3's upload-all job: one value at the start, then done with one object not readable. */
+export const UPLOAD_ALL = {
+  "POST /api/nodes/3/upload-all": {
+    ...UPLOAD_JOB,
+    state: "running",
+    done: 1,
+    elapsed_s: 0.1,
+    results_from: 0,
+    results: [
+      { index: 0x1000, subindex: 0, name: "Device type", value: 1, text: "0x00000001 (1)" },
+    ],
+  },
+  "GET /api/jobs/j1": {
+    ...UPLOAD_JOB,
+    state: "done",
+    done: 2,
+    elapsed_s: 0.3,
+    results_from: 1,
+    results: [
+      {
+        index: 0x6060,
+        subindex: 0,
+        name: "Modes of operation",
+        abort_code: "0x06020000",
+        message: "Object does not exist in the object dictionary",
+      },
+    ],
+  },
+};

@@ -4,26 +4,19 @@
 import { render, screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { MemoryRouter } from "react-router";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { describe, expect, it } from "vitest";
 
 import type { CompareResult, Param } from "../../api/types";
-import { i18n } from "../../i18n";
 import { LiveProvider } from "../../live/LiveProvider";
 import { LiveStore } from "../../live/store";
 import { stubFetch } from "../../test/fetchStub";
+import { inChinese } from "../../test/inChinese";
 import { pageWords } from "../../test/pageWords";
 import { renderPage, sessionAs } from "../../test/render";
 import { PA103, PA106 } from "./fixtures";
 import { ParamsPage } from "./ParamsPage";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
-
-afterEach(async () => {
-  vi.unstubAllGlobals();
-  await i18n.changeLanguage("en");
-});
+inChinese();
 
 const PA200: Param = { ...PA103, name: "PA-200", takes_effect: "after_store_and_reset" };
 

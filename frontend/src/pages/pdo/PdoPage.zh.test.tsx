@@ -4,25 +4,18 @@
 // English texts left, no bare catalogue key anywhere.
 import { screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { describe, expect, it } from "vitest";
 
 import { json, stubFetch, type Handler } from "../../test/fetchStub";
-import { i18n } from "../../i18n";
 import { LiveStore } from "../../live/store";
+import { inChinese } from "../../test/inChinese";
 import { pageWords } from "../../test/pageWords";
 import { renderPage } from "../../test/render";
 import { DEVICE, INFO, LIVE, LOAD, loadFor, RECOMMENDED, RULES, TREE } from "./fixtures";
 import { PdoPage } from "./PdoPage";
 import type { Validation } from "./types";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
-
-afterEach(async () => {
-  vi.unstubAllGlobals();
-  await i18n.changeLanguage("en");
-});
+inChinese();
 
 /** The page's English texts, replaced by the catalogue: none may be left in Chinese. */
 const ENGLISH = [

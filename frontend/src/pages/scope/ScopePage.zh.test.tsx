@@ -2,21 +2,18 @@
 // zh-CN catalogue; no bare catalogue key anywhere.
 import { screen, waitFor, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { afterEach, describe, expect, it } from "vitest";
 
-import { i18n } from "../../i18n";
 import { LiveStore } from "../../live/store";
+import { inChinese } from "../../test/inChinese";
 import { stubFetch } from "../../test/fetchStub";
 import { renderPage } from "../../test/render";
 import { INFO, PLAN, TREE, VIEWER, capture } from "./fixtures";
 import { ScopePage } from "./ScopePage";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
+inChinese();
 
 afterEach(() => {
-  vi.unstubAllGlobals();
   window.sessionStorage.clear();
   window.localStorage.removeItem("servodesk.scope.liveView");
 });

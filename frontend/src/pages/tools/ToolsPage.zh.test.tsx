@@ -2,22 +2,16 @@
 // the zh-CN catalogue; the findings themselves stay as the server words them; no bare key.
 import { screen } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { describe, expect, it } from "vitest";
 
-import { i18n } from "../../i18n";
 import { stubFetch } from "../../test/fetchStub";
+import { inChinese } from "../../test/inChinese";
 import { pageWords } from "../../test/pageWords";
 import { renderPage } from "../../test/render";
 import { CHECKED } from "./fixtures";
 import { ToolsPage } from "./ToolsPage";
 
-beforeEach(async () => {
-  await i18n.changeLanguage("zh-CN");
-});
-
-afterEach(() => {
-  vi.unstubAllGlobals();
-});
+inChinese();
 
 /** The English the page's own parts showed before (the findings table is a shared component). */
 const ENGLISH = [
