@@ -35,6 +35,7 @@ from servodesk_data.model import (
 E = TypeVar("E", bound=Enum)
 
 _REF = re.compile(r"([0-9A-Fa-f]{4}):([0-9A-Fa-f]{2})")
+_CJK = re.compile(r"[\u3400-\u9fff]")  # a Chinese character: a name_zh is Chinese
 _U32 = 0xFFFFFFFF
 # 1001h bit 0 (generic) is set with every error, bit 6 is reserved (CiA 301 §7.5.2.2)
 _ER_GENERIC = 0x01
@@ -333,6 +334,7 @@ def _faults(root: _Table, tables: list[_Table], quirks: Quirks) -> tuple[FaultEn
             error_register=t.integer("error_register", 0, 0xFF),
             kinco_bit=t.integer("kinco_bit", 0, _U32) if t.has("kinco_bit") else 0,
             kinds=t.enum_list("kinds", FaultKind) if t.has("kinds") else (),
+            name_zh=t.string("name_zh") if t.has("name_zh") else None,
         )
         t.finish()
         _check_fault(t, entry, out, quirks)
@@ -356,6 +358,13 @@ def _check_fault(t: _Table, entry: FaultEntry, seen: list[FaultEntry], quirks: Q
         raise t.error("kinco_bit", "only profiles with kinco_fault_bits have 2600h:02 bits")
     if len(set(entry.kinds)) != len(entry.kinds):
         raise t.error("kinds", "a kind is listed twice")
+    if entry.name_zh is not None:
+        if _CJK.search(entry.name) is not None:
+            raise t.error(
+                "name_zh", "the manual's name is Chinese already: no translation beside it"
+            )
+        if _CJK.search(entry.name_zh) is None:
+            raise t.error("name_zh", f"{entry.name_zh!r} is not Chinese")
 
 
 def _check_kinds(root: _Table, faults: list[FaultEntry], quirks: Quirks) -> None:

@@ -145,6 +145,9 @@ class FaultEntry:
     error_register: int  # 1001h bits set while the fault is active (bit 0 always)
     kinco_bit: int  # 2600h:02 bit (Kinco), 0 elsewhere
     kinds: tuple[FaultKind, ...]  # which simulated causes raise this fault
+    # ServoDesk's Chinese translation of name_en where the source is English only (Kinco,
+    # CiA 402); None for a table whose `name` is the manual's own Chinese (MDi)
+    name_zh: str | None = None
 
 
 @dataclass(frozen=True)

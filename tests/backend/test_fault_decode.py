@@ -120,7 +120,76 @@ def test_fault_words() -> None:
 def test_record_is_the_api_shape() -> None:
     record = decode_emcy(MDI, 1, make_alarm_number(62), time=1.0)
     assert set(record.as_dict()) == {
-        "time", "node", "code", "code_hex", "source", "name_en", "name_zh", "check",
-        "error_register", "manufacturer_hex", "raw_hex",
+        "time", "node", "code", "code_hex", "source", "name_en", "name_zh", "name_zh_source",
+        "check", "error_register", "manufacturer_hex", "raw_hex",
     }  # fmt: skip
     assert record.name_zh == "同步帧丢失异常"
+    assert record.name_zh_source == "manual"
+
+
+# Chinese names: the MDi's from its manual; Kinco's and the CiA tables' are ServoDesk's
+# translation of the English, which stays the source's words
+
+
+@pytest.mark.parametrize("entry", MDI.faults, ids=lambda e: f"alarm{e.code}")
+def test_an_mdi_alarm_s_chinese_is_the_manual_s(entry: servodesk_data.FaultEntry) -> None:
+    record = decode_emcy(MDI, 1, make_alarm_number(entry.code))
+    assert (record.name_zh, record.name_zh_source) == (entry.name, "manual")
+
+
+def test_a_kinco_emcy_gets_servodesk_s_translation() -> None:
+    record = decode_emcy(KINCO, 2, make_kinco(0x8611))
+    assert record.name_en == "Following error too high"  # the manual's words
+    assert (record.name_zh, record.name_zh_source) == ("跟随误差过大", "translation")
+    # a shared low 16 bits names each entry, in English and in Chinese alike
+    shared = decode_emcy(KINCO, 2, make_kinco(0x12320))
+    assert shared.name_zh is not None
+    assert shared.name_en.count(" / ") == shared.name_zh.count(" / ") == 2
+    assert shared.name_zh_source == "translation"
+
+
+@pytest.mark.parametrize("entry", KINCO.faults + CIA402.faults, ids=lambda e: f"{e.code:#x}")
+def test_every_translated_entry_decodes_with_its_chinese(entry: servodesk_data.FaultEntry) -> None:
+    profile = KINCO if entry.kinco_bit else CIA402
+    data = make_kinco(entry.code) if entry.kinco_bit else make_cia301(entry.code, 0x01)
+    record = decode_emcy(profile, 2, data)
+    assert entry.name_zh is not None
+    assert entry.name_zh in (record.name_zh or "")
+    assert entry.name_en in record.name_en
+    assert record.name_zh_source == "translation"
+
+
+def test_a_cia402_emcy_gets_servodesk_s_translation() -> None:
+    # the cia402 profile's table, and the CiA 402 table itself for a node of unknown identity
+    for profile in (CIA402, None):
+        record = decode_emcy(profile, 3, make_cia301(0x3210, 0x05))
+        assert (record.name_zh, record.name_zh_source) == ("直流母线过压", "translation")
+    record = decode_emcy(None, 3, make_cia301(0x8611, 0x21))
+    assert (record.source, record.name_en) == ("cia402", "Following error")
+    assert (record.name_zh, record.name_zh_source) == ("跟随误差过大", "translation")
+
+
+def test_a_cia301_emcy_gets_servodesk_s_translation() -> None:
+    record = decode_emcy(None, 5, make_cia301(0x8130, 0x11))
+    assert (record.source, record.name_en) == ("cia301", "Life guard error or heartbeat error")
+    assert (record.name_zh, record.name_zh_source) == ("节点保护错误或心跳错误", "translation")
+    generic = decode_emcy(None, 5, make_cia301(0x2000, 0x03))
+    assert (generic.name_en, generic.name_zh) == ("Current – generic error", "电流 – 通用错误")
+
+
+def test_no_chinese_no_source() -> None:
+    record = decode_emcy(MDI, 1, make_alarm_number(99))  # not in the manual's table
+    assert (record.name_zh, record.name_zh_source) == (None, None)
+    malformed = decode_emcy(None, 1, b"\x01")
+    assert (malformed.name_zh, malformed.name_zh_source) == (None, None)
+    cleared = decode_emcy(MDI, 1, make_alarm_number(0))  # the MDi's alarm 0 as before
+    assert (cleared.name_en, cleared.name_zh) == ("Error reset / no error", None)
+    reset = decode_emcy(KINCO, 2, make_kinco(0))
+    assert (reset.name_zh, reset.name_zh_source) == ("错误复位 / 无错误", "translation")
+
+
+def test_fault_words_keep_the_source_s_words() -> None:
+    # a timeline line: the manual's Chinese yes, ServoDesk's translation no
+    assert fault_words(decode_emcy(KINCO, 2, make_kinco(0x8611)), KINCO) == (
+        "0x8611 Following error too high"
+    )

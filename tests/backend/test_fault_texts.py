@@ -56,7 +56,11 @@ def test_kinco_8120_names_heartbeat_loss_and_keeps_the_manuals_words() -> None:
     assert record.source == "vendor"
     assert record.code_hex == "0x8120"
     assert record.name_en == "CAN communication interrupted (node guarding or heartbeat lost)"
-    assert record.name_zh is None  # the manual's name is the firmware symbol, not Chinese
+    # the manual's name is the firmware symbol, not Chinese: the Chinese is ServoDesk's
+    assert (record.name_zh, record.name_zh_source) == (
+        "CAN 通信中断（节点保护或心跳丢失）",
+        "translation",
+    )
     assert record.check is not None
     assert record.check.startswith("Cause: The master's node guarding, or a heartbeat the drive")
     assert '"CAN communication interrupted in the Node Guarding mode"' in record.check

@@ -26,6 +26,7 @@ FAULT = {
     "source": "vendor",
     "name_en": "Following error",
     "name_zh": "位置超差",
+    "name_zh_source": "manual",
     "check": None,
     "error_register": None,
     "manufacturer_hex": None,
@@ -63,10 +64,11 @@ def test_a_database_from_before_keeps_its_faults(tmp_path: Path) -> None:
     db.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
     for version, sql in MIGRATIONS[:2]:  # as written before faults carried their bus
         db.executescript(f"BEGIN; {sql}; INSERT INTO schema_version VALUES ({version}); COMMIT;")
-    columns = ", ".join(f'"{c}"' for c in FAULT)
+    before = {k: v for k, v in FAULT.items() if k != "name_zh_source"}  # no such column yet
+    columns = ", ".join(f'"{c}"' for c in before)
     db.execute(
-        f"INSERT INTO faults ({columns}) VALUES ({', '.join('?' * len(FAULT))})",
-        tuple(FAULT.values()),
+        f"INSERT INTO faults ({columns}) VALUES ({', '.join('?' * len(before))})",
+        tuple(before.values()),
     )
     db.commit()
     db.close()
@@ -83,3 +85,33 @@ def test_a_database_from_before_keeps_its_faults(tmp_path: Path) -> None:
     rows, total = asyncio.run(read())
     assert total == 1
     assert (rows[0]["name_en"], rows[0]["bus"]) == ("Following error", None)
+    # stored before faults said where their Chinese came from: not known
+    assert (rows[0]["name_zh"], rows[0]["name_zh_source"]) == ("位置超差", None)
+
+
+def test_the_chinese_name_s_source_survives_a_restart(tmp_path: Path) -> None:
+    kinco = {**FAULT, "code": 0x8611, "code_hex": "0x8611", "name_en": "Following error too high",
+             "name_zh": "跟随误差过大", "name_zh_source": "translation"}  # fmt: skip
+    other_servers_fault(tmp_path)  # MDi alarm 4: the manual's Chinese
+    other_servers_fault(tmp_path, **kinco)
+
+    async def read() -> list[dict[str, Any]]:
+        storage = Storage(tmp_path)  # a new server: only the database remembers
+        await storage.start()
+        try:
+            return (await storage.faults(1, 10))[0]
+        finally:
+            await storage.close()
+
+    rows = asyncio.run(read())
+    assert [(r["name_zh"], r["name_zh_source"]) for r in rows] == [
+        ("跟随误差过大", "translation"),
+        ("位置超差", "manual"),
+    ]
+    settings = Settings(simulated=True, data_dir=tmp_path)
+    with TestClient(create_app(settings, static_dir=None)) as client:
+        history = client.get("/api/nodes/1/faults", params={"all_buses": True}).json()["history"]
+    assert [(f["name_zh"], f["name_zh_source"]) for f in history] == [
+        ("跟随误差过大", "translation"),
+        ("位置超差", "manual"),
+    ]

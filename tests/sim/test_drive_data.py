@@ -4,6 +4,8 @@ profile.toml catalogues and fault tables agree with their EDS, and the loader re
 from __future__ import annotations
 
 import configparser
+import hashlib
+import json
 import logging
 from collections.abc import Iterator
 
@@ -492,6 +494,38 @@ def test_kinco_fault_bits_and_codes() -> None:
     faults = servodesk_data.load("kinco").faults
     assert [(f.kinco_bit, f.code) for f in faults] == KINCO_BITS
     assert all(f.emcy_code == f.code & 0xFFFF for f in faults)  # 603Fh / EMCY carry 16 bits
+
+
+# Kinco's manual and the CiA tables are English only: each entry has ServoDesk's Chinese
+# translation (name_zh) beside the source's words, which stay as they were (a deliberate
+# correction of the English updates its digest here); the MDi's Chinese is the manual's name
+ENGLISH_FAULT_NAMES = {
+    "kinco": (25, "a2fdb69e727d475ea104d9f3ed87fe53f791b972eadaf4abb2a9937519c5cbcc"),
+    "cia402": (23, "7743f549da2cf17c86469a2c6ddc9c1c22c1c2937db2473d9f42d852feb5d3ec"),
+    "mdi-s1c": (34, "505216c3cb0ec6a3c11dc26abf9529694363e38e35ca9ac8a9dbc27ce50195f0"),
+}
+
+
+@pytest.mark.parametrize("profile", ["kinco", "cia402"])
+def test_english_only_fault_tables_have_a_chinese_translation(profile: str) -> None:
+    faults = servodesk_data.load(profile).faults
+    for f in faults:
+        assert f.name_zh is not None, hex(f.code)
+        assert f.name_zh.strip(), hex(f.code)
+        assert any("\u3400" <= ch <= "\u9fff" for ch in f.name_zh), (hex(f.code), f.name_zh)
+        assert not any("\u3400" <= ch <= "\u9fff" for ch in f.name + f.name_en), hex(f.code)
+
+
+@pytest.mark.parametrize("profile", sorted(ENGLISH_FAULT_NAMES))
+def test_fault_names_keep_the_sources_words(profile: str) -> None:
+    faults = servodesk_data.load(profile).faults
+    names = json.dumps([(f.code, f.name, f.name_en) for f in faults], ensure_ascii=False)
+    digest = hashlib.sha256(names.encode()).hexdigest()
+    assert (len(faults), digest) == ENGLISH_FAULT_NAMES[profile]
+
+
+def test_mdi_chinese_is_the_manuals_not_a_translation() -> None:
+    assert all(f.name_zh is None for f in servodesk_data.load("mdi-s1c").faults)
 
 
 def test_cia402_faults_are_their_own_emcy_codes() -> None:

@@ -131,6 +131,7 @@ def _write(tmp_path: Path, text: str) -> Path:
 
 def test_minimal_profile_loads(tmp_path: Path) -> None:
     data = servodesk_data.load_path(_write(tmp_path, MINIMAL))
+    assert data.faults[0].name_zh is None  # optional
     assert data.parameter("Window").object == (0x6065, 0)
     assert data.fault_for_kind(FaultKind.SYNC_LOST) == data.fault(0x1000)
     assert data.fault_for_kind(FaultKind.HOMING_ERROR) is None
@@ -165,6 +166,18 @@ BAD = [  # (text to replace, replacement, expected message after the file name)
     ('"life_guard"]', '"life_guard", "both_limits"]', r"both_limits is never raised with limit"),
     ("kinco_fault_bits = false", "kinco_fault_bits = true", r"\.kinco_bit: 0x0 is not a single"),
     ('seed = "none"', 'seed = "none', r"not valid TOML"),
+    # name_zh is ServoDesk's Chinese for an English-only source: Chinese, and never beside the
+    # manual's own Chinese name
+    (
+        'name_en = "Generic"',
+        'name_en = "Generic"\nname_zh = "Generic"',
+        r"\.name_zh: 'Generic' is n",
+    ),
+    (
+        'name = "Generic"',
+        'name = "通用"\nname_zh = "通用错误"',
+        r"\.name_zh: the manual's name is Ch",
+    ),
 ]
 
 
@@ -198,3 +211,8 @@ def test_unknown_profile_is_refused() -> None:
         ValueError, match="unknown drive profile 'nope'; known: mdi-s1c, kinco, cia402"
     ):
         servodesk_data.load("nope")
+
+
+def test_a_translated_fault_name_loads(tmp_path: Path) -> None:
+    text = MINIMAL.replace('name_en = "Generic"', 'name_en = "Generic"\nname_zh = "通用错误"')
+    assert servodesk_data.load_path(_write(tmp_path, text)).faults[0].name_zh == "通用错误"

@@ -162,7 +162,8 @@ async def _faults(sources: ReportSources, record: CommissioningRecord) -> tables
     for fault in sorted(history.history, key=lambda f: f.time):
         if fault.time < record.created:
             continue
-        name = fault.name_en + (f" ({fault.name_zh})" if fault.name_zh else "")
+        manual = fault.name_zh and fault.name_zh_source == "manual"  # the source's words only
+        name = fault.name_en + (f" ({fault.name_zh})" if manual else "")
         state = " → ".join(s for s in (fault.state_before, fault.state_after) if s)
         row = [
             tables.when(fault.time),

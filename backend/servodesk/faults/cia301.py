@@ -4,6 +4,9 @@ a device sends when it says no more than the class (2000h "Current – generic e
 
 A code in no table keeps the most specific class it falls into ("Unknown monitoring /
 communication code 0x81FD", servodesk_protocol.emcy_codes.describe).
+
+Like the tables it extends, GENERIC_CODES is English; GENERIC_CODES_ZH is ServoDesk's Chinese
+translation of it, key for key.
 """
 
 from __future__ import annotations
@@ -44,10 +47,42 @@ GENERIC_CODES: Mapping[int, str] = MappingProxyType(
 )
 
 
+# GENERIC_CODES in Chinese (ServoDesk's translation)
+GENERIC_CODES_ZH: Mapping[int, str] = MappingProxyType(
+    {
+        0x1000: "通用错误",
+        0x2000: "电流 – 通用错误",
+        0x2100: "电流，设备输入侧 – 通用",
+        0x2200: "设备内部电流 – 通用",
+        0x2300: "电流，设备输出侧 – 通用",
+        0x3000: "电压 – 通用错误",
+        0x3100: "电网电压 – 通用",
+        0x3200: "设备内部电压 – 通用",
+        0x3300: "输出电压 – 通用",
+        0x4000: "温度 – 通用错误",
+        0x4100: "环境温度 – 通用",
+        0x4200: "设备温度 – 通用",
+        0x5000: "设备硬件 – 通用错误",
+        0x6000: "设备软件 – 通用错误",
+        0x6100: "内部软件 – 通用",
+        0x6200: "用户软件 – 通用",
+        0x6300: "数据集 – 通用",
+        0x7000: "附加模块 – 通用错误",
+        0x8000: "监控 – 通用错误",
+        0x8100: "通信 – 通用",
+        0x8200: "协议错误 – 通用",
+        0x9000: "外部错误 – 通用错误",
+        0xF000: "附加功能 – 通用错误",
+        0xFF00: "设备自定义 – 通用错误",
+    }
+)
+
+
 def cia_text(code: int, *, cia402: bool = True) -> CodeText:
     """A CiA EMCY code in words: CiA 402 (for a drive), CiA 301's exact codes, the generic code
     of a class, then the class alone."""
     found = describe(code, cia402=cia402)
     if found.source is CodeSource.UNKNOWN and code in GENERIC_CODES:
-        return CodeText(CodeSource.CIA301, GENERIC_CODES[code], code_class(code))
+        text, text_zh = GENERIC_CODES[code], GENERIC_CODES_ZH[code]
+        return CodeText(CodeSource.CIA301, text, code_class(code), text_zh)
     return found

@@ -2,6 +2,11 @@
 §4.1 alarm numbers, Kinco servo CANopen manual §8 603Fh codes), then CiA 402, then CiA 301,
 then the code's class with its raw hex: never nothing.
 
+Chinese names: an MDi-S1-C alarm keeps its manual's own Chinese name ("manual"); the Kinco
+manual and the CiA 301/402 tables are English only, so their Chinese is ServoDesk's translation
+("translation": the profile's name_zh, servodesk_protocol.emcy_codes' `_ZH` tables), the English
+kept as the source has it.
+
 Pure: `decode_emcy(profile, node, data)` takes the node's profile data (None when its identity
 is unknown: the CiA 301 format is assumed) and an EMCY's data bytes; the caller supplies the time.
 """
@@ -26,6 +31,9 @@ _MANUALS = {
     "cia402": "Nanotec CANopen article",
 }
 _ALARM = EmcyFormat.ALARM_NUMBER
+# where a record's name_zh comes from (the API's `name_zh_source`)
+ZH_MANUAL = "manual"  # the drive manual's own Chinese (MDi-S1-C)
+ZH_TRANSLATION = "translation"  # ServoDesk's translation of an English source
 # entries a shipped table holds for the simulated drive although the manual has no such code:
 # (profile, code) -> what the manual says instead
 _NOT_IN_MANUAL = {
@@ -45,6 +53,7 @@ class FaultRecord:
     source: str  # CodeSource value: vendor | cia402 | cia301 | unknown
     name_en: str
     name_zh: str | None
+    name_zh_source: str | None  # ZH_MANUAL | ZH_TRANSLATION; None when name_zh is None
     check: str | None  # cause and what to check, when a table says
     error_register: int | None  # only the CiA 301 format carries 1001h
     manufacturer_hex: str | None  # CiA 301 bytes 3–7, raw
@@ -56,8 +65,10 @@ class FaultRecord:
 
 def fault_words(record: FaultRecord, profile: DriveData | None) -> str:
     """One phrase for a timeline: "alarm 4 位置超差 Following error" for an MDi alarm number,
-    "0x8611 Following error" for an EMCY code."""
-    name = f"{record.name_zh} {record.name_en}" if record.name_zh else record.name_en
+    "0x8611 Following error" for an EMCY code (the timeline keeps the source's words: a
+    translated name stays out)."""
+    manual = record.name_zh and record.name_zh_source == ZH_MANUAL
+    name = f"{record.name_zh} {record.name_en}" if manual else record.name_en
     if profile is not None and profile.quirks.emcy_format is EmcyFormat.ALARM_NUMBER:
         return f"alarm {record.code} {name}"
     return f"{record.code_hex} {name}"
@@ -89,7 +100,10 @@ def decode_emcy(
         manufacturer = data[3:FRAME_LENGTH].hex(" ").upper()
     raw = _Raw(raw_hex, register, manufacturer)
     if is_reset(code) and (fmt is EmcyFormat.CIA301 or code == 0):
-        return _record(time, node, code, CodeSource.CIA301, emcy_codes.RESET_TEXT, raw)
+        # an alarm-number drive's alarm 0 keeps its words as before (no Chinese)
+        reset_zh = None if fmt is _ALARM else _translated(emcy_codes.RESET_TEXT_ZH)
+        reset = emcy_codes.RESET_TEXT
+        return _record(time, node, code, CodeSource.CIA301, reset, raw, name_zh=reset_zh)
     if profile is not None and fmt is EmcyFormat.ALARM_NUMBER:
         entry = profile.fault(code)
         if entry is None:
@@ -108,7 +122,8 @@ def decode_emcy(
         words = ", ".join(emcy_codes.error_register_words(register))
         parts.append(f"Error register {register:02X}h: {words}.")
     check = " ".join(parts) or None
-    return _record(time, node, code, cia.source, cia.text, raw, check=check)
+    cia_zh = _translated(cia.text_zh)
+    return _record(time, node, code, cia.source, cia.text, raw, name_zh=cia_zh, check=check)
 
 
 def decode_kinco_bits(profile: DriveData, detected: int) -> list[FaultEntry]:
@@ -163,10 +178,25 @@ def _vendor(
         parts.append(f"Source: ServoDesk's simulated drive; {unlisted}.")
     else:
         parts.append(f"Source: {_MANUALS.get(profile.profile, 'the drive profile')}.")
-    name_zh = first.name if _CJK.search(first.name) else None
     return _record(
-        time, node, code, CodeSource.VENDOR, names, raw, name_zh=name_zh, check=" ".join(parts)
+        time, node, code, CodeSource.VENDOR, names, raw, name_zh=_zh(entries), check=" ".join(parts)
     )
+
+
+def _zh(entries: list[FaultEntry]) -> tuple[str, str] | None:
+    """The Chinese name of table entries and where it comes from: the manual's own Chinese
+    name (MDi), else ServoDesk's translations (Kinco, CiA 402: all of them, or none)."""
+    first = entries[0]
+    if _CJK.search(first.name):
+        return first.name, ZH_MANUAL
+    translated = [e.name_zh for e in entries if e.name_zh]
+    if len(translated) != len(entries):
+        return None
+    return " / ".join(translated), ZH_TRANSLATION
+
+
+def _translated(text: str | None) -> tuple[str, str] | None:
+    return (text, ZH_TRANSLATION) if text else None
 
 
 def _record(
@@ -177,7 +207,7 @@ def _record(
     name_en: str,
     raw: _Raw,
     *,
-    name_zh: str | None = None,
+    name_zh: tuple[str, str] | None = None,  # (the name, ZH_MANUAL | ZH_TRANSLATION)
     check: str | None = None,
 ) -> FaultRecord:
     return FaultRecord(
@@ -187,7 +217,8 @@ def _record(
         code_hex=f"0x{code:04X}",
         source=source.value,
         name_en=name_en,
-        name_zh=name_zh,
+        name_zh=name_zh[0] if name_zh else None,
+        name_zh_source=name_zh[1] if name_zh else None,
         check=check,
         error_register=raw.error_register,
         manufacturer_hex=raw.manufacturer_hex,

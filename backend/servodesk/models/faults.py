@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal
 
 from pydantic import BaseModel, Field, StrictBool
 
@@ -17,8 +17,11 @@ class Fault(BaseModel):
     code: int
     code_hex: str
     source: str  # vendor | cia402 | cia301 | unknown
-    name_en: str
+    name_en: str  # the source's words: the manual's English, the CiA table's text
     name_zh: str | None = None
+    # where name_zh comes from: "manual" (the drive manual's own Chinese, MDi-S1-C) or
+    # "translation" (ServoDesk's translation of an English source: Kinco, CiA 402/301)
+    name_zh_source: Literal["manual", "translation"] | None = None
     check: str | None = None
     error_register: int | None = None
     manufacturer_hex: str | None = None

@@ -73,6 +73,14 @@ MIGRATIONS: tuple[tuple[int, str], ...] = (
         CREATE INDEX commissioning_node ON commissioning (node, id);
         """,
     ),
+    (
+        5,
+        # where a fault's Chinese name comes from: "manual" (the drive manual's own, MDi-S1-C)
+        # or "translation" (ServoDesk's, of an English source); NULL for rows stored before
+        """
+        ALTER TABLE faults ADD COLUMN name_zh_source TEXT;
+        """,
+    ),
 )
 LATEST = MIGRATIONS[-1][0]
 

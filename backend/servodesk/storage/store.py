@@ -43,6 +43,7 @@ FAULT_COLUMNS = (
     "source",
     "name_en",
     "name_zh",
+    "name_zh_source",
     "check",
     "error_register",
     "manufacturer_hex",

@@ -2541,6 +2541,8 @@ export interface components {
             name_en: string;
             /** Name Zh */
             name_zh?: string | null;
+            /** Name Zh Source */
+            name_zh_source?: ("manual" | "translation") | null;
             /** Node */
             node: number;
             /** Raw Hex */

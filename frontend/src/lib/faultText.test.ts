@@ -8,8 +8,11 @@ import {
   errorRegisterText,
   errorRegisterWords,
   faultCode,
+  faultName,
   faultWords,
   hasNoObject,
+  isTranslatedName,
+  nameSource,
   newestFirst,
   sourceLabel,
   stateChange,
@@ -195,5 +198,34 @@ describe("603Fh and states", () => {
     [null, false],
   ])("no such object: %s", (code, answer) => {
     expect(hasNoObject(code)).toBe(answer);
+  });
+});
+
+describe("fault names", () => {
+  const kinco = fault({
+    code: 0x8611,
+    code_hex: "0x8611",
+    name_en: "Following error too high",
+    name_zh: "跟随误差过大",
+    name_zh_source: "translation",
+    check: "Cause: x. Source: ServoDesk's simulated drive; the Kinco manual marks it not used.",
+  });
+
+  it("shows the manual's Chinese in both languages, a translation only in Chinese", () => {
+    const mdi = fault({ name_zh_source: "manual" });
+    expect(faultName(mdi, "en")).toBe("位置超差 Following error");
+    expect(faultName(mdi, "zh-CN")).toBe("位置超差 Following error");
+    expect(faultName(kinco, "en")).toBe("Following error too high");
+    expect(faultName(kinco, "zh-CN")).toBe("跟随误差过大 Following error too high");
+    expect(faultName(fault({ name_zh: null }), "zh-CN")).toBe("Following error");
+    // stored before the source was recorded: only the MDi's manual had Chinese then
+    expect(faultName(fault({ name_zh_source: null }), "en")).toBe("位置超差 Following error");
+  });
+
+  it("tells a translation and its source table", () => {
+    expect(isTranslatedName(kinco)).toBe(true);
+    expect(isTranslatedName(fault({ name_zh_source: "manual" }))).toBe(false);
+    expect(nameSource(kinco)).toBe("ServoDesk's simulated drive");
+    expect(nameSource(fault({ source: "cia301", check: null }))).toBe("CiA 301 (communication)");
   });
 });

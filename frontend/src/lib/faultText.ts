@@ -1,21 +1,24 @@
 // Faults in words for the banner, the Faults tab and the history table. Pure, table-tested.
 import type { Fault } from "../api/faults";
+import { currentLanguage, i18n, type Language, type MessageKey } from "../i18n";
 
 /** CiA 301 error register 1001h, bit 0 first. */
-const ERROR_REGISTER_BITS: readonly string[] = [
-  "generic",
-  "current",
-  "voltage",
-  "temperature",
-  "communication",
-  "device profile",
-  "reserved bit 6",
-  "manufacturer",
+const ERROR_REGISTER_BITS: readonly MessageKey[] = [
+  "faults.words.register.generic",
+  "faults.words.register.current",
+  "faults.words.register.voltage",
+  "faults.words.register.temperature",
+  "faults.words.register.communication",
+  "faults.words.register.deviceProfile",
+  "faults.words.register.reserved6",
+  "faults.words.register.manufacturer",
 ];
 
 /** The set 1001h bits in words, bit 0 first: 0x21 → ["generic", "device profile"]. */
 export function errorRegisterWords(register: number): string[] {
-  return ERROR_REGISTER_BITS.filter((_, bit) => (register & (1 << bit)) !== 0);
+  return ERROR_REGISTER_BITS.filter((_, bit) => (register & (1 << bit)) !== 0).map((key) =>
+    i18n.t(key),
+  );
 }
 
 /** "21h: generic, device profile"; "00h: no error"; "—" when the frame carries none. */
@@ -23,18 +26,20 @@ export function errorRegisterText(register: number | null | undefined): string {
   if (register == null) return "—";
   const hexText = `${register.toString(16).toUpperCase().padStart(2, "0")}h`;
   const words = errorRegisterWords(register);
-  return `${hexText}: ${words.length ? words.join(", ") : "no error"}`;
+  const separator = i18n.t("faults.words.listSeparator");
+  return `${hexText}: ${words.length ? words.join(separator) : i18n.t("faults.words.noError")}`;
 }
 
-const SOURCE_LABELS: Record<string, string> = {
-  vendor: "the drive's own alarm table",
-  cia402: "CiA 402 (drive profile)",
-  cia301: "CiA 301 (communication)",
-  unknown: "not in any table",
+const SOURCE_LABELS: Record<string, MessageKey> = {
+  vendor: "faults.words.source.vendor",
+  cia402: "faults.words.source.cia402",
+  cia301: "faults.words.source.cia301",
+  unknown: "faults.words.source.unknown",
 };
 
 export function sourceLabel(source: string): string {
-  return SOURCE_LABELS[source] ?? source;
+  const key = SOURCE_LABELS[source];
+  return key ? i18n.t(key) : source;
 }
 
 /**
@@ -48,12 +53,39 @@ export function isAlarmNumber(fault: Pick<Fault, "code" | "source">): boolean {
 
 /** "alarm 4" for an alarm number, "0x8611" for an EMCY code. */
 export function faultCode(fault: Pick<Fault, "code" | "code_hex" | "source">): string {
-  return isAlarmNumber(fault) ? `alarm ${fault.code}` : fault.code_hex;
+  return isAlarmNumber(fault) ? i18n.t("faults.words.alarm", { n: fault.code }) : fault.code_hex;
 }
 
-/** "位置超差 Following error": the manual's own name first, then the English one. */
-export function faultName(fault: Pick<Fault, "name_en" | "name_zh">): string {
-  return fault.name_zh ? `${fault.name_zh} ${fault.name_en}` : fault.name_en;
+type FaultNames = Pick<Fault, "name_en" | "name_zh" | "name_zh_source">;
+
+/** Whether ServoDesk translated the Chinese name (the source, Kinco's manual or a CiA table, is
+ * English only), rather than it being the drive manual's own (MDi-S1-C). */
+export function isTranslatedName(fault: FaultNames): boolean {
+  return Boolean(fault.name_zh) && fault.name_zh_source === "translation";
+}
+
+/** Whether the Chinese name shows: the manual's own always (as in English before), ServoDesk's
+ * translation only in Chinese. */
+export function showsChineseName(
+  fault: FaultNames,
+  language: Language = currentLanguage(),
+): boolean {
+  if (!fault.name_zh) return false;
+  return language === "zh-CN" || !isTranslatedName(fault);
+}
+
+/** "位置超差 Following error": the Chinese name first, then the source's English one; in English
+ * a name ServoDesk translated shows its English alone. */
+export function faultName(fault: FaultNames, language: Language = currentLanguage()): string {
+  return showsChineseName(fault, language) ? `${fault.name_zh} ${fault.name_en}` : fault.name_en;
+}
+
+/** The table a name comes from, for the translation marker's title: the "Source" of the check
+ * text (the drive's manual), else the CiA table. */
+export function nameSource(fault: Pick<Fault, "check" | "source">): string {
+  const source = checkParts(fault.check).find((part) => part.label === "Source")?.text;
+  const table = source?.split(";")[0]?.replace(/\.$/, "").trim();
+  return table || sourceLabel(fault.source);
 }
 
 /** "alarm 4 位置超差 Following error". */
@@ -121,17 +153,24 @@ export function errorCodeParts(
 ): { hex: string; words: string | null } {
   if (typeof value !== "number") return { hex: value ?? "—", words: null };
   const hexText = `0x${value.toString(16).toUpperCase().padStart(4, "0")}`;
-  if (value === 0) return { hex: hexText, words: "no error" };
+  if (value === 0) return { hex: hexText, words: i18n.t("faults.words.noError") };
   if (!active || (active.code & 0xffff) !== value) return { hex: hexText, words: null };
   // the name alone when the code reads the same; else the code as the drive's table has it
   const words = faultCode(active) === hexText ? faultName(active) : faultWords(active);
   return { hex: hexText, words };
 }
 
+/** A CiA 402 state as the server names it ("Operation enabled") in the page's language. */
+function stateWords(state: string | null | undefined): string {
+  if (!state) return i18n.t("faults.words.notSeen");
+  const key = `drive.state.${state.toLowerCase().replace(/ /g, "_")}`;
+  return i18n.exists(key) ? i18n.t(key as MessageKey) : state;
+}
+
 /** "Operation enabled → Fault"; a state ServoDesk did not see reads "not seen". */
 export function stateChange(fault: Pick<Fault, "state_before" | "state_after">): string {
   if (!fault.state_before && !fault.state_after) return "—";
-  return `${fault.state_before || "not seen"} → ${fault.state_after || "not seen"}`;
+  return `${stateWords(fault.state_before)} → ${stateWords(fault.state_after)}`;
 }
 
 /** SDO aborts meaning "the drive has no such object": 06020000h, 06090011h. */

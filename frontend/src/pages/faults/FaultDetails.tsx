@@ -1,15 +1,57 @@
 import type { ReactNode } from "react";
 
-import { useTranslation } from "../../i18n";
+import { currentLanguage, useTranslation } from "../../i18n";
 import {
   checkParts,
   errorRegisterText,
   faultCode,
   formatDateTime,
+  isTranslatedName,
+  nameSource,
+  showsChineseName,
   sourceLabel,
   stateChange,
 } from "../../lib/faultText";
 import type { Fault } from "./types";
+
+/** The fault's name: in Chinese the Chinese first and the source's English beside it, a name
+ * ServoDesk translated marked as such (its title names the English source); in English the
+ * English first, the manual's own Chinese beside it. */
+function FaultNames({ fault }: { fault: Fault }): ReactNode {
+  const { t } = useTranslation();
+  const chinese = currentLanguage() === "zh-CN";
+  const zh = showsChineseName(fault, chinese ? "zh-CN" : "en") ? fault.name_zh : null;
+  if (!chinese || !zh) {
+    return (
+      <>
+        <span className="fault-name-en">{fault.name_en}</span>
+        {zh && (
+          <span className="fault-name-zh" lang="zh">
+            {zh}
+          </span>
+        )}
+      </>
+    );
+  }
+  return (
+    <>
+      <span className="fault-name-first" lang="zh">
+        {zh}
+      </span>
+      <span className="fault-name-source" lang="en">
+        {fault.name_en}
+      </span>
+      {isTranslatedName(fault) && (
+        <span
+          className="badge fault-name-translation"
+          title={t("faults.details.translationTitle", { source: nameSource(fault) })}
+        >
+          {t("faults.details.translation")}
+        </span>
+      )}
+    </>
+  );
+}
 
 /** One fault in words: names, source layer, what to check, error register, raw bytes. */
 export function FaultDetails({ fault }: { fault: Fault }): ReactNode {
@@ -26,12 +68,7 @@ export function FaultDetails({ fault }: { fault: Fault }): ReactNode {
       </dd>
       <dt>{t("faults.details.meaning")}</dt>
       <dd>
-        <span className="fault-name-en">{fault.name_en}</span>
-        {fault.name_zh && (
-          <span className="fault-name-zh" lang="zh">
-            {fault.name_zh}
-          </span>
-        )}
+        <FaultNames fault={fault} />
       </dd>
       <dt>{t("faults.details.decodedFrom")}</dt>
       <dd>{sourceLabel(fault.source)}</dd>
