@@ -41,7 +41,8 @@ def velocity(client: TestClient, node: int) -> int:
     ("node", "jog"),
     [
         (3, {"mode": "pv", "velocity_rpm": 600, "keepalive_ms": 500}),
-        (2, {"mode": "pt", "torque_pct": 30, "keepalive_ms": 500}),
+        # the cap far above the 50 rpm looked for: a late reading must not find it passed
+        (2, {"mode": "pt", "torque_pct": 30, "speed_cap_rpm": 2000.0, "keepalive_ms": 500}),
     ],
 )
 def test_enable_after_a_quick_stop_does_not_start_the_axis(

@@ -171,7 +171,11 @@ class DriveState(BaseModel):
 
 class EnableReason(BaseModel):
     code: EnableReasonCode
-    message: str
+    message: str  # English, stable
+    # the message in the page's catalogue (`server.<message_id>` with `params`); null: only
+    # the English message exists
+    message_id: str | None = None
+    params: dict[str, str | int] = Field(default_factory=dict)
 
 
 class MoveRequest(RequestBody):

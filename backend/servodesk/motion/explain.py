@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from servodesk.models.motion import EnableReason, FaultInfo
+from servodesk.motion.reason_texts import reason
 from servodesk.motion.words import state_label
 from servodesk_protocol.cia402 import (
     CW_FAULT_RESET,
@@ -54,34 +55,20 @@ def explain(seen: Observed) -> list[EnableReason]:
     """The reasons, most fundamental first; [timeout] when the drive's objects show none."""
     reasons: list[EnableReason] = []
     if seen.nmt_state == "stopped":
-        reasons.append(
-            _r(
-                "nmt_stopped",
-                "the node is NMT Stopped: it answers no SDO and takes no PDO — "
-                "set it Pre-operational or Operational",
-            )
-        )
+        reasons.append(reason("nmt_stopped", "reason.nmt_stopped"))
     elif seen.needs_pdos and seen.nmt_state != "operational":
-        reasons.append(
-            _r(
-                "nmt_not_operational",
-                f"the node is NMT {seen.nmt_state or 'unknown'}, "
-                "not Operational: it ignores the control PDOs — start it (NMT start)",
-            )
-        )
+        nmt = seen.nmt_state or "unknown"
+        reasons.append(reason("nmt_not_operational", "reason.nmt_not_operational", nmt=nmt))
     if seen.held_by:
-        reasons.append(_r("held_by_other", f"{seen.held_by} controls this axis now"))
+        reasons.append(reason("held_by_other", "reason.held_elsewhere", holder=seen.held_by))
     if seen.statusword is not None:
         reasons += _from_words(seen, seen.statusword)
     if not reasons:
         if seen.statusword is None:
-            message = "the drive did not answer (no SDO reply): is it powered and on this bus?"
+            reasons.append(reason("timeout", "reason.no_answer"))
         else:
-            message = (
-                f"the drive stayed in {_state_text(seen.statusword)} and its objects show no "
-                "cause: the transition took longer than the drive's time allows"
-            )
-        reasons.append(_r("timeout", message))
+            state = _state_text(seen.statusword)
+            reasons.append(reason("timeout", "reason.stayed", state=state))
     return reasons
 
 
@@ -93,39 +80,20 @@ def _from_words(seen: Observed, status: int) -> list[EnableReason]:
     except ValueError:
         state = None
     if status & SW_FAULT or state in (Cia402State.FAULT, Cia402State.FAULT_REACTION_ACTIVE):
-        reasons.append(_r("fault", _fault_text(seen.fault)))
+        reasons.append(_fault_reason(seen.fault))
     if control is not None and control & CW_FAULT_RESET:
-        reasons.append(
-            _r(
-                "fault_reset_high",
-                "controlword bit 7 (fault reset) is 1: the drive takes no "
-                "command until it is 0 again (fault reset acts on its 0 → 1 edge)",
-            )
-        )
+        reasons.append(reason("fault_reset_high", "reason.fault_reset_high"))
     if state is Cia402State.NOT_READY_TO_SWITCH_ON:
-        reasons.append(_r("not_ready", "the drive is still starting (Not ready to switch on)"))
+        reasons.append(reason("not_ready", "reason.not_ready"))
     elif not status & SW_VOLTAGE_ENABLED:
-        reasons.append(
-            _r(
-                "voltage_disabled",
-                "statusword bit 4 (voltage enabled) is 0: main power to the power stage is off",
-            )
-        )
+        reasons.append(reason("voltage_disabled", "reason.voltage_disabled"))
     if state is Cia402State.QUICK_STOP_ACTIVE or (
         control is not None and not control & CW_QUICK_STOP and control & 0x0002
     ):
-        reasons.append(
-            _r(
-                "quick_stop_active",
-                "quick stop is active (statusword bit 5 = 0 or controlword "
-                "bit 2 = 0): leave it with disable voltage, then enable again",
-            )
-        )
+        reasons.append(reason("quick_stop_active", "reason.quick_stop_active"))
     reasons += _mode_reasons(seen)
     if control is not None and control & CW_HALT:
-        reasons.append(
-            _r("halt_set", "controlword bit 8 (halt) is 1: the axis is held at standstill")
-        )
+        reasons.append(reason("halt_set", "reason.halt_set"))
     return reasons
 
 
@@ -134,36 +102,21 @@ def _mode_reasons(seen: Observed) -> list[EnableReason]:
     if not asked:
         return []
     if seen.supported is not None and asked not in seen.supported:
-        return [
-            _r(
-                "mode_unsupported",
-                f"6060h asks for {mode_name(asked)}, which the drive does not support (6502h)",
-            )
-        ]
+        return [reason("mode_unsupported", "reason.mode_not_in_6502", mode=mode_name(asked))]
     if seen.mode_display == 0 and asked != OperationMode.NO_MODE:
-        return [
-            _r(
-                "mode_unsupported",
-                f"6060h asks for {mode_name(asked)} but 6061h shows 0: the "
-                "drive runs no mode (an unsupported value, MDi-S1-C CANopen manual §3.3)",
-            )
-        ]
+        return [reason("mode_unsupported", "reason.mode_display_0", mode=mode_name(asked))]
     return []
 
 
-RESET_ON_PURPOSE = "nothing resets it by itself: remove its cause, then send Fault reset"
-
-
-def _fault_text(fault: FaultInfo | None) -> str:
+def _fault_reason(fault: FaultInfo | None) -> EnableReason:
     if fault is None:
-        return f"the drive is in Fault (statusword bit 3); {RESET_ON_PURPOSE}"
+        return reason("fault", "reason.fault_unknown")
     name = f" {fault.name}" if fault.name else ""
     source = f" ({fault.source})" if fault.source else ""
-    check = f" — check: {fault.text.rstrip('. ')}" if fault.text else ""
-    return (
-        f"fault {fault.code_hex}{name}{source} is active (statusword bit 3){check}; "
-        f"{RESET_ON_PURPOSE}"
-    )
+    named = f"{fault.code_hex}{name}{source}"
+    if fault.text:
+        return reason("fault", "reason.fault_check", fault=named, check=fault.text.rstrip(". "))
+    return reason("fault", "reason.fault", fault=named)
 
 
 def _state_text(statusword: int) -> str:
@@ -171,7 +124,3 @@ def _state_text(statusword: int) -> str:
         return state_label(decode_state(statusword))
     except ValueError:
         return f"statusword {statusword:#06x}"
-
-
-def _r(code: str, message: str) -> EnableReason:
-    return EnableReason.model_validate({"code": code, "message": message})

@@ -30,7 +30,7 @@ import canopen
 
 from servodesk.audit import Outcome, current_entry
 from servodesk.errors import InvalidValueError
-from servodesk.models.motion import EnableReason, IpStreamResult
+from servodesk.models.motion import IpStreamResult
 from servodesk.motion import drive_io as io
 from servodesk.motion.core import DriveIo, state_of
 from servodesk.motion.drive_limits import Limits
@@ -38,6 +38,7 @@ from servodesk.motion.errors import LimitError
 from servodesk.motion.ip_stream import Stream
 from servodesk.motion.ip_timing import SyncTiming, SyncUnsafeError, probe
 from servodesk.motion.readings import Readings
+from servodesk.motion.reason_texts import reason
 from servodesk.motion.trajectory import Trajectory, peak_velocity, setpoints, sync_jitter
 from servodesk.network.sync import SyncService
 from servodesk.pdo.commands import IP_DATA, RpdoRoutes
@@ -138,12 +139,7 @@ class IpStreams:
             if stream.not_started:
                 raise await self._readings.blocked(
                     node,
-                    extra=[
-                        EnableReason(
-                            code="timeout",
-                            message="interpolation did not start (statusword bit 12)",
-                        )
-                    ],
+                    extra=[reason("timeout", "reason.ip_not_started")],
                 )
         finally:
             self._streams.pop(node, None)

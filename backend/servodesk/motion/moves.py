@@ -10,7 +10,6 @@ from typing import Literal
 from servodesk.errors import ServodeskError
 from servodesk.models.motion import (
     DriveState,
-    EnableReason,
     MoveProgress,
     MoveQueueRequest,
     MoveRequest,
@@ -21,6 +20,7 @@ from servodesk.motion.drive_limits import Limits
 from servodesk.motion.errors import MotionBusyError
 from servodesk.motion.jog import JogRamp
 from servodesk.motion.readings import Readings
+from servodesk.motion.reason_texts import reason
 from servodesk_protocol.cia402 import (
     CONTROLWORD,
     CW_HALT,
@@ -143,13 +143,7 @@ class Moves:
         if not acked:
             raise await self._readings.blocked(
                 node,
-                extra=[
-                    EnableReason(
-                        code="timeout",
-                        message="the drive did not acknowledge the "
-                        "set-point (statusword bit 12 stayed 0)",
-                    )
-                ],
+                extra=[reason("timeout", "reason.setpoint_not_acknowledged")],
             )
         axis.target_user = target
         axis.move = MoveProgress(

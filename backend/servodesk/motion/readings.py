@@ -21,6 +21,7 @@ from servodesk.motion.drive_io import Snapshot
 from servodesk.motion.drive_limits import Limits
 from servodesk.motion.errors import EnableBlockedError
 from servodesk.motion.explain import Observed, explain
+from servodesk.motion.reason_texts import reason
 from servodesk.motion.words import mode_key
 from servodesk_protocol.cia402 import (
     MODES_DISPLAY,
@@ -234,12 +235,7 @@ class Readings:
         if state_of(statusword) is not Cia402State.OPERATION_ENABLED:
             raise await self.blocked(
                 node,
-                extra=[
-                    EnableReason(
-                        code="not_enabled",
-                        message="the drive is not in Operation enabled: enable it first",
-                    )
-                ],
+                extra=[reason("not_enabled", "reason.not_enabled")],
             )
 
     # ------------------------------------------------------------------ modes
@@ -252,9 +248,8 @@ class Readings:
         except SdoAbortError as abort:
             if abort.code != INVALID_VALUE:  # 06090030h: an unsupported 6060h
                 raise
-            raise await self.blocked(
-                node, extra=[_unsupported(mode, "the drive refused it (SDO abort 06090030h)")]
-            ) from abort
+            refused = reason("mode_unsupported", "reason.mode_refused", **_mode(mode))
+            raise await self.blocked(node, extra=[refused]) from abort
         deadline = time.monotonic() + self.transition_timeout(node)
         while True:
             shown = self._drive.carried(node)[0].get("mode_display")  # a TPDO carrying 6061h
@@ -266,10 +261,10 @@ class Readings:
             if shown == mode:
                 return
             if time.monotonic() >= deadline:
-                raise await self.blocked(
-                    node,
-                    extra=[_unsupported(mode, f"6061h shows {shown} after 6060h = {int(mode)}")],
+                not_shown = reason(
+                    "mode_unsupported", "reason.mode_not_shown", shown=str(shown), **_mode(mode)
                 )
+                raise await self.blocked(node, extra=[not_shown])
             await asyncio.sleep(self._drive.settings.motion_poll_interval)
 
 
@@ -303,9 +298,5 @@ def _kept_over(axis: Axis, missing: list[str], budget: int, now: float) -> list[
     return [name for name in missing if name not in chosen]
 
 
-def _unsupported(mode: OperationMode, detail: str) -> EnableReason:
-    return EnableReason(
-        code="mode_unsupported",
-        message=f"mode {mode_key(int(mode))} ({int(mode)}) is not supported by this drive: "
-        f"{detail}",
-    )
+def _mode(mode: OperationMode) -> dict[str, str | int]:
+    return {"key": str(mode_key(int(mode))), "number": int(mode)}

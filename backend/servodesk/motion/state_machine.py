@@ -14,6 +14,7 @@ from servodesk.motion import drive_io as io
 from servodesk.motion.core import DriveIo, state_of
 from servodesk.motion.drive_limits import Limits
 from servodesk.motion.readings import Readings
+from servodesk.motion.reason_texts import reason
 from servodesk.motion.words import state_label
 from servodesk_protocol.cia402 import (
     Cia402State,
@@ -215,10 +216,12 @@ COMMANDS: dict[str, tuple[int, Cia402State, dict[Cia402State, int]]] = {
 
 def _no_transition(name: str, state: Cia402State, starts: dict[Cia402State, int]) -> EnableReason:
     froms = ", ".join(f"{state_label(s)} ({n})" for s, n in starts.items())
-    return EnableReason(
-        code="no_transition",
-        message=f"{name} takes no transition from {state_label(state)}: it works from "
-        f"{froms}; nothing was sent",
+    return reason(
+        "no_transition",
+        "reason.no_transition",
+        command=name,
+        state=state_label(state),
+        starts=froms,
     )
 
 

@@ -56,6 +56,8 @@ export function motionError(status: number, body: unknown, statusText = ""): Api
             ({
               code: typeof r.code === "string" ? r.code : "not_ready",
               message: typeof r.message === "string" ? r.message : "",
+              message_id: typeof r.message_id === "string" ? r.message_id : null,
+              params: isRecord(r.params) ? (r.params as Record<string, string | number>) : {},
             }) as EnableReason,
         )
       : [];

@@ -2448,6 +2448,12 @@ export interface components {
             code: "nmt_stopped" | "nmt_not_operational" | "fault" | "voltage_disabled" | "quick_stop_active" | "mode_unsupported" | "halt_set" | "held_by_other" | "timeout" | "fault_reset_high" | "not_ready" | "not_enabled" | "no_transition";
             /** Message */
             message: string;
+            /** Message Id */
+            message_id?: string | null;
+            /** Params */
+            params?: {
+                [key: string]: string | number;
+            };
         };
         /** ErrorBody */
         ErrorBody: {

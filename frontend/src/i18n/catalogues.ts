@@ -1,5 +1,6 @@
 // The catalogues: a pair of files per page area beside the shell's (en.json, zh-CN.json), merged
-// here; an area's keys are its file's top-level names, which no other file uses.
+// here; an area's keys are its file's top-level names, which no other file uses. `server` holds
+// the server's texts by message id (lib/serverText.ts), English word for word as the server's.
 import drive from "./locales/drive.en.json";
 import driveZh from "./locales/drive.zh-CN.json";
 import commission from "./locales/commission.en.json";
@@ -17,6 +18,8 @@ import pdo from "./locales/pdo.en.json";
 import pdoZh from "./locales/pdo.zh-CN.json";
 import scope from "./locales/scope.en.json";
 import scopeZh from "./locales/scope.zh-CN.json";
+import server from "./locales/server.en.json";
+import serverZh from "./locales/server.zh-CN.json";
 import zhCN from "./locales/zh-CN.json";
 
 export const EN = {
@@ -29,6 +32,7 @@ export const EN = {
   ...params,
   ...pdo,
   ...scope,
+  ...server,
 };
 export const ZH_CN = {
   ...zhCN,
@@ -40,4 +44,5 @@ export const ZH_CN = {
   ...paramsZh,
   ...pdoZh,
   ...scopeZh,
+  ...serverZh,
 };

@@ -164,7 +164,7 @@ export function errorCodeParts(
 function stateWords(state: string | null | undefined): string {
   if (!state) return i18n.t("faults.words.notSeen");
   const key = `drive.state.${state.toLowerCase().replace(/ /g, "_")}`;
-  return i18n.exists(key) ? i18n.t(key as MessageKey) : state;
+  return i18n.t(key, { defaultValue: state });
 }
 
 /** "Operation enabled → Fault"; a state ServoDesk did not see reads "not seen". */

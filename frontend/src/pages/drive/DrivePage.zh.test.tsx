@@ -5,7 +5,7 @@ import userEvent from "@testing-library/user-event";
 import { describe, expect, it } from "vitest";
 
 import { inChinese } from "../../test/inChinese";
-import { stubFetch } from "../../test/fetchStub";
+import { json, stubFetch } from "../../test/fetchStub";
 import { CONTROLLER, DRIVE, ENABLED, METHODS } from "../../test/fixtures/drive";
 import { renderPage } from "../../test/render";
 import { DrivePage } from "./DrivePage";
@@ -87,5 +87,49 @@ describe("DrivePage in zh-CN", () => {
     expect(screen.getByTestId("drive-state").textContent).toBe("运行使能");
     expect(await screen.findByRole("button", { name: /^开始回零（方式 \d+）$/ })).toBeTruthy();
     expect(screen.getByRole("button", { name: /^步进 \+1 ▶$/ })).toBeTruthy();
+  });
+
+  it("says why it won't enable in Chinese, from the server's message ids", async () => {
+    stubFetch({
+      "GET /api/nodes/1/drive": DRIVE,
+      "GET /api/nodes/1/drive/controller": CONTROLLER,
+      "GET /api/nodes/1/drive/homing-methods": METHODS,
+      "POST /api/nodes/1/drive/enable": json(
+        {
+          error: "enable_blocked",
+          message: "node 1 does not enable",
+          reasons: [
+            {
+              code: "nmt_not_operational",
+              message: "the node is NMT pre-operational, not Operational: …",
+              message_id: "reason.nmt_not_operational",
+              params: { nmt: "pre-operational" },
+            },
+            {
+              code: "voltage_disabled",
+              message:
+                "statusword bit 4 (voltage enabled) is 0: main power to the power stage is off",
+              message_id: "reason.voltage_disabled",
+              params: {},
+            },
+            { code: "timeout", message: "words of a newer server", message_id: "reason.newer" },
+          ],
+          state: DRIVE,
+        },
+        409,
+      ),
+    });
+    renderPage(<DrivePage node={1} />, "/nodes/1/drive");
+    await userEvent.click(await screen.findByRole("button", { name: "使能" }));
+    const why = await screen.findByRole("alert");
+    expect(
+      within(why)
+        .getAllByRole("listitem")
+        .map((li) => li.textContent),
+    ).toEqual([
+      "节点处于 NMT pre-operational，不是操作状态：它不理会控制 PDO——请启动它（NMT 启动）",
+      "状态字位 4（电压使能）为 0：功率级主电源已断开",
+      "words of a newer server",
+    ]);
   });
 });

@@ -4,6 +4,7 @@ import { api, call } from "../../api/client";
 import type { EnableBlockedError } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
 import { useTranslation } from "../../i18n";
+import { serverText } from "../../lib/serverText";
 import { useAction } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 
@@ -49,7 +50,7 @@ export function WhyBlocked({
         <ul>
           {blocked.reasons.map((reason) => (
             <li key={`${reason.code}:${reason.message}`} data-code={reason.code}>
-              {reason.message}
+              {serverText(reason)}
             </li>
           ))}
         </ul>
