@@ -36,7 +36,13 @@ export function ScopePage(): ReactNode {
   useEffect(() => saveForm(form), [form]);
   const [lanes, setLanes] = useState(loadLanes);
   useEffect(() => saveLanes(lanes), [lanes]);
-  const built = useMemo(() => buildRequest(form), [form]);
+  // What keeps the form from being sent, built at every render so it follows the language; the
+  // request itself only when the form changes (the plan check runs again for a new request).
+  const built = buildRequest(form);
+  const request = useMemo(() => {
+    const fresh = buildRequest(form);
+    return fresh.ok ? fresh.request : null;
+  }, [form]);
   const [refresh, setRefresh] = useState(0);
 
   const list = useApi((signal) => listCaptures(signal), "scope-captures");
@@ -69,7 +75,7 @@ export function ScopePage(): ReactNode {
     !stopped.has(current.id) &&
     now - (current.ended ?? now) < SERIES_WAIT_S;
 
-  const plan = usePlan(built.ok ? built.request : null, {
+  const plan = usePlan(request, {
     refresh,
     paused: active || seriesWaiting,
   });
@@ -118,8 +124,8 @@ export function ScopePage(): ReactNode {
   );
 
   const start = useAction(async () => {
-    if (!built.ok) return;
-    const capture = await startCapture({ ...built.request, lanes: asRequest(lanes) });
+    if (request === null) return;
+    const capture = await startCapture({ ...request, lanes: asRequest(lanes) });
     setHistory(EMPTY_HISTORY);
     follow(capture);
     setOpened(null); // the live view shows it

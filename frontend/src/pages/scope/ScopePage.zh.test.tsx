@@ -1,9 +1,10 @@
 // The Scope page in Simplified Chinese: headings, buttons, columns and capture states from the
 // zh-CN catalogue; no bare catalogue key anywhere.
-import { screen, waitFor, within } from "@testing-library/react";
+import { act, screen, waitFor, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
 import { afterEach, describe, expect, it } from "vitest";
 
+import { i18n } from "../../i18n";
 import { LiveStore } from "../../live/store";
 import { inChinese } from "../../test/inChinese";
 import { stubFetch } from "../../test/fetchStub";
@@ -71,5 +72,24 @@ describe("ScopePage in zh-CN", () => {
 
     // a key the catalogue missed would show as "scope.…"
     expect(container.textContent).not.toMatch(/\bscope\.[a-z]/);
+  });
+
+  it("says why Start is off in the language just chosen, without an edit", async () => {
+    await i18n.changeLanguage("en");
+    stubFetch({
+      "GET /api/scope/viewer": VIEWER,
+      "GET /api/scope/captures": [],
+      "GET /api/nodes/1/od": TREE,
+    });
+    const store = new LiveStore();
+    store.upsertInfo(INFO);
+    renderPage(<ScopePage />, "/scope", store);
+    const reason = await screen.findByText(i18n.t("scope.problem.noSignal"));
+    expect(reason.id).toBe("scope-start-reason");
+    const english = reason.textContent;
+    await act(() => i18n.changeLanguage("zh-CN"));
+    const now = document.getElementById("scope-start-reason")?.textContent;
+    expect(now).toBe(i18n.t("scope.problem.noSignal"));
+    expect(now).not.toBe(english);
   });
 });
