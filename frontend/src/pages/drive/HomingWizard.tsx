@@ -9,6 +9,7 @@ import { useLive } from "../../live/context";
 import { useMay } from "../../session/context";
 import { HomingDiagram } from "./HomingDiagram";
 import { HomingTimeline } from "./HomingTimeline";
+import { methodDescription, methodName } from "./homingWords";
 import { manualFor } from "./manuals";
 import { NumberField } from "./NumberField";
 import { homingStatus } from "./statusBits";
@@ -99,10 +100,10 @@ export function HomingWizard({
                   checked={m.method === method?.method}
                   onChange={() => setPicked(m.method)}
                 />
-                <strong>{m.method}</strong> {m.name}
+                <strong>{m.method}</strong> {methodName(m)}
               </span>
               <HomingDiagram method={m} />
-              <span className="muted small">{m.description}</span>
+              <span className="muted small">{methodDescription(m)}</span>
             </label>
           ))}
         </div>

@@ -3,6 +3,7 @@
 // before, fast steps bold, slow ones thin, a reversal drawn as a bend between rows. Pure
 // geometry from the server's `path`; the component only turns it into SVG.
 import { i18n } from "../../i18n";
+import { untilWords } from "./homingWords";
 import type { PathStep } from "./types";
 
 export type SwitchName = "negative_limit" | "home" | "positive_limit";
@@ -181,7 +182,7 @@ export function arrowHead(x: number, y: number, direction: PathStep["direction"]
 
 /** A step in words, for the drawing's caption and its screen-reader text. */
 export function describeStep(step: PathStep): string {
-  const until = step.until;
+  const until = untilWords(step.until);
   if (step.speed === "fast") {
     return step.direction === "positive"
       ? i18n.t("drive.homing.fastPositive", { until })
