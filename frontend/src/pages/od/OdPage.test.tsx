@@ -4,7 +4,7 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 
 import { json, stubFetch } from "../../test/fetchStub";
 import { renderPage } from "../../test/render";
-import { TREE, UPLOAD_ALL } from "./fixtures";
+import { DEVICE_TYPE, TREE, UPLOAD_ALL } from "./fixtures";
 import { OdPage } from "./OdPage";
 
 afterEach(() => {
@@ -29,16 +29,7 @@ describe("OdPage", () => {
   it("reads an entry and shows value, raw bytes and text", async () => {
     stubFetch({
       "GET /api/nodes/3/od": TREE,
-      "GET /api/nodes/3/sdo/1000/00": {
-        node: 3,
-        index: 0x1000,
-        subindex: 0,
-        name: "Device type",
-        data_type_name: "UNSIGNED32",
-        value: 131474,
-        raw_hex: "92 01 02 00",
-        text: "0x00020192 (131474)",
-      },
+      "GET /api/nodes/3/sdo/1000/00": DEVICE_TYPE,
     });
     renderPage(<OdPage node={3} />, "/nodes/3/od");
     await userEvent.click(await screen.findByRole("button", { name: /^1000\s*Device type$/ }));

@@ -11,7 +11,7 @@ import { inChinese } from "../../test/inChinese";
 import { pageWords } from "../../test/pageWords";
 import { renderPage, sessionAs } from "../../test/render";
 import { LiveStore } from "../../live/store";
-import { TREE, UPLOAD_ALL } from "./fixtures";
+import { DEVICE_TYPE, TREE, UPLOAD_ALL } from "./fixtures";
 import { OdPage } from "./OdPage";
 
 inChinese();
@@ -94,16 +94,7 @@ describe("OdPage in zh-CN", () => {
   it("shows the tree, the search and an entry's details in Chinese", async () => {
     stubFetch({
       "GET /api/nodes/3/od": TREE,
-      "GET /api/nodes/3/sdo/1000/00": {
-        node: 3,
-        index: 0x1000,
-        subindex: 0,
-        name: "Device type",
-        data_type_name: "UNSIGNED32",
-        value: 131474,
-        raw_hex: "92 01 02 00",
-        text: "0x00020192 (131474)",
-      },
+      "GET /api/nodes/3/sdo/1000/00": DEVICE_TYPE,
     });
     const { container } = renderPage(<OdPage node={3} />, "/nodes/3/od");
     const tree = await screen.findByRole("list", { name: "对象字典" });

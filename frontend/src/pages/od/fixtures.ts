@@ -118,3 +118,15 @@ export const UPLOAD_ALL = {
     ],
   },
 };
+
+/** Node 3's 1000h read by SDO. */
+export const DEVICE_TYPE = {
+  node: 3,
+  index: 0x1000,
+  subindex: 0,
+  name: "Device type",
+  data_type_name: "UNSIGNED32",
+  value: 131474,
+  raw_hex: "92 01 02 00",
+  text: "0x00020192 (131474)",
+};
