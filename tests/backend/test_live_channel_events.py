@@ -27,9 +27,13 @@ class Socket:
         self.ws = ws
         self.seen: list[dict[str, Any]] = []
 
-    def receive(self, wanted: Any, limit: int = 200) -> dict[str, Any]:
-        """The first message not taken yet that `wanted(message)` accepts."""
-        for message in self.seen:
+    def receive(
+        self, wanted: Any, limit: int = 200, after: dict[str, Any] | None = None
+    ) -> dict[str, Any]:
+        """The first message not taken yet that `wanted(message)` accepts; with `after`, only
+        one that came after that message."""
+        start = 0 if after is None else next(i for i, m in enumerate(self.seen) if m is after) + 1
+        for message in self.seen[start:]:
             if not message.get("_taken") and wanted(message):
                 message["_taken"] = True
                 return message
@@ -111,11 +115,17 @@ def test_a_fault_message_follows_the_history_even_when_the_fault_is_gone(
             ws = Socket(raw)
             app.rig.drop("rx", sdo_response(3))  # the 6041h read after the EMCY times out
             app.inject(EMCY + 3, FOLLOWING_ERROR)
+            ws.receive(lambda m: m["type"] == "fault" and m["node"] == 3 and m["fault"] is not None)
             app.inject(EMCY + 3, bytes(8))  # error reset, before the state is read
-            ws.receive(lambda m: m["type"] == "fault" and m["node"] == 3 and m["fault"] is None)
+            cleared = ws.receive(
+                lambda m: m["type"] == "fault" and m["node"] == 3 and m["fault"] is None
+            )
             assert app.client.get("/api/nodes/3/faults").json()["total"] == 0  # not stored yet
 
-            stored = ws.receive(lambda m: m["type"] == "fault" and m["node"] == 3, limit=60)
+            # the message after that one (the EMCY's own, still active, came before it)
+            stored = ws.receive(
+                lambda m: m["type"] == "fault" and m["node"] == 3, limit=60, after=cleared
+            )
             assert stored["fault"] is None  # nothing active: the message is for the history
             faults = app.client.get("/api/nodes/3/faults").json()
             assert (faults["active"], faults["total"]) == (None, 1)
