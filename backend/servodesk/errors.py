@@ -3,14 +3,43 @@ and the CLI prints them. Every SDO abort keeps its raw code beside the words."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import re
+from collections.abc import Mapping, Sequence
+from types import MappingProxyType
 
 from servodesk.pdo_problems import Problem
 from servodesk.sdo_aborts import abort_meaning
 
+_WHERE = re.compile(r"[0-9A-F]{4}h:[0-9A-F]{2}h")
+# the errors the page shows in the user's language, by id (docs/api.md, "Texts in the user's
+# language"); the page's English catalogue holds them word for word
+ERROR_TEXTS: Mapping[str, str] = MappingProxyType(
+    {
+        "error.no_answer_read": "node {node}: no answer to read {where}",
+        "error.no_answer_write": "node {node}: no answer to write {where}",
+        "error.node_not_found": "node {node} is not known; scan the bus first",
+        "error.node_stopped": "node {node} is Stopped: SDO is not available in that state — set "
+        "it Pre-operational or Operational",
+        "error.bus_not_connected": "the CAN bus is not connected",
+    }
+)
+
 
 class ServodeskError(Exception):
-    """Base class: a failure a user can understand and act on."""
+    """Base class: a failure a user can understand and act on. An error whose words the page
+    can show in the user's language says them by id (`message_id`, `params`: ERROR_TEXTS)."""
+
+    message_id: str | None = None
+    params: dict[str, str | int]
+
+    def say(self, message_id: str, **params: str | int) -> str:
+        """The English of `message_id` (ERROR_TEXTS), remembered with its id and parameters."""
+        self.message_id = message_id
+        self.params = params
+        return ERROR_TEXTS[message_id].format(**params)
+
+    def said(self) -> tuple[str | None, dict[str, str | int]]:
+        return self.message_id, getattr(self, "params", {})
 
 
 class SdoAbortError(ServodeskError):
@@ -36,7 +65,11 @@ class CommTimeoutError(ServodeskError):
 
     def __init__(self, node_id: int, what: str) -> None:
         self.node_id = node_id
-        super().__init__(f"node {node_id}: no answer to {what}")
+        verb, _, where = what.partition(" ")
+        if verb in ("read", "write") and _WHERE.fullmatch(where):  # a session's own exchange
+            super().__init__(self.say(f"error.no_answer_{verb}", node=node_id, where=where))
+        else:
+            super().__init__(f"node {node_id}: no answer to {what}")
 
 
 class SdoProtocolError(CommTimeoutError):
@@ -47,6 +80,7 @@ class SdoProtocolError(CommTimeoutError):
 
     def __init__(self, node_id: int, what: str, detail: str) -> None:
         super().__init__(node_id, what)
+        self.message_id = None  # its words are the cause's, in English only
         self.detail = detail
         self.args = (f"node {node_id}: {what} failed: {detail}; the transfer was aborted",)
 
@@ -54,7 +88,7 @@ class SdoProtocolError(CommTimeoutError):
 class NodeNotFoundError(ServodeskError):
     def __init__(self, node_id: int) -> None:
         self.node_id = node_id
-        super().__init__(f"node {node_id} is not known; scan the bus first")
+        super().__init__(self.say("error.node_not_found", node=node_id))
 
 
 class NodeStoppedError(ServodeskError):
@@ -62,10 +96,7 @@ class NodeStoppedError(ServodeskError):
 
     def __init__(self, node_id: int) -> None:
         self.node_id = node_id
-        super().__init__(
-            f"node {node_id} is Stopped: SDO is not available in that state — set it "
-            "Pre-operational or Operational"
-        )
+        super().__init__(self.say("error.node_stopped", node=node_id))
 
 
 class RequestInterruptedError(ServodeskError):
@@ -77,8 +108,8 @@ class RequestInterruptedError(ServodeskError):
 
 
 class BusNotConnectedError(ServodeskError):
-    def __init__(self, detail: str = "the CAN bus is not connected") -> None:
-        super().__init__(detail)
+    def __init__(self, detail: str | None = None) -> None:
+        super().__init__(detail or self.say("error.bus_not_connected"))
 
 
 class BusOpenError(ServodeskError):

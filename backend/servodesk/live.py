@@ -194,7 +194,14 @@ class LiveHub:
         kind = NODE_EVENT_KINDS.get(item.kind)
         if kind is None:
             return
-        event = LiveEvent(time=item.time, node=item.node, kind=kind, message=item.message)
+        event = LiveEvent(
+            time=item.time,
+            node=item.node,
+            kind=kind,
+            message=item.message,
+            message_id=item.message_id,
+            params=item.params,
+        )
         dumped = event.model_dump(mode="json")
         self._recent.append(dumped)
         message = dump(EventMessage(event=event))
@@ -214,6 +221,8 @@ class LiveHub:
             node=item.node,
             message=item.message,
             data=json.loads(json.dumps(item.data, default=str)),  # as the store keeps it
+            message_id=item.message_id,
+            params=item.params,
         )
         message = dump(TimelineMessage(event=timeline))
         for client in self._clients:

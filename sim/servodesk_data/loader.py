@@ -335,6 +335,8 @@ def _faults(root: _Table, tables: list[_Table], quirks: Quirks) -> tuple[FaultEn
             kinco_bit=t.integer("kinco_bit", 0, _U32) if t.has("kinco_bit") else 0,
             kinds=t.enum_list("kinds", FaultKind) if t.has("kinds") else (),
             name_zh=t.string("name_zh") if t.has("name_zh") else None,
+            description_zh=t.string("description_zh") if t.has("description_zh") else None,
+            what_to_check_zh=t.string("what_to_check_zh") if t.has("what_to_check_zh") else None,
         )
         t.finish()
         _check_fault(t, entry, out, quirks)
@@ -365,6 +367,12 @@ def _check_fault(t: _Table, entry: FaultEntry, seen: list[FaultEntry], quirks: Q
             )
         if _CJK.search(entry.name_zh) is None:
             raise t.error("name_zh", f"{entry.name_zh!r} is not Chinese")
+    for key, text in (
+        ("description_zh", entry.description_zh),
+        ("what_to_check_zh", entry.what_to_check_zh),
+    ):
+        if text is not None and _CJK.search(text) is None:
+            raise t.error(key, f"{text!r} is not Chinese")
 
 
 def _check_kinds(root: _Table, faults: list[FaultEntry], quirks: Quirks) -> None:

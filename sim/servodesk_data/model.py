@@ -148,6 +148,11 @@ class FaultEntry:
     # ServoDesk's Chinese translation of name_en where the source is English only (Kinco,
     # CiA 402); None for a table whose `name` is the manual's own Chinese (MDi)
     name_zh: str | None = None
+    # description and what_to_check in Chinese: MDi's description_zh is the manual's own words,
+    # the rest ServoDesk's translation. Every shipped table has them (tests/sim); a user's
+    # profile may leave them out (None), and its faults then have no Chinese check text
+    description_zh: str | None = None
+    what_to_check_zh: str | None = None
 
 
 @dataclass(frozen=True)

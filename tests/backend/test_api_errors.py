@@ -50,7 +50,13 @@ from servodesk.errors import (
         (
             CommTimeoutError(5, "read 1008h:00h"),
             504,
-            {"error": "timeout", "message": "node 5: no answer to read 1008h:00h", "node": 5},
+            {
+                "error": "timeout",
+                "message": "node 5: no answer to read 1008h:00h",
+                "node": 5,
+                "message_id": "error.no_answer_read",
+                "params": {"node": 5, "where": "1008h:00h"},
+            },
         ),
         (
             SdoProtocolError(5, "read 1008h:00h", "Toggle bit mismatch"),
@@ -69,12 +75,19 @@ from servodesk.errors import (
                 "error": "node_not_found",
                 "message": "node 9 is not known; scan the bus first",
                 "node": 9,
+                "message_id": "error.node_not_found",
+                "params": {"node": 9},
             },
         ),
         (
             BusNotConnectedError(),
             503,
-            {"error": "bus_not_connected", "message": "the CAN bus is not connected"},
+            {
+                "error": "bus_not_connected",
+                "message": "the CAN bus is not connected",
+                "message_id": "error.bus_not_connected",
+                "params": {},
+            },
         ),
         (
             InvalidValueError("PA-106 must be 0–6"),

@@ -94,6 +94,8 @@ def test_nmt_per_node_and_broadcast(client: TestClient) -> None:
         "message": "node 2 is Stopped: SDO is not available in that state — set it "
         "Pre-operational or Operational",
         "node": 2,
+        "message_id": "error.node_stopped",
+        "params": {"node": 2},
     }
     for blocked in (
         client.get("/api/nodes/2/params"),

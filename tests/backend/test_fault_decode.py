@@ -3,10 +3,13 @@ the profile data decodes to the manual's text; frames from the simulator's encod
 
 from __future__ import annotations
 
+import dataclasses
+import re
+
 import pytest
 
 import servodesk_data
-from servodesk.faults import decode_emcy, decode_kinco_bits, fault_words
+from servodesk.faults import FaultRecord, decode_emcy, decode_kinco_bits, fault_words
 from servodesk_data import DriveData
 from servodesk_protocol.emcy import make_alarm_number, make_cia301, make_kinco
 from servodesk_sim.emcy import Fault, emcy_payload
@@ -121,7 +124,7 @@ def test_record_is_the_api_shape() -> None:
     record = decode_emcy(MDI, 1, make_alarm_number(62), time=1.0)
     assert set(record.as_dict()) == {
         "time", "node", "code", "code_hex", "source", "name_en", "name_zh", "name_zh_source",
-        "check", "error_register", "manufacturer_hex", "raw_hex",
+        "check", "check_zh", "error_register", "manufacturer_hex", "raw_hex",
     }  # fmt: skip
     assert record.name_zh == "同步帧丢失异常"
     assert record.name_zh_source == "manual"
@@ -178,10 +181,6 @@ def test_a_cia301_emcy_gets_servodesk_s_translation() -> None:
 
 
 def test_no_chinese_no_source() -> None:
-    record = decode_emcy(MDI, 1, make_alarm_number(99))  # not in the manual's table
-    assert (record.name_zh, record.name_zh_source) == (None, None)
-    malformed = decode_emcy(None, 1, b"\x01")
-    assert (malformed.name_zh, malformed.name_zh_source) == (None, None)
     cleared = decode_emcy(MDI, 1, make_alarm_number(0))  # the MDi's alarm 0 as before
     assert (cleared.name_en, cleared.name_zh) == ("Error reset / no error", None)
     reset = decode_emcy(KINCO, 2, make_kinco(0))
@@ -193,3 +192,135 @@ def test_fault_words_keep_the_source_s_words() -> None:
     assert fault_words(decode_emcy(KINCO, 2, make_kinco(0x8611)), KINCO) == (
         "0x8611 Following error too high"
     )
+
+
+def test_what_servodesk_says_itself_has_its_chinese() -> None:
+    record = decode_emcy(MDI, 1, make_alarm_number(99))  # not in the manual's table
+    assert (record.name_zh, record.name_zh_source) == (
+        "未知报警 99（MDi-S1-C CANopen 手册 §4.1 中没有）",
+        "translation",
+    )
+    malformed = decode_emcy(None, 1, b"\x01")
+    assert (malformed.name_zh, malformed.name_zh_source) == (
+        "EMCY 格式错误（1 个数据字节，错误代码需要 2 个）",
+        "translation",
+    )
+    assert (record.check, record.check_zh, malformed.check, malformed.check_zh) == (None,) * 4
+
+
+# check_zh: the parts of check, in the same order, with Chinese labels (the page splits at them)
+ZH_LABEL = re.compile(
+    r"(?:^|\s)(原因|检查|来源|CiA 类别|CiA 代码 [0-9A-F]+h|错误寄存器 [0-9A-F]+h)："
+)
+EN_LABEL = re.compile(
+    r"(?:^|\s)(Cause|Check|Source|CiA class|CiA code [0-9A-F]+h|Error register [0-9A-F]+h):"
+)
+EN_TO_ZH = {"Cause": "原因", "Check": "检查", "Source": "来源", "CiA class": "CiA 类别"}
+
+
+def zh_labels(record: FaultRecord) -> list[str]:
+    assert record.check_zh is not None
+    assert "  " not in record.check_zh  # one space between parts
+    assert not EN_LABEL.search(record.check_zh)  # never half English
+    parts = [p for p in ZH_LABEL.split(record.check_zh) if p]
+    assert all(text.endswith("。") for text in parts[1::2]), parts
+    return ZH_LABEL.findall(record.check_zh)
+
+
+def en_labels_in_chinese(record: FaultRecord) -> list[str]:
+    assert record.check is not None
+    return [
+        EN_TO_ZH.get(label)
+        or label.replace("CiA code", "CiA 代码").replace("Error register", "错误寄存器")
+        for label in EN_LABEL.findall(record.check)
+    ]
+
+
+@pytest.mark.parametrize(
+    ("profile", "data"),
+    [(MDI, make_alarm_number(e.code)) for e in MDI.faults]
+    + [(KINCO, make_kinco(e.code)) for e in KINCO.faults]
+    + [(CIA402, make_cia301(e.code, e.error_register)) for e in CIA402.faults],
+    ids=lambda v: v.hex() if isinstance(v, bytes) else v.profile,
+)
+def test_every_shipped_fault_has_its_check_in_chinese(profile: DriveData, data: bytes) -> None:
+    record = decode_emcy(profile, 1, data)
+    assert zh_labels(record) == en_labels_in_chinese(record)
+
+
+def test_mdi_alarm_check_in_chinese() -> None:
+    record = decode_emcy(MDI, 1, make_alarm_number(4))
+    assert zh_labels(record) == ["原因", "检查", "CiA 类别", "来源"]
+    assert record.check_zh == (
+        "原因：位置偏差计数器的数值超过设定值。"  # the manual's own words
+        " 检查：跟随误差窗口 6065h、加速度是否超出电机转矩能力、机械卡死或抱闸未松开、"
+        "电机相线接线、增益。"
+        " CiA 类别：ServoDesk 将其映射为 8611h 跟随误差过大（驱动器的 EMCY 只携带报警号）。"
+        " 来源：MDi-S1-C CANopen 手册 §4.1。"
+    )
+
+
+def test_kinco_shared_code_check_in_chinese() -> None:
+    record = decode_emcy(KINCO, 2, make_kinco(0x22320))  # 12320h/22320h/32320h: 2320h
+    assert zh_labels(record) == ["原因", "检查", "检查", "检查", "来源"]
+    assert record.check_zh is not None
+    assert record.check_zh.startswith(
+        "原因：电机 A 相短路或对地短路。 EMCY 只携带 603Fh 的低 16 位"
+    )
+    assert "（12320h、22320h、32320h 共用）" in record.check_zh
+    assert "（2600h:02 位 0x400 FAULT_B_ERROR_BIT）。" in record.check_zh
+    assert record.check_zh.endswith(" 来源：步科伺服 CANopen 手册 §8。")
+    overspeed = decode_emcy(KINCO, 2, make_kinco(0x8400))  # not in the manual
+    assert overspeed.check_zh is not None
+    assert " 来源：ServoDesk 仿真驱动器；步科伺服 CANopen 手册 §8 标注" in overspeed.check_zh
+
+
+def test_cia402_profile_check_in_chinese() -> None:
+    record = decode_emcy(CIA402, 3, make_cia301(0x8611, 0x21))
+    assert zh_labels(record) == ["原因", "检查", "来源"]
+    assert record.check_zh == (
+        "原因：位置误差超出跟随误差窗口 6065h。"
+        " 检查：6065h、加速度是否超出可用转矩、机械卡死、抱闸、增益。"
+        " 来源：Nanotec CANopen 文章。"
+    )
+
+
+def test_cia_code_part_in_chinese() -> None:
+    # a vendor code whose CiA code differs (no shipped table has one): "CiA 代码 XXXXh："
+    entry = dataclasses.replace(CIA402.faults[0], code=0xFF01, emcy_code=0x8611)
+    profile = dataclasses.replace(CIA402, faults=(entry,))
+    record = decode_emcy(profile, 3, make_cia301(0xFF01, 0x21))
+    assert zh_labels(record) == ["原因", "检查", "CiA 代码 8611h", "来源"]
+    assert record.check_zh is not None
+    assert " CiA 代码 8611h：跟随误差过大。 " in record.check_zh
+
+
+def test_unknown_node_cia301_check_in_chinese() -> None:
+    record = decode_emcy(None, 5, make_cia301(0x8130, 0x11))
+    assert (
+        record.check
+        == "CiA class: monitoring / communication. Error register 11h: generic, communication."
+    )
+    assert record.check_zh == "CiA 类别：监控 / 通信。 错误寄存器 11h：通用、通信。"
+    assert zh_labels(record) == ["CiA 类别", "错误寄存器 11h"]
+    unknown = decode_emcy(None, 9, make_cia301(0x5123, 0x81))
+    assert unknown.check_zh == "错误寄存器 81h：通用、制造商自定义。"
+    reset = decode_emcy(None, 9, make_cia301(0, 0))
+    assert (reset.check, reset.check_zh) == (None, None)
+
+
+def test_no_chinese_check_without_every_part_in_chinese() -> None:
+    # a user's profile without description_zh / what_to_check_zh: English only, never mixed
+    entry = MDI.fault(4)
+    assert entry is not None
+    bare = dataclasses.replace(entry, description_zh=None)
+    profile = dataclasses.replace(MDI, faults=(bare,))
+    record = decode_emcy(profile, 1, make_alarm_number(4))
+    assert record.check == decode_emcy(MDI, 1, make_alarm_number(4)).check
+    assert record.check_zh is None
+    # one of several entries sharing a Kinco code without its check in Chinese
+    shared = [e for e in KINCO.faults if e.code & 0xFFFF == 0x2320]
+    faults = (*shared[:2], dataclasses.replace(shared[2], what_to_check_zh=None))
+    record = decode_emcy(dataclasses.replace(KINCO, faults=faults), 2, make_kinco(0x12320))
+    assert record.check is not None
+    assert record.check_zh is None

@@ -28,6 +28,7 @@ FAULT = {
     "name_zh": "位置超差",
     "name_zh_source": "manual",
     "check": None,
+    "check_zh": None,
     "error_register": None,
     "manufacturer_hex": None,
     "raw_hex": "0400",
@@ -64,7 +65,8 @@ def test_a_database_from_before_keeps_its_faults(tmp_path: Path) -> None:
     db.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
     for version, sql in MIGRATIONS[:2]:  # as written before faults carried their bus
         db.executescript(f"BEGIN; {sql}; INSERT INTO schema_version VALUES ({version}); COMMIT;")
-    before = {k: v for k, v in FAULT.items() if k != "name_zh_source"}  # no such column yet
+    # no such columns yet
+    before = {k: v for k, v in FAULT.items() if k not in ("name_zh_source", "check_zh")}
     columns = ", ".join(f'"{c}"' for c in before)
     db.execute(
         f"INSERT INTO faults ({columns}) VALUES ({', '.join('?' * len(before))})",
@@ -87,6 +89,7 @@ def test_a_database_from_before_keeps_its_faults(tmp_path: Path) -> None:
     assert (rows[0]["name_en"], rows[0]["bus"]) == ("Following error", None)
     # stored before faults said where their Chinese came from: not known
     assert (rows[0]["name_zh"], rows[0]["name_zh_source"]) == ("位置超差", None)
+    assert rows[0]["check_zh"] is None
 
 
 def test_the_chinese_name_s_source_survives_a_restart(tmp_path: Path) -> None:
@@ -115,3 +118,46 @@ def test_the_chinese_name_s_source_survives_a_restart(tmp_path: Path) -> None:
         ("跟随误差过大", "translation"),
         ("位置超差", "manual"),
     ]
+
+
+CHECK = (
+    "Cause: 位置偏差计数器的数值超过设定值 — the position deviation counter exceeded the set value."
+)
+CHECK_ZH = "原因：位置偏差计数器的数值超过设定值。 来源：MDi-S1-C CANopen 手册 §4.1。"
+
+
+def test_a_database_from_before_check_zh_reads_none(tmp_path: Path) -> None:
+    # written by a server before faults carried check_zh (schema 5: name_zh_source, no check_zh)
+    db = sqlite3.connect(tmp_path / "servodesk.sqlite")
+    db.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
+    for version, sql in MIGRATIONS:
+        if version > 5:
+            break
+        db.executescript(f"BEGIN; {sql}; INSERT INTO schema_version VALUES ({version}); COMMIT;")
+    before = {k: v for k, v in FAULT.items() if k != "check_zh"} | {"check": CHECK}
+    columns = ", ".join(f'"{c}"' for c in before)
+    db.execute(
+        f"INSERT INTO faults ({columns}) VALUES ({', '.join('?' * len(before))})",
+        tuple(before.values()),
+    )
+    db.commit()
+    db.close()
+
+    async def read() -> list[dict[str, Any]]:
+        storage = Storage(tmp_path)
+        await storage.start()
+        try:
+            return (await storage.faults(1, 10))[0]
+        finally:
+            await storage.close()
+
+    (row,) = asyncio.run(read())
+    assert (row["check"], row["check_zh"], row["name_zh_source"]) == (CHECK, None, "manual")
+
+
+def test_the_chinese_check_survives_a_restart(tmp_path: Path) -> None:
+    other_servers_fault(tmp_path, check=CHECK, check_zh=CHECK_ZH)
+    settings = Settings(simulated=True, data_dir=tmp_path)
+    with TestClient(create_app(settings, static_dir=None)) as client:
+        history = client.get("/api/nodes/1/faults", params={"all_buses": True}).json()["history"]
+    assert [(f["check"], f["check_zh"]) for f in history] == [(CHECK, CHECK_ZH)]

@@ -10,7 +10,7 @@ from servodesk.motion.explain import Observed, explain
 from servodesk.motion.homing import METHODS, homing_phase, methods_for
 from servodesk.motion.trajectory import planned_offset, setpoints, sync_jitter
 from servodesk.motion.units import DriveUnits
-from servodesk.motion.words import mode_key, status_bits, transition
+from servodesk.motion.words import TRANSITION_TEXTS, mode_key, status_bits, transition
 from servodesk_protocol.cia402 import Cia402State as S
 
 DEFAULT = DriveUnits()  # 131072 inc/rev, 6091h 131072 : 100000
@@ -83,7 +83,10 @@ def test_missing_or_zero_gear_keeps_the_default() -> None:
     ],
 )
 def test_transition_names(before: S, after: S, words: str | None) -> None:
-    assert transition(before, after) == words
+    taken = transition(before, after)
+    assert (taken.message if taken else None) == words
+    if taken is not None:  # the same words by id, for the page's catalogue
+        assert TRANSITION_TEXTS[taken.message_id].format(**taken.params) == words
 
 
 def test_status_bits_are_named_for_the_mode() -> None:

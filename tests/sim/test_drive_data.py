@@ -7,6 +7,7 @@ import configparser
 import hashlib
 import json
 import logging
+import re
 from collections.abc import Iterator
 
 import canopen
@@ -526,6 +527,32 @@ def test_fault_names_keep_the_sources_words(profile: str) -> None:
 
 def test_mdi_chinese_is_the_manuals_not_a_translation() -> None:
     assert all(f.name_zh is None for f in servodesk_data.load("mdi-s1c").faults)
+
+
+# every shipped fault's cause and check in Chinese (the API's check_zh): the MDi's cause in its
+# manual's own words, the rest ServoDesk's translation, keeping object indices, parameter names
+# and bit names as they are
+_KEPT = re.compile(r"[0-9A-F]{4}h|PA-\d+|\b[A-Z][A-Za-z0-9]*_[A-Za-z0-9_]+\b")
+_CJK = re.compile(r"[\u3400-\u9fff]")
+
+
+@pytest.mark.parametrize("profile", ["mdi-s1c", "kinco", "cia402"])
+def test_every_shipped_fault_has_its_cause_and_check_in_chinese(profile: str) -> None:
+    for f in servodesk_data.load(profile).faults:
+        for text in (f.description_zh, f.what_to_check_zh):
+            assert text is not None, hex(f.code)
+            assert text.strip(), hex(f.code)
+            assert _CJK.search(text), (hex(f.code), text)
+        assert f.what_to_check_zh is not None
+        for token in _KEPT.findall(f.what_to_check):
+            assert token in f.what_to_check_zh, (hex(f.code), token, f.what_to_check_zh)
+        for token in _KEPT.findall(f.description):
+            assert token in (f.description_zh or ""), (hex(f.code), token, f.description_zh)
+
+
+def test_mdi_chinese_cause_is_the_manuals() -> None:
+    for f in servodesk_data.load("mdi-s1c").faults:
+        assert f.description_zh == f.description.split(" — ")[0].strip(), f.code
 
 
 def test_cia402_faults_are_their_own_emcy_codes() -> None:

@@ -132,6 +132,8 @@ def _write(tmp_path: Path, text: str) -> Path:
 def test_minimal_profile_loads(tmp_path: Path) -> None:
     data = servodesk_data.load_path(_write(tmp_path, MINIMAL))
     assert data.faults[0].name_zh is None  # optional
+    # a user's profile may leave out the Chinese of the cause and the check
+    assert (data.faults[0].description_zh, data.faults[0].what_to_check_zh) == (None, None)
     assert data.parameter("Window").object == (0x6065, 0)
     assert data.fault_for_kind(FaultKind.SYNC_LOST) == data.fault(0x1000)
     assert data.fault_for_kind(FaultKind.HOMING_ERROR) is None
@@ -177,6 +179,17 @@ BAD = [  # (text to replace, replacement, expected message after the file name)
         'name = "Generic"',
         'name = "通用"\nname_zh = "通用错误"',
         r"\.name_zh: the manual's name is Ch",
+    ),
+    # the Chinese of the cause and the check, when given, is Chinese
+    (
+        'what_to_check = "test"',
+        'what_to_check = "test"\ndescription_zh = "test"',
+        r"\.description_zh: 'test' is not",
+    ),
+    (
+        'what_to_check = "test"',
+        'what_to_check = "test"\nwhat_to_check_zh = ""',
+        r"\.what_to_check_zh: expected a non-empty",
     ),
 ]
 

@@ -18,6 +18,7 @@ from servodesk.api.uploads import Upload
 from servodesk.commissioning.check import FieldCheck, HandOver, open_bundle
 from servodesk.commissioning.check_core import CheckResult
 from servodesk.commissioning.report import MachineFormat, ReportFormat
+from servodesk.commissioning.report_words import Lang
 from servodesk.errors import InvalidValueError
 from servodesk.models.commissioning import (
     CheckRequest,
@@ -71,6 +72,9 @@ async def list_commissioning(
 
 
 IdList = Annotated[str | None, Query(pattern=r"^\d{1,9}(,\d{1,9}){0,127}$", description="1,2,3")]
+ReportLang = Annotated[
+    Lang, Query(description="the report's own words: en (default) or zh-CN; data stays as stored")
+]
 REPORT_RESPONSES: dict[int | str, dict[str, object]] = {
     **NOT_FOUND,
     200: {
@@ -87,13 +91,15 @@ async def machine_report(
     format: MachineFormat = "html",  # the query parameter's name
     ids: IdList = None,
     nodes: IdList = None,
+    lang: ReportLang = "en",
 ) -> Response:
     """One report for a machine: the listed records (`ids`), else the latest record of each
     listed node (`nodes`), else the latest record of every node, by node."""
     records = await report_files.machine_records(
         services, report_files.numbers(ids), report_files.numbers(nodes)
     )
-    return await report_files.answer(services, records, format, "servodesk-commissioning-machine")
+    name = "servodesk-commissioning-machine"
+    return await report_files.answer(services, records, format, name, lang)
 
 
 CHECK_ERRORS: dict[int | str, dict[str, object]] = {
@@ -191,8 +197,10 @@ async def record_report(
     record_id: RecordId,
     services: ServicesDep,
     format: ReportFormat = "html",  # the query parameter's name
+    lang: ReportLang = "en",
 ) -> Response:
-    """The axis's hand-over report as HTML or PDF, or its bundle (zip)."""
+    """The axis's hand-over report as HTML or PDF, or its bundle (zip), in English or
+    Chinese (`lang`)."""
     record = await services.commissioning.get(record_id)
     name = f"servodesk-commissioning-{record.id}-node{record.node}"
-    return await report_files.answer(services, [record], format, name)
+    return await report_files.answer(services, [record], format, name, lang)

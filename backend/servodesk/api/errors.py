@@ -74,6 +74,9 @@ HTTP_ERRORS = {
 
 def error_response(error: ServodeskError) -> JSONResponse:
     status, body = describe(error)
+    message_id, params = error.said()
+    if message_id is not None and body.message == str(error):  # the words it said by id
+        body.message_id, body.params = message_id, params
     # pdo_apply_failed always names its abort code, null when the step failed otherwise
     keep = ("abort_code",) if isinstance(error, PdoApplyError) else ()
     return body_response(status, body, keep=keep)

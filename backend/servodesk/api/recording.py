@@ -13,6 +13,7 @@ from servodesk.api.audited import AuditedRoute
 from servodesk.api.deps import ServicesDep
 from servodesk.api.errors import _error
 from servodesk.events.bus import EventKind, event
+from servodesk.events.texts import say
 from servodesk.logs.recording import RecordingFormat, RecordingStatus
 from servodesk.models.base import RequestBody
 
@@ -55,7 +56,7 @@ async def start_recording(body: RecordingStart, services: ServicesDep) -> Record
     status = await services.recorder.start(body.format)
     if not was:
         services.events.publish(
-            event(EventKind.RECORDING, None, f"recording started ({status.file})", {})
+            event(EventKind.RECORDING, None, say("event.recording_started", file=str(status.file)))
         )
     return _info(status)
 
@@ -81,7 +82,7 @@ async def stop_recording(services: ServicesDep) -> FileResponse:
         event(
             EventKind.RECORDING,
             None,
-            f"recording stopped: {status.frames} frames in {path.name}",
+            say("event.recording_stopped", frames=status.frames, file=path.name),
             {"frames": status.frames, "dropped": status.dropped},
         )
     )

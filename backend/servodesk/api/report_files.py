@@ -10,6 +10,7 @@ from fastapi.responses import FileResponse, HTMLResponse
 from starlette.background import BackgroundTask
 
 from servodesk.commissioning import bundle, report
+from servodesk.commissioning.report_words import Lang, words_for
 from servodesk.errors import NotFoundError
 from servodesk.models.commissioning import CommissioningRecord
 from servodesk.services import Services
@@ -64,17 +65,18 @@ def _disposition(name: str) -> dict[str, str]:
 
 
 async def answer(
-    services: Services, records: list[CommissioningRecord], fmt: report.ReportFormat, name: str
+    services: Services,
+    records: list[CommissioningRecord],
+    fmt: report.ReportFormat,
+    name: str,
+    lang: Lang = "en",
 ) -> Response:
-    """The report of `records` as `fmt`; `name` is the download's name without its suffix.
-    zip: one record's bundle."""
+    """The report of `records` as `fmt` in `lang`; `name` is the download's name without its
+    suffix. zip: one record's bundle, its report.html and report.pdf in `lang`."""
     src = sources(services)
-    axes = [await report.axis_view(src, record) for record in records]
-    if len(records) == 1:
-        title = f"Commissioning report: {records[0].title}"
-    else:
-        title = f"Commissioning report: machine ({len(records)} axes)"
-    html = report.render_html(axes, title=title, generated=time.time())
+    axes = [await report.axis_view(src, record, lang) for record in records]
+    title = report.report_title(records, words_for(lang))
+    html = report.render_html(axes, title=title, generated=time.time(), lang=lang)
     if fmt == "html":
         return HTMLResponse(html)
     pdf = await report.render_pdf(html)

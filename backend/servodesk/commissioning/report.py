@@ -5,7 +5,12 @@ made from that page by WeasyPrint.
 What goes in is gathered on the loop from the services (record, PDOs, faults, audit, capture
 samples read in a worker thread); the template (templates/report.html.j2) only lays it out.
 PDF layout is CPU work of about a second per few pages: it runs in a worker thread, one at
-a time, never on the event loop."""
+a time, never on the event loop.
+
+Languages: English (`en`, the default) or Simplified Chinese (`zh-CN`). Every word the report
+writes itself comes from `words` (report_words.py); what users typed (titles, names, notes,
+reasons) and what the drive or record stored (values, device and fault names, evidence) is
+shown as stored, never translated."""
 
 from __future__ import annotations
 
@@ -20,9 +25,9 @@ from markupsafe import Markup
 from servodesk import report_pdf
 from servodesk.commissioning import report_tables as tables
 from servodesk.commissioning.report_plot import capture_series, svg_plot
+from servodesk.commissioning.report_words import EN, Lang, Words, words_for
 from servodesk.errors import ServodeskError
 from servodesk.models.commissioning import CommissioningRecord
-from servodesk_protocol.pdo import transmission_words
 
 if TYPE_CHECKING:
     from servodesk.audit import AuditLog
@@ -36,7 +41,7 @@ ReportFormat = Literal["html", "pdf", "zip"]
 MachineFormat = Literal["html", "pdf"]
 AUDIT_LIMIT = 2000  # audit entries shown per axis (the bundle's CSV has all of them)
 FAULT_LIMIT = 1000
-STATUS_WORDS = {"to_do": "to do", "done": "done", "failed": "failed", "skipped": "skipped"}
+STATUS_WORDS = {s: EN.status(s) for s in ("to_do", "done", "failed", "skipped")}  # English
 
 _ENV = jinja2.Environment(
     loader=jinja2.PackageLoader("servodesk.commissioning", "templates"),
@@ -71,6 +76,10 @@ class StepView:
     reason: str
     tables: list[tables.Table]
     plots: list[Markup]
+    state: str = ""  # the status key ("to_do"): the badge's colour in any language
+
+    def __post_init__(self) -> None:
+        self.state = self.state or self.status.replace(" ", "_")
 
 
 @dataclass
@@ -84,6 +93,10 @@ class AxisView:
     faults: tables.Table
     audit: tables.Table
     notes: list[str] = field(default_factory=list)
+    status: str = ""  # the record's status in words
+
+    def __post_init__(self) -> None:
+        self.status = self.status or EN.status(self.record.status)
 
 
 def _labels(sources: ReportSources, node: int) -> dict[str, str]:
@@ -97,58 +110,65 @@ def _labels(sources: ReportSources, node: int) -> dict[str, str]:
     return {f"{p.object[0]:04X}:{p.object[1]:02X}": p.label for p in data.parameters}
 
 
-def _identity(record: CommissioningRecord) -> list[tuple[str, str]]:
+def _identity(record: CommissioningRecord, w: Words) -> list[tuple[str, str]]:
     ident = record.identity
     rows = [
-        ("Node", str(record.node)),
-        ("Device name (1008h)", ident.name or "—"),
-        ("Vendor id (1018h:01)", tables.cell("vendor_id", ident.vendor_id)),
-        ("Product code (1018h:02)", tables.cell("product_code", ident.product_code)),
-        ("Revision (1018h:03)", tables.cell("revision", ident.revision)),
-        ("Serial (1018h:04)", tables.cell("serial", ident.serial)),
-        ("Hardware (1009h)", ident.hardware_version or "—"),
-        ("Firmware (100Ah)", ident.software_version or "—"),
-        ("Device type (1000h)", tables.cell("device_type", ident.device_type)),
-        ("Profile", f"{ident.profile_label} ({ident.profile})"),
-        ("Dictionary", f"{ident.od_filename} ({ident.od_source})"),
-        ("Supported modes (6502h)", ", ".join(ident.supported_modes or []) or "unknown"),
-        ("Chosen modes", ", ".join(record.modes) or "none"),
+        (w("id.node"), str(record.node)),
+        (w("id.name"), ident.name or "—"),
+        (w("id.vendor"), tables.cell("vendor_id", ident.vendor_id, words=w)),
+        (w("id.product"), tables.cell("product_code", ident.product_code, words=w)),
+        (w("id.revision"), tables.cell("revision", ident.revision, words=w)),
+        (w("id.serial"), tables.cell("serial", ident.serial, words=w)),
+        (w("id.hardware"), ident.hardware_version or "—"),
+        (w("id.firmware"), ident.software_version or "—"),
+        (w("id.device_type"), tables.cell("device_type", ident.device_type, words=w)),
+        (w("id.profile"), f"{ident.profile_label} ({ident.profile})"),
+        (w("id.dictionary"), f"{ident.od_filename} ({ident.od_source})"),
+        (w("id.supported"), ", ".join(ident.supported_modes or []) or w("unknown")),
+        (w("id.chosen"), ", ".join(record.modes) or w("none")),
     ]
     return rows
 
 
-async def _plot(sources: ReportSources, capture_id: int, title: str) -> Markup | str:
+async def _plot(sources: ReportSources, capture_id: int, title: str, w: Words) -> Markup | str:
     """The capture's SVG, or a line saying why there is none."""
     try:
         capture = await sources.scope.get(capture_id)
         samples = sources.scope.store.samples_path(capture_id)
-        series = await asyncio.to_thread(capture_series, capture, samples)
+        series = await asyncio.to_thread(capture_series, capture, samples, words=w)
     except (ServodeskError, OSError) as error:
-        return f"capture {capture_id}: no plot ({error})"
+        return w("plot.failed", id=capture_id, error=error)
     if not series:
-        return f"capture {capture_id}: no samples to plot"
-    name = f"{title}: capture {capture_id}" + (f" ({capture.name})" if capture.name else "")
+        return w("plot.empty", id=capture_id)
+    if capture.name:
+        name = w("plot.named", title=title, id=capture_id, name=capture.name)
+    else:
+        name = w("plot.title", title=title, id=capture_id)
     return Markup(svg_plot(series, name))  # every text in it is escaped by svg_plot
 
 
-async def _pdo_table(sources: ReportSources, node: int) -> tuple[tables.Table | None, str | None]:
+async def _pdo_table(
+    sources: ReportSources, node: int, w: Words
+) -> tuple[tables.Table | None, str | None]:
     try:
         pdos = await sources.pdos.cached(node)
     except ServodeskError as error:
-        return None, f"PDOs not read: {error}"
-    table = tables.Table("", ["PDO", "COB-ID", "Valid", "Transmission", "Event timer", "Mapping"])
+        return None, w("pdos.unread", error=error)
+    columns = ("pdo", "cob_id", "valid", "transmission", "event_timer", "mapping")
+    table = tables.Table("", [w(f"col.{c}") for c in columns])
     for pdo in pdos:
-        words = transmission_words(pdo.transmission_type, pdo.direction)
+        said = w.transmission(pdo.transmission_type, pdo.direction)
         mapping = "; ".join(
-            f"{m.index:04X}h:{m.subindex:02X} {m.name or ''} ({m.bits} bit)".replace("  ", " ")
+            w("pdo.mapped", object=f"{m.index:04X}h:{m.subindex:02X}", name=m.name or "",
+              bits=m.bits).replace("  ", " ")
             for m in pdo.mapping
-        )
+        )  # fmt: skip
         table.rows.append(
             [
                 f"{pdo.kind.upper()}{pdo.number}",
                 f"{pdo.cob_id:03X}h",
-                "yes" if pdo.valid else "no",
-                f"{pdo.transmission_type} ({words})",
+                w.yes_no(pdo.valid),
+                w("pdo.transmission", type=pdo.transmission_type, words=said),
                 f"{pdo.event_timer_ms} ms" if pdo.event_timer_ms else "—",
                 mapping or "—",
             ]
@@ -156,8 +176,9 @@ async def _pdo_table(sources: ReportSources, node: int) -> tuple[tables.Table | 
     return table, None
 
 
-async def _faults(sources: ReportSources, record: CommissioningRecord) -> tables.Table:
-    table = tables.Table("Faults", ["Time", "Code", "Source", "Fault", "Check", "State"])
+async def _faults(sources: ReportSources, record: CommissioningRecord, w: Words) -> tables.Table:
+    columns = ("time", "code", "source", "fault", "check", "state")
+    table = tables.Table(w("table.faults"), [w(f"col.{c}") for c in columns])
     history = await sources.faults.node_faults(record.node, FAULT_LIMIT)
     for fault in sorted(history.history, key=lambda f: f.time):
         if fault.time < record.created:
@@ -166,7 +187,7 @@ async def _faults(sources: ReportSources, record: CommissioningRecord) -> tables
         name = fault.name_en + (f" ({fault.name_zh})" if manual else "")
         state = " → ".join(s for s in (fault.state_before, fault.state_after) if s)
         row = [
-            tables.when(fault.time),
+            w.when(fault.time),
             fault.code_hex,
             fault.source,
             name,
@@ -177,78 +198,98 @@ async def _faults(sources: ReportSources, record: CommissioningRecord) -> tables
     return table
 
 
-async def _audit(sources: ReportSources, record: CommissioningRecord) -> tables.Table:
+async def _audit(sources: ReportSources, record: CommissioningRecord, w: Words) -> tables.Table:
     from servodesk.audit.store import AuditFilter
 
     rows = await sources.audit.entries(
         AuditFilter(node=record.node, since=record.created, limit=AUDIT_LIMIT)
     )
-    table = tables.Table(
-        "Audit log", ["Id", "Time", "User (role)", "Action", "What", "Old → new", "Result"]
-    )
+    columns = ("id", "time", "user_role", "action", "what", "old_new", "result")
+    table = tables.Table(w("table.audit"), [w(f"col.{c}") for c in columns])
     for row in sorted(rows, key=lambda r: r.id):
         change = (
             ""
             if row.old is None and row.new is None
-            else (f"{tables.cell('old', row.old)} → {tables.cell('new', row.new)}")
+            else f"{tables.cell('old', row.old, words=w)} → {tables.cell('new', row.new, words=w)}"
         )
         result = row.result + (f" ({row.abort_code})" if row.abort_code else "")
         table.rows.append(
-            [f"#{row.id}", tables.when(row.time), f"{row.user} ({row.role})", row.action,
-             row.what, change, result]
+            [f"#{row.id}", w.when(row.time), w("user_role", user=row.user, role=row.role),
+             row.action, row.what, change, result]
         )  # fmt: skip
     return table
 
 
-async def axis_view(sources: ReportSources, record: CommissioningRecord) -> AxisView:
+async def axis_view(
+    sources: ReportSources, record: CommissioningRecord, lang: Lang = "en"
+) -> AxisView:
+    w = words_for(lang)
     labels = _labels(sources, record.node)
     notes: list[str] = []
     steps: list[StepView] = []
     for step in record.steps:
-        step_tables = tables.evidence_tables(step.key, step.evidence, labels)
-        figures = tables.figures_table(step.figures)
+        title = w.step_title(step.key, step.title)
+        step_tables = tables.evidence_tables(step.key, step.evidence, labels, w)
+        figures = tables.figures_table(step.figures, w)
         if figures is not None:
             step_tables.insert(0, figures)
         plots: list[Markup] = []
         for capture_id in tables.capture_ids(step.evidence):
-            plot = await _plot(sources, capture_id, step.title)
+            plot = await _plot(sources, capture_id, title, w)
             if isinstance(plot, Markup):
                 plots.append(plot)
             else:
-                notes.append(f"{step.title}: {plot}")
+                notes.append(w("note", title=title, text=plot))
         steps.append(
             StepView(
                 key=step.key,
-                title=step.title,
-                status=STATUS_WORDS[step.status],
+                title=title,
+                status=w.status(step.status),
                 by=step.by or "",
-                at=tables.when(step.at),
+                at=w.when(step.at),
                 reason=step.reason or "",
                 tables=step_tables,
                 plots=plots,
+                state=step.status,
             )
         )
-    pdos, pdo_note = await _pdo_table(sources, record.node)
+    pdos, pdo_note = await _pdo_table(sources, record.node, w)
     if pdo_note:
         notes.append(pdo_note)
-    node = f"Node {record.node}"
     return AxisView(
         record=record,
-        heading=record.title if node in record.title else f"{node} · {record.title}",
-        created=tables.when(record.created),
-        identity=_identity(record),
+        heading=_heading(record, w),
+        created=w.when(record.created),
+        identity=_identity(record, w),
         steps=steps,
         pdos=pdos,
-        faults=await _faults(sources, record),
-        audit=await _audit(sources, record),
+        faults=await _faults(sources, record, w),
+        audit=await _audit(sources, record, w),
         notes=notes,
+        status=w.status(record.status),
     )
 
 
-def render_html(axes: list[AxisView], *, title: str, generated: float) -> str:
-    """The report page (pure: the template with the gathered views)."""
+def _heading(record: CommissioningRecord, w: Words) -> str:
+    """The record's title, led by its node unless the title names it already (the default
+    title is stored in English: "Node 1 · MDi-S1-C")."""
+    named = {EN("node", node=record.node), w("node", node=record.node)}
+    if any(node in record.title for node in named):
+        return record.title
+    return f"{w('node', node=record.node)} · {record.title}"
+
+
+def report_title(records: list[CommissioningRecord], w: Words = EN) -> str:
+    if len(records) == 1:
+        return w("report.title", title=records[0].title)
+    return w("report.machine", count=len(records))
+
+
+def render_html(axes: list[AxisView], *, title: str, generated: float, lang: Lang = "en") -> str:
+    """The report page (pure: the template with the gathered views) in `lang`'s words."""
+    w = words_for(lang)
     return _ENV.get_template("report.html.j2").render(
-        title=title, axes=axes, generated=tables.when(generated)
+        title=title, axes=axes, generated=w.when(generated), t=w
     )
 
 

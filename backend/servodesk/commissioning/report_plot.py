@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import numpy.typing as npt
 
+from servodesk.commissioning.report_words import EN, Words
 from servodesk.models.scope import Capture
 from servodesk.scope.samples import value_batches
 
@@ -36,10 +37,13 @@ class Series:
     value: Floats
 
 
-def capture_series(capture: Capture, samples: Path, buckets: int = BUCKETS) -> list[Series]:
+def capture_series(
+    capture: Capture, samples: Path, buckets: int = BUCKETS, words: Words = EN
+) -> list[Series]:
     """Each signal of the capture reduced to at most 2 × `buckets` points (min and max per
     bucket, in time order). Two streaming passes over the samples table: the time span, then
-    the buckets. Blocking: call it in a worker thread."""
+    the buckets. Blocking: call it in a worker thread. `words` name the signal's node (the
+    signal's own name is the capture's, as stored)."""
     count = len(capture.signals)
     if count == 0:
         return []
@@ -66,7 +70,7 @@ def capture_series(capture: Capture, samples: Path, buckets: int = BUCKETS) -> l
         # min then max at the bucket's centre: the envelope, drawn as one line
         time = np.repeat(centres[filled], 2)
         value = np.column_stack((low[position][filled], high[position][filled])).ravel()
-        name = f"{signal_info.name} (node {signal_info.node})"
+        name = words("plot.signal", name=signal_info.name, node=signal_info.node)
         series.append(Series(name, signal_info.unit, time, value))
     return series
 

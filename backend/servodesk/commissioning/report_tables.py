@@ -1,14 +1,16 @@
 """A step's evidence and figures as tables a technician reads (pure: the report template only
 lays them out). Evidence is free-form JSON per step; lists of objects become tables, objects
 become name/value rows, and numbers are printed the way the manuals print them: object
-indices and identity codes in hex, times as UTC dates."""
+indices and identity codes in hex, times as UTC dates. The words (titles, column names, yes/no,
+dates) come from `words` (report_words.py); evidence values stay as the record stored them."""
 
 from __future__ import annotations
 
 import json
-import time
 from dataclasses import dataclass, field
 from typing import Any
+
+from servodesk.commissioning.report_words import EN, Words
 
 # evidence keys whose integers the manuals print in hex
 HEX_KEYS = {"vendor_id": 8, "product_code": 8, "revision": 8, "serial": 8, "device_type": 8}
@@ -29,21 +31,19 @@ class Table:
     rows: list[list[str]] = field(default_factory=list)
 
 
-def when(stamp: float | None) -> str:
-    if stamp is None:
-        return ""
-    return time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime(stamp))
+def when(stamp: float | None, words: Words = EN) -> str:
+    return words.when(stamp)
 
 
-def cell(key: str, value: Any, row: dict[str, Any] | None = None) -> str:
+def cell(key: str, value: Any, row: dict[str, Any] | None = None, words: Words = EN) -> str:
     """One value as text: hex where the manuals print hex, dates for time stamps (`at`,
     `created`, any `…_at`), lists and nested objects as words, never as JSON."""
     if value is None:
         return "—"
     if isinstance(value, bool):
-        return "yes" if value else "no"
+        return words.yes_no(value)
     if isinstance(value, int | float) and _is_time(key, value):
-        return when(float(value))
+        return words.when(float(value))
     if isinstance(value, int):
         if key == "index":
             return f"{value:04X}h"
@@ -59,15 +59,15 @@ def cell(key: str, value: Any, row: dict[str, Any] | None = None) -> str:
     if isinstance(value, str):
         return value
     if isinstance(value, list | tuple):
-        return ", ".join(cell(key, item) for item in value) or "—"
+        return ", ".join(cell(key, item, words=words) for item in value) or "—"
     if isinstance(value, dict):
-        parts = [f"{_title(str(k))}: {_nested(str(k), v)}" for k, v in value.items()]
+        parts = [f"{_label(str(k), words)}: {_nested(str(k), v, words)}" for k, v in value.items()]
         return "; ".join(parts) or "—"
     return json.dumps(value, ensure_ascii=False, default=str)
 
 
-def _nested(key: str, value: Any) -> str:
-    text = cell(key, value)
+def _nested(key: str, value: Any, words: Words) -> str:
+    text = cell(key, value, words=words)
     return f"({text})" if isinstance(value, dict) and value else text
 
 
@@ -82,28 +82,39 @@ def _title(key: str) -> str:
     return words[:1].upper() + words[1:]
 
 
+def _label(key: str, words: Words) -> str:
+    """An evidence key as the report names it: the words' label, else its English title."""
+    return words.key_title(key) or _title(key)
+
+
 def _is_rows(value: Any) -> bool:
     return isinstance(value, list) and bool(value) and all(isinstance(v, dict) for v in value)
 
 
-def rows_table(title: str, items: list[dict[str, Any]]) -> Table:
+def rows_table(title: str, items: list[dict[str, Any]], words: Words = EN) -> Table:
     columns: list[str] = []
     for item in items:
         columns.extend(k for k in item if k not in columns)
     return Table(
         title,
-        [_title(c) for c in columns],
-        [[cell(c, item.get(c), item) for c in columns] for item in items],
+        [_label(c, words) for c in columns],
+        [[cell(c, item.get(c), item, words) for c in columns] for item in items],
     )
 
 
-def changes_table(entries: list[dict[str, Any]], labels: dict[str, str]) -> Table:
+def changes_table(
+    entries: list[dict[str, Any]], labels: dict[str, str], words: Words = EN
+) -> Table:
     """The parameters step: each write as old → new with the audit entry that proves it."""
-    table = Table("Changes (audit log)", ["Object", "Name", "Old → new", "Audit id", "By", "At"])
+    names = ("col.object", "col.name", "col.old_new", "col.audit_id", "col.by", "col.at")
+    table = Table(words("table.changes"), [words(n) for n in names])
     for entry in entries:
         name = entry.get("name") or ""
         label = labels.get(str(entry.get("object")))
-        old, new = cell("old", entry.get("old")), cell("new", entry.get("new"))
+        old, new = (
+            cell("old", entry.get("old"), words=words),
+            cell("new", entry.get("new"), words=words),
+        )
         table.rows.append(
             [
                 f"{entry.get('index', 0):04X}h:{entry.get('subindex', 0):02X}",
@@ -111,41 +122,47 @@ def changes_table(entries: list[dict[str, Any]], labels: dict[str, str]) -> Tabl
                 f"{old} → {new}",
                 f"#{entry.get('audit_id')}",
                 str(entry.get("by") or ""),
-                cell("at", entry.get("at")),
+                cell("at", entry.get("at"), words=words),
             ]
         )
     return table
 
 
-def evidence_tables(key: str, evidence: dict[str, Any], labels: dict[str, str]) -> list[Table]:
+def evidence_tables(
+    key: str, evidence: dict[str, Any], labels: dict[str, str], words: Words = EN
+) -> list[Table]:
     tables: list[Table] = []
-    plain = Table("Evidence", ["Name", "Value"])
+    name_value = [words("col.name"), words("col.value")]
+    plain = Table(words("table.evidence"), name_value)
     for name, value in evidence.items():
         if key == "parameters" and name == "entries" and isinstance(value, list):
-            tables.append(changes_table(value, labels))
+            tables.append(changes_table(value, labels, words))
         elif _is_rows(value):
-            tables.append(rows_table(_title(name), value))
+            tables.append(rows_table(_label(name, words), value, words))
         elif (
             isinstance(value, dict)
             and value
             and not any(isinstance(v, dict | list) for v in value.values())
         ):
-            sub = Table(_title(name), ["Name", "Value"])
-            sub.rows = [[str(k), cell(str(k), v)] for k, v in value.items()]
+            sub = Table(_label(name, words), list(name_value))
+            sub.rows = [
+                [words.row_name(str(k)), cell(str(k), v, words=words)] for k, v in value.items()
+            ]
             tables.append(sub)
         elif value not in ([], {}):
-            plain.rows.append([_title(name), cell(name, value)])
+            plain.rows.append([_label(name, words), cell(name, value, words=words)])
     return ([plain] if plain.rows else []) + tables
 
 
-def figures_table(figures: dict[str, float]) -> Table | None:
+def figures_table(figures: dict[str, float], words: Words = EN) -> Table | None:
     if not figures:
         return None
-    table = Table("Figures", ["Figure", "Value", "Unit"])
+    columns = [words("col.figure"), words("col.value"), words("col.unit")]
+    table = Table(words("table.figures"), columns)
     for name, value in figures.items():
         unit = next((u for s, u in UNIT_SUFFIXES.items() if name.endswith(s)), "")
         shown = name[: -len(next(s for s in UNIT_SUFFIXES if name.endswith(s)))] if unit else name
-        table.rows.append([_title(shown), f"{value:.6g}", unit])
+        table.rows.append([_label(shown, words), f"{value:.6g}", unit])
     return table
 
 

@@ -24,6 +24,8 @@ from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import Any
 
+from servodesk.events.texts import Said
+
 log = logging.getLogger(__name__)
 
 QUEUE_LIMIT = 100_000  # calls waiting for the loop; a 1000 frames/s storm needs a few hundred
@@ -50,16 +52,26 @@ class BusEvent:
     time: float  # UNIX time
     kind: EventKind
     node: int | None
-    message: str  # in words, for the timeline
+    message: str  # in words (English), for the timeline
     data: dict[str, Any] = field(default_factory=dict)  # JSON-able detail
+    # the words as a message id and parameters (events/texts.py); None: English only
+    message_id: str | None = None
+    params: dict[str, str | int] = field(default_factory=dict)
 
 
 Subscriber = Callable[[BusEvent], None]
 
 
 def event(
-    kind: EventKind, node: int | None, message: str, data: dict[str, Any] | None = None
+    kind: EventKind, node: int | None, message: str | Said, data: dict[str, Any] | None = None
 ) -> BusEvent:
+    """An event now; `message` as words said by id (`events.texts.say`) or, for a text no
+    catalogue holds, in English only."""
+    if isinstance(message, Said):
+        said = message
+        return BusEvent(
+            time.time(), kind, node, said.message, data or {}, said.message_id, dict(said.params)
+        )
     return BusEvent(time.time(), kind, node, message, data or {})
 
 

@@ -27,6 +27,7 @@ from collections.abc import Callable
 from typing import Any
 
 from servodesk.events.bus import BusEvent, EventKind, event
+from servodesk.events.texts import Said
 
 Publish = Callable[[BusEvent], None]
 
@@ -35,5 +36,5 @@ def where(index: int, subindex: int) -> str:
     return f"{index:04X}h:{subindex:02X}h"
 
 
-def tool_write(node: int | None, message: str, action: str, **data: Any) -> BusEvent:
+def tool_write(node: int | None, message: str | Said, action: str, **data: Any) -> BusEvent:
     return event(EventKind.TOOL_WRITE, node, message, {"action": action, **data})

@@ -15,6 +15,7 @@ from collections.abc import Callable
 
 from servodesk.bus.frame_tap import FrameTap
 from servodesk.events.bus import EventBus, EventKind, event
+from servodesk.events.texts import say
 from servodesk.sdo.service import where
 from servodesk.sdo_aborts import abort_meaning
 from servodesk_protocol.sdo import parse_abort
@@ -80,7 +81,13 @@ def sdo_abort(bus: EventBus, node: int, data: bytes) -> None:
         event(
             EventKind.SDO_ABORT,
             node,
-            f"node {node} aborted SDO {where(index, subindex)}: 0x{code:08X} {meaning}",
+            say(
+                "event.sdo_abort",
+                node=node,
+                where=where(index, subindex),
+                abort_code=f"0x{code:08X}",
+                meaning=meaning,
+            ),
             {"index": index, "subindex": subindex, "abort_code": f"0x{code:08X}"},
         )
     )

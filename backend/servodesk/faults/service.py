@@ -17,6 +17,7 @@ from typing import Any
 
 from servodesk.errors import ConfirmationRequiredError, SdoAbortError, ServodeskError
 from servodesk.events.bus import EventBus, EventKind, event
+from servodesk.events.texts import Said, say
 from servodesk.faults.decode import FaultRecord, decode_emcy, fault_words
 from servodesk.models.faults import (
     DeviceHistory,
@@ -132,7 +133,7 @@ class FaultService:
         if _is_reset(record):
             if self._set_active(node, None):
                 self._events.publish(
-                    event(EventKind.FAULT_CLEARED, node, f"node {node}: error reset (EMCY 0000h)")
+                    event(EventKind.FAULT_CLEARED, node, say("event.error_reset", node=node))
                 )
             return
         fault = record.as_dict()
@@ -140,7 +141,12 @@ class FaultService:
         fault["state_after"] = None
         self._set_active(node, fault)
         self._events.publish(
-            event(EventKind.EMCY, node, f"node {node}: {fault_words(record, profile)}", fault)
+            event(
+                EventKind.EMCY,
+                node,
+                say("event.emcy", node=node, fault=fault_words(record, profile)),
+                fault,
+            )
         )
         if not self._registry.known(node):
             self._storage.add_fault(fault)  # nothing to ask: an unidentified node
@@ -159,12 +165,17 @@ class FaultService:
         previous = self._states.get(node)
         self._states[node] = state
         if previous is not state:
-            was = f" (was {_label(previous)})" if previous is not None else ""
+            label = state_label(state)
+            said = (
+                say("event.state_was", node=node, state=label, was=state_label(previous))
+                if previous is not None
+                else say("event.state", node=node, state=label)
+            )
             self._events.publish(
                 event(
                     EventKind.CIA402_STATE,
                     node,
-                    f"node {node}: {state_label(state)}{was}",
+                    said,
                     {"statusword": statusword, "state": state_label(state)},
                 )
             )
@@ -228,10 +239,13 @@ class FaultService:
         if before is not Cia402State.FAULT:
             self.observe_statusword(node, before_sw)
             label = _label(before) or f"statusword {before_sw:04X}h"
-            message = f"node {node} is not in Fault ({label}): nothing to reset"
-            if self._set_active(node, None):
-                message += "; its last EMCY is no longer active"
-            return self._reset_result(node, True, message, before_sw, before_sw)
+            cleared = self._set_active(node, None)
+            said = say(
+                "event.not_in_fault_cleared" if cleared else "event.not_in_fault",
+                node=node,
+                state=label,
+            )
+            return self._reset_result(node, True, said, before_sw, before_sw)
         await session.download(CONTROLWORD, 0, controlword_bytes(make_shutdown()))
         await session.download(CONTROLWORD, 0, controlword_bytes(make_fault_reset()))
         after_sw = await self._statusword(node)
@@ -246,22 +260,21 @@ class FaultService:
         ok = after is not Cia402State.FAULT
         if ok:
             self._set_active(node, None)
-            message = f"fault reset: node {node} went from Fault to {_label(after)}"
+            said = say("event.fault_reset_ok", node=node, state=str(_label(after)))
         else:
-            message = (
-                f"fault reset sent, but node {node} is still in Fault (statusword "
-                f"{after_sw:04X}h): the cause is still present — check the active fault"
-            )
-        self._events.publish(event(EventKind.FAULT_RESET, node, message, {"ok": ok}))
-        return self._reset_result(node, ok, message, before_sw, after_sw)
+            said = say("event.fault_reset_failed", node=node, statusword=f"{after_sw:04X}h")
+        self._events.publish(event(EventKind.FAULT_RESET, node, said, {"ok": ok}))
+        return self._reset_result(node, ok, said, before_sw, after_sw)
 
     def _reset_result(
-        self, node: int, ok: bool, message: str, before_sw: int, after_sw: int
+        self, node: int, ok: bool, said: Said, before_sw: int, after_sw: int
     ) -> FaultResetResult:
         return FaultResetResult(
             node=node,
             ok=ok,
-            message=message,
+            message=said.message,
+            message_id=said.message_id,
+            params=dict(said.params),
             state_before=_label(_state(before_sw)) or "unknown",
             state_after=_label(_state(after_sw)) or "unknown",
             statusword_hex=f"0x{after_sw:04X}",
@@ -315,16 +328,19 @@ class FaultService:
                 '{"confirm": true}'
             )
         await self._registry.session(node).download(ERROR_HISTORY, 0, bytes([0]))
-        message = f"node {node}: error history 1003h cleared"
+        said = say("event.history_cleared", node=node)
+        message = said.message
         self._events.publish(
             event(
                 EventKind.TOOL_WRITE,
                 node,
-                message,
+                said,
                 {"action": "clear-history", "index": ERROR_HISTORY, "subindex": 0},
             )
         )
-        return DeviceHistoryCleared(node=node, message=message)
+        return DeviceHistoryCleared(
+            node=node, message=message, message_id=said.message_id, params=dict(said.params)
+        )
 
     # ------------------------------------------------------------------ helpers
 

@@ -20,6 +20,10 @@ class MessageResult(BaseModel):
 class ErrorBody(BaseModel):
     error: str
     message: str
+    # the message in the page's catalogue (`server.<message_id>` with `params`, docs/api.md
+    # "Texts in the user's language"); absent: only the English message exists
+    message_id: str | None = None
+    params: dict[str, str | int] | None = None
     abort_code: str | None = None
     node: int | None = None
     index: int | None = None

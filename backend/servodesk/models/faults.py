@@ -23,6 +23,13 @@ class Fault(BaseModel):
     # "translation" (ServoDesk's translation of an English source: Kinco, CiA 402/301)
     name_zh_source: Literal["manual", "translation"] | None = None
     check: str | None = None
+    check_zh: str | None = Field(
+        default=None,
+        description="the same parts as `check`, in Chinese (labels 原因：, 检查：, CiA 类别：, "
+        "CiA 代码 XXXXh：, 错误寄存器 XXh：, 来源：); ServoDesk's translation except MDi-S1-C "
+        "causes, which are the manual's own; null when `check` is null or a part has no "
+        "Chinese",
+    )
     error_register: int | None = None
     manufacturer_hex: str | None = None
     raw_hex: str
@@ -45,6 +52,10 @@ class FaultResetResult(BaseModel):
     node: int
     ok: bool
     message: str
+    # the message in the page's catalogue (`server.<message_id>` with `params`, docs/api.md
+    # "Texts in the user's language"); null: only the English message exists
+    message_id: str | None = None
+    params: dict[str, str | int] = Field(default_factory=dict)
     state_before: str
     state_after: str
     statusword_hex: str
@@ -69,6 +80,10 @@ class DeviceHistory(BaseModel):
 class DeviceHistoryCleared(BaseModel):
     node: int
     message: str
+    # the message in the page's catalogue (`server.<message_id>` with `params`, docs/api.md
+    # "Texts in the user's language"); null: only the English message exists
+    message_id: str | None = None
+    params: dict[str, str | int] = Field(default_factory=dict)
 
 
 class ConfirmBody(RequestBody):
@@ -83,6 +98,10 @@ class TimelineEvent(BaseModel):
     message: str
     data: dict[str, Any]
     bus: str | None = None  # the bus it came from ("socketcan can0"); null: not recorded
+    # the message in the page's catalogue (`server.<message_id>` with `params`, docs/api.md
+    # "Texts in the user's language"); null: only the English message exists
+    message_id: str | None = None
+    params: dict[str, str | int] = Field(default_factory=dict)
 
 
 class EventPage(BaseModel):

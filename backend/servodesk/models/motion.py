@@ -69,6 +69,11 @@ class FaultInfo(BaseModel):
     name: str | None = None  # from the profile's fault table (or the CiA 402 class)
     text: str | None = None  # what to check, where the table says
     source: str | None = None  # e.g. "MDi-S1-C CANopen manual §4.1"
+    # the same in Chinese: the MDi-S1-C manual's own name, else ServoDesk's translation (the
+    # fault table's name_zh / what_to_check_zh); null where the table has none
+    name_zh: str | None = None
+    text_zh: str | None = None
+    source_zh: str | None = None
 
 
 class MotionLimits(BaseModel):
@@ -141,6 +146,9 @@ class DriveState(BaseModel):
     status_bits: list[StatusBit]
     controlword: int
     last_transition: str | None  # e.g. "enable operation (4)": the transition just taken
+    # the same words by id for the page's catalogue (docs/api.md "Texts in the user's language")
+    last_transition_id: str | None = None
+    last_transition_params: dict[str, str | int] = Field(default_factory=dict)
     mode: str | None  # 6060h as a short name ("pp", "pv", …)
     mode_display: str | None  # 6061h as a short name
     supported_modes: list[str]  # from 6502h

@@ -103,3 +103,7 @@ class LiveEvent(BaseModel):
     node: int | None = None
     kind: NodeEventKind
     message: str
+    # the message in the page's catalogue (`server.<message_id>` with `params`, docs/api.md
+    # "Texts in the user's language"); null: only the English message exists
+    message_id: str | None = None
+    params: dict[str, str | int] = Field(default_factory=dict)

@@ -4,6 +4,7 @@ DriveState the API returns from a reading (`build_state`)."""
 from __future__ import annotations
 
 import asyncio
+import re
 import time
 from dataclasses import dataclass, field
 from typing import Literal
@@ -22,7 +23,14 @@ from servodesk.models.motion import (
 from servodesk.motion.drive_io import Snapshot, Statics, Travel
 from servodesk.motion.homing import homing_phase
 from servodesk.motion.units import DriveUnits
-from servodesk.motion.words import STATE_NAMES, mode_key, state_label, status_bits, transition
+from servodesk.motion.words import (
+    STATE_NAMES,
+    Transition,
+    mode_key,
+    state_label,
+    status_bits,
+    transition,
+)
 from servodesk_data import DriveData
 from servodesk_protocol.cia402 import (
     CW_HALT,
@@ -68,7 +76,7 @@ class Axis:
     polled_at: float = 0.0
     poll_lock: asyncio.Lock = field(default_factory=asyncio.Lock)
     state: Cia402State | None = None
-    last_transition: str | None = None
+    last_transition: Transition | None = None
     homing_method: int | None = None
     homing: HomingProgress | None = None  # the last run's progress, final once it ended
     # time.monotonic() once the drive took the last homing start: a reading begun before it
@@ -93,10 +101,10 @@ class Axis:
         self.commanded_at = max(self.commanded_at, at)
         self.polled = None
 
-    def saw(self, state: Cia402State, taken: str | None = None) -> None:
-        """Record a reading's state; `taken` names the transition when the service caused it."""
+    def saw(self, state: Cia402State) -> None:
+        """Record a reading's state (and the transition that led to it)."""
         if self.state is not None and state is not self.state:
-            self.last_transition = taken or transition(self.state, state)
+            self.last_transition = transition(self.state, state)
         self.state = state
 
     def cancel_queue(self) -> None:
@@ -113,8 +121,15 @@ def units_of(statics: Statics | None, data: DriveData | None) -> DriveUnits:
     return DriveUnits.of(statics.counts_per_rev, statics.gear, velocity_actual_rpm=data is not None)
 
 
+_CJK = re.compile(r"[\u3400-\u9fff]")  # a fault table's `name` in the manual's own Chinese (MDi)
+
+
 def fault_info(
-    code: int | None, faulted: bool, data: DriveData | None, source: str
+    code: int | None,
+    faulted: bool,
+    data: DriveData | None,
+    source: str,
+    source_zh: str | None = None,
 ) -> FaultInfo | None:
     """603Fh decoded from the profile's fault table (MDi: the alarm number; Kinco: the low 16
     bits of its code)."""
@@ -131,6 +146,9 @@ def fault_info(
         name=entry.name_en if entry else None,
         text=entry.what_to_check if entry else None,
         source=source if entry else None,
+        name_zh=(entry.name if _CJK.search(entry.name) else entry.name_zh) if entry else None,
+        text_zh=entry.what_to_check_zh if entry else None,
+        source_zh=source_zh if entry else None,
     )
 
 
@@ -147,6 +165,7 @@ def build_state(
     nmt_state: str,
     data: DriveData | None,
     fault_source: str,
+    fault_source_zh: str | None = None,
     pt_speed_limit: SpeedLimit | None = None,
 ) -> DriveState:
     """The API's DriveState from one reading (pure; `axis` supplies what was remembered)."""
@@ -170,7 +189,7 @@ def build_state(
         for name, bit in INPUT_BITS.items()
     }
     bit15 = data is not None and data.quirks.homing_reference_found_bit15
-    fault = fault_info(snap.error_code, state in _FAULTED, data, fault_source)
+    fault = fault_info(snap.error_code, state in _FAULTED, data, fault_source, fault_source_zh)
     homing = _homing(axis, snap, state, position_inc, fault)
     if homing is not None and homing.phase == "attained":
         axis.homed = True
@@ -184,7 +203,9 @@ def build_state(
         statusword=sw,
         status_bits=status_bits(sw, snap.mode_display, reference_found_bit15=bit15),
         controlword=snap.controlword or 0,
-        last_transition=axis.last_transition,
+        last_transition=axis.last_transition.message if axis.last_transition else None,
+        last_transition_id=axis.last_transition.message_id if axis.last_transition else None,
+        last_transition_params=dict(axis.last_transition.params) if axis.last_transition else {},
         mode=mode_key(snap.mode),
         mode_display=mode_key(snap.mode_display),
         supported_modes=supported_keys,

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+from servodesk.events.texts import say
 from servodesk.events.tool_writes import Publish, tool_write
 from servodesk.models.safety import JogInfo
 from servodesk.motion.jog import REPLACED
@@ -15,11 +16,11 @@ def jog_stopped(publish: Publish, jog: JogInfo) -> None:
         return
     # "stopping" when the stop went out, "at rest" once the axis stands: the timeline never
     # says a jog stopped while the axis still runs
-    how = "stopping" if jog.state == "stopping" else "at rest"
+    how = "event.jog_stopping" if jog.state == "stopping" else "event.jog_at_rest"
     publish(
         tool_write(
             jog.node,
-            f"node {jog.node}: {jog.mode.upper()} jog {how} ({jog.stop_reason})",
+            say(how, node=jog.node, mode=jog.mode.upper(), reason=str(jog.stop_reason)),
             "jog-stop",
             jog_id=jog.jog_id,
             mode=jog.mode,

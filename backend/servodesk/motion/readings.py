@@ -37,6 +37,11 @@ FAULT_SOURCES = {
     "kinco": "Kinco servo CANopen manual §8",
     "cia402": "CiA 301 / CiA 402 emergency codes",
 }
+FAULT_SOURCES_ZH = {
+    "mdi-s1c": "MDi-S1-C CANopen 手册 §4.1",
+    "kinco": "步科伺服 CANopen 手册 §8",
+    "cia402": "CiA 301 / CiA 402 紧急报文代码",
+}
 
 
 class Readings:
@@ -160,6 +165,7 @@ class Readings:
             nmt_state=self.nmt(node),
             data=data,
             fault_source=FAULT_SOURCES.get(data.profile if data else "", "CiA 402"),
+            fault_source_zh=FAULT_SOURCES_ZH.get(data.profile if data else "", "CiA 402"),
             pt_speed_limit=SpeedLimit(rpm=rpm, source=source),
         )
 

@@ -2,7 +2,7 @@
 reason carries the English `message` (the API's stable text) and `message_id` + `params`, which
 the page looks up in its `server` catalogue to show the reason in the user's language
 (docs/api.md, "Texts in the user's language"). The page's English catalogue holds these
-templates word for word (tests/backend/test_reason_texts.py)."""
+templates word for word (tests/backend/test_server_texts.py)."""
 
 from __future__ import annotations
 

@@ -15,7 +15,7 @@ from servodesk.motion.core import DriveIo, state_of
 from servodesk.motion.drive_limits import Limits
 from servodesk.motion.readings import Readings
 from servodesk.motion.reason_texts import reason
-from servodesk.motion.words import state_label
+from servodesk.motion.words import state_label, taken
 from servodesk_protocol.cia402 import (
     Cia402State,
     enable_sequence,
@@ -171,7 +171,7 @@ class StateMachine:
         )
         if not ok:
             raise await self._readings.blocked(node, target=target, goal=f"take {name} ({number})")
-        self._drive.axis(node).last_transition = f"{name} ({number})"
+        self._drive.axis(node).last_transition = taken(command, number)
         return await self._readings.state(node)
 
     async def _reachable(self, node: int) -> io.Snapshot:

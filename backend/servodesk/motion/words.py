@@ -8,6 +8,7 @@ what the mode displayed in 6061h says (§3.4 PP, §3.5 PV, §3.6 PT, §3.7 HM, �
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 from types import MappingProxyType
 
 from servodesk.models.motion import DriveStateName, StatusBit
@@ -106,40 +107,84 @@ def status_bits(
     ]
 
 
-# (from, to) → the CiA 402 transition (MDi-S1-C manual figure 3.2). 3** is switch on with bit 3
-# already set: Ready to switch on straight to Operation enabled.
-_TRANSITIONS: Mapping[tuple[Cia402State, Cia402State], str] = MappingProxyType(
+# A transition's words by id (the page's `server` catalogue, docs/api.md "Texts in the user's
+# language"); the English as the API's `last_transition` has always said it.
+TRANSITION_TEXTS: Mapping[str, str] = MappingProxyType(
     {
-        (S.NOT_READY_TO_SWITCH_ON, S.SWITCH_ON_DISABLED): "drive ready (1)",
-        (S.SWITCH_ON_DISABLED, S.READY_TO_SWITCH_ON): "shutdown (2)",
-        (S.READY_TO_SWITCH_ON, S.SWITCHED_ON): "switch on (3)",
-        (S.READY_TO_SWITCH_ON, S.OPERATION_ENABLED): "switch on and enable operation (3, 4)",
-        (S.SWITCHED_ON, S.OPERATION_ENABLED): "enable operation (4)",
-        (S.OPERATION_ENABLED, S.SWITCHED_ON): "disable operation (5)",
-        (S.SWITCHED_ON, S.READY_TO_SWITCH_ON): "shutdown (6)",
-        (S.READY_TO_SWITCH_ON, S.SWITCH_ON_DISABLED): "disable voltage or quick stop (7)",
-        (S.OPERATION_ENABLED, S.READY_TO_SWITCH_ON): "shutdown (8)",
-        (S.OPERATION_ENABLED, S.SWITCH_ON_DISABLED): "disable voltage (9)",
-        (S.SWITCHED_ON, S.SWITCH_ON_DISABLED): "disable voltage or quick stop (10)",
-        (S.OPERATION_ENABLED, S.QUICK_STOP_ACTIVE): "quick stop (11)",
-        (S.QUICK_STOP_ACTIVE, S.SWITCH_ON_DISABLED): "quick stop ended or disable voltage (12)",
-        (S.FAULT_REACTION_ACTIVE, S.FAULT): "fault reaction completed (14)",
-        (S.FAULT, S.SWITCH_ON_DISABLED): "fault reset (15)",
-        (S.QUICK_STOP_ACTIVE, S.OPERATION_ENABLED): "enable operation (16)",
+        "transition.drive_ready": "drive ready ({number})",
+        "transition.shutdown": "shutdown ({number})",
+        "transition.switch_on": "switch on ({number})",
+        "transition.switch_on_and_enable": "switch on and enable operation (3, 4)",
+        "transition.enable_operation": "enable operation ({number})",
+        "transition.disable_operation": "disable operation ({number})",
+        "transition.disable_voltage_or_quick_stop": "disable voltage or quick stop ({number})",
+        "transition.disable_voltage": "disable voltage ({number})",
+        "transition.quick_stop": "quick stop ({number})",
+        "transition.quick_stop_ended": "quick stop ended or disable voltage ({number})",
+        "transition.fault": "fault ({number})",
+        "transition.fault_reaction_completed": "fault reaction completed ({number})",
+        "transition.fault_reset": "fault reset ({number})",
+        # two readings apart: several steps between them (the states are words the page has)
+        "transition.between": "{was} → {state}",
     }
 )
 
 
-def transition(before: Cia402State, after: Cia402State) -> str | None:
-    """The transition from `before` to `after` in words with its number; None when the state
-    did not change; "fault (13)" into Fault reaction active or Fault from anywhere; "… → …"
-    when the two states are not neighbours (several steps between two readings)."""
+@dataclass(frozen=True, slots=True)
+class Transition:
+    message_id: str
+    params: Mapping[str, str | int]
+
+    @property
+    def message(self) -> str:
+        return TRANSITION_TEXTS[self.message_id].format(**self.params)
+
+
+def _t(key: str, number: int | None = None) -> Transition:
+    return Transition(f"transition.{key}", {} if number is None else {"number": number})
+
+
+# (from, to) → the CiA 402 transition (MDi-S1-C manual figure 3.2). 3** is switch on with bit 3
+# already set: Ready to switch on straight to Operation enabled.
+_TRANSITIONS: Mapping[tuple[Cia402State, Cia402State], Transition] = MappingProxyType(
+    {
+        (S.NOT_READY_TO_SWITCH_ON, S.SWITCH_ON_DISABLED): _t("drive_ready", 1),
+        (S.SWITCH_ON_DISABLED, S.READY_TO_SWITCH_ON): _t("shutdown", 2),
+        (S.READY_TO_SWITCH_ON, S.SWITCHED_ON): _t("switch_on", 3),
+        (S.READY_TO_SWITCH_ON, S.OPERATION_ENABLED): _t("switch_on_and_enable"),
+        (S.SWITCHED_ON, S.OPERATION_ENABLED): _t("enable_operation", 4),
+        (S.OPERATION_ENABLED, S.SWITCHED_ON): _t("disable_operation", 5),
+        (S.SWITCHED_ON, S.READY_TO_SWITCH_ON): _t("shutdown", 6),
+        (S.READY_TO_SWITCH_ON, S.SWITCH_ON_DISABLED): _t("disable_voltage_or_quick_stop", 7),
+        (S.OPERATION_ENABLED, S.READY_TO_SWITCH_ON): _t("shutdown", 8),
+        (S.OPERATION_ENABLED, S.SWITCH_ON_DISABLED): _t("disable_voltage", 9),
+        (S.SWITCHED_ON, S.SWITCH_ON_DISABLED): _t("disable_voltage_or_quick_stop", 10),
+        (S.OPERATION_ENABLED, S.QUICK_STOP_ACTIVE): _t("quick_stop", 11),
+        (S.QUICK_STOP_ACTIVE, S.SWITCH_ON_DISABLED): _t("quick_stop_ended", 12),
+        (S.FAULT_REACTION_ACTIVE, S.FAULT): _t("fault_reaction_completed", 14),
+        (S.FAULT, S.SWITCH_ON_DISABLED): _t("fault_reset", 15),
+        (S.QUICK_STOP_ACTIVE, S.OPERATION_ENABLED): _t("enable_operation", 16),
+    }
+)
+
+
+def taken(command: str, number: int) -> Transition:
+    """The transition a state machine command took: `command` is its key ("enable_operation")."""
+    return _t(command, number)
+
+
+def transition(before: Cia402State, after: Cia402State) -> Transition | None:
+    """The transition from `before` to `after` with its number; None when the state did not
+    change; "fault (13)" into Fault reaction active or Fault from anywhere; "… → …" when the
+    two states are not neighbours (several steps between two readings)."""
     if before is after:
         return None
     if after in (S.FAULT_REACTION_ACTIVE, S.FAULT) and before not in (
         S.FAULT_REACTION_ACTIVE,
         S.FAULT,
     ):
-        return "fault (13)"
+        return _t("fault", 13)
     named = _TRANSITIONS.get((before, after))
-    return named or f"{state_label(before)} → {state_label(after)}"
+    return named or Transition(
+        "transition.between", {"was": state_label(before), "state": state_label(after)}
+    )

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import can
 
 from servodesk.events.bus import BusEvent, EventKind
+from servodesk.events.texts import Said, say
 from servodesk.models.nodes import NmtStateName
 from servodesk.network.health import Evidence, Health, assess, reported_state
 from servodesk.network.nmt import BOOT_UP
@@ -161,7 +162,7 @@ class NodeMonitor:
             command=previous.command if previous is not None else None,
         )
         if previous is not None and not previous.online:
-            self._event(EventKind.NODE_BACK, node, f"node {node} answers again")
+            self._event(EventKind.NODE_BACK, node, say("event.answers_again", node=node))
 
     def untrack(self, node: int) -> None:
         self._nodes.pop(node, None)
@@ -261,16 +262,13 @@ class NodeMonitor:
                 continue
             tracked.online = health.online
             if health.online:
-                self._event(EventKind.NODE_BACK, node, f"node {node} is back")
+                self._event(EventKind.NODE_BACK, node, say("event.back", node=node))
             elif health.lost_after_s is not None:
                 limit_ms = round(health.lost_after_s * 1000)
-                self._event(
-                    EventKind.NODE_LOST, node, f"node {node} lost: no heartbeat for {limit_ms} ms"
-                )
+                said = say("event.lost_heartbeat", node=node, limit_ms=limit_ms)
+                self._event(EventKind.NODE_LOST, node, said)
             else:
-                self._event(
-                    EventKind.NODE_LOST, node, f"node {node} lost: it stopped answering SDO"
-                )
+                self._event(EventKind.NODE_LOST, node, say("event.lost_sdo", node=node))
 
     # ------------------------------------------------------------------ boot-ups
 
@@ -308,10 +306,12 @@ class NodeMonitor:
             if waiter.since <= when and not waiter.future.done():
                 waiter.future.set_result(None)
         known = node in self._nodes
-        note = "" if known else " (not scanned yet)"
-        self._event(EventKind.BOOT_UP, node, f"node {node} booted{note}")
+        booted = "event.booted" if known else "event.booted_unscanned"
+        self._event(EventKind.BOOT_UP, node, say(booted, node=node))
         if self._on_boot_hook is not None:
             self._on_boot_hook(node)  # known or not: the registry decides
 
-    def _event(self, kind: EventKind, node: int | None, message: str) -> None:
-        self._emit(BusEvent(self._wall(), kind, node, message))
+    def _event(self, kind: EventKind, node: int | None, said: Said) -> None:
+        self._emit(
+            BusEvent(self._wall(), kind, node, said.message, {}, said.message_id, dict(said.params))
+        )

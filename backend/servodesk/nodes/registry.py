@@ -26,6 +26,7 @@ from servodesk.errors import (
     StateConflictError,
 )
 from servodesk.events.bus import EventBus, EventKind, event
+from servodesk.events.texts import Said, say
 from servodesk.models.bus import BusState, BusStatus
 from servodesk.models.network import NmtCommandName
 from servodesk.models.nodes import NodeInfo, ScanResult
@@ -151,8 +152,12 @@ class NodeRegistry:
         entry = self._nodes.pop(node)
         entry.unbind()
         self._monitor.untrack(node)
-        moved_note = f" (it answers as node {info.moved_to} now)" if info.moved_to else ""
-        self._event(EventKind.NODE_LOST, node, f"node {node} forgotten{moved_note}")
+        said = (
+            say("event.forgotten_moved", node=node, moved_to=info.moved_to)
+            if info.moved_to
+            else say("event.forgotten", node=node)
+        )
+        self._event(EventKind.NODE_LOST, node, said)
 
     def live(self) -> list[dict[str, Any]]:
         """Node states for the WebSocket's 5 Hz "nodes" message."""
@@ -205,7 +210,7 @@ class NodeRegistry:
         self._event(
             EventKind.NMT,
             node,
-            f"NMT {command.value} sent to node {node}",
+            say("event.nmt_sent", nmt_command=command.value, node=node),
             {"tool": True, "command": command.value, "broadcast": False},
         )
         return self.info(node)
@@ -219,7 +224,7 @@ class NodeRegistry:
         self._event(
             EventKind.NMT,
             None,
-            f"NMT {command.value} sent to all nodes",
+            say("event.nmt_sent_all", nmt_command=command.value),
             {"tool": True, "command": command.value, "broadcast": True},
         )
 
@@ -299,11 +304,11 @@ class NodeRegistry:
             return
         if status.state is BusState.CONNECTED:
             where = " ".join(str(part) for part in (status.interface, status.channel) if part)
-            self._event(EventKind.BUS, None, f"bus connected ({where})")
+            self._event(EventKind.BUS, None, say("event.bus_connected", where=where))
         elif status.state is BusState.ERROR:
-            self._event(EventKind.BUS, None, f"bus error: {status.error}")
+            self._event(EventKind.BUS, None, say("event.bus_error", error=str(status.error)))
         elif previous is not None:
-            self._event(EventKind.BUS, None, "bus disconnected")
+            self._event(EventKind.BUS, None, say("event.bus_disconnected"))
 
     async def settled(self) -> None:
         """Wait for the scan that follows a connect (if one is running)."""
@@ -328,7 +333,7 @@ class NodeRegistry:
         return self._table.entry(node)
 
     def _event(
-        self, kind: EventKind, node: int | None, message: str, data: dict[str, Any] | None = None
+        self, kind: EventKind, node: int | None, message: Said, data: dict[str, Any] | None = None
     ) -> None:
         """Published on the loop: every subscriber sees it at once (events/bus.py)."""
         self.events.publish(event(kind, node, message, data))

@@ -13,6 +13,7 @@ from servodesk.errors import (
     IdentityMismatchError,
     SdoAbortError,
 )
+from servodesk.events.texts import say
 from servodesk.events.tool_writes import Publish, tool_write, where
 from servodesk.models.paramsets import (
     CompareResult,
@@ -306,7 +307,20 @@ class ParamSetService:
             self._publish(
                 tool_write(
                     node,
-                    f"{filename}: wrote {where(*key)} {name} = {value}".replace("  ", " "),
+                    say(
+                        "event.dcf_entry",
+                        file=filename,
+                        where=where(*key),
+                        name=name,
+                        value=str(value),
+                    )
+                    if name
+                    else say(
+                        "event.dcf_entry_unnamed",
+                        file=filename,
+                        where=where(*key),
+                        value=str(value),
+                    ),
                     "dcf-entry",
                     file=filename,
                     index=key[0],
@@ -314,13 +328,16 @@ class ParamSetService:
                     value=value,
                 )
             )
-        text = f"parameter set {filename} loaded into node {node}: {len(written)} entries written"
-        if failed:
-            text += f", {failed} failed"
+        loaded: dict[str, str | int] = {"file": filename, "node": node, "written": len(written)}
+        said = (
+            say("event.dcf_loaded_failed", **loaded, failed=failed)
+            if failed
+            else say("event.dcf_loaded", **loaded)
+        )
         self._publish(
             tool_write(
                 node,
-                text,
+                said,
                 "dcf-load",
                 file=filename,
                 written=len(written),

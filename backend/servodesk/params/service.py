@@ -19,6 +19,7 @@ from servodesk.errors import (
     ServodeskError,
 )
 from servodesk.events.bus import BusEvent, EventKind
+from servodesk.events.texts import say
 from servodesk.events.tool_writes import Publish, tool_write, where
 from servodesk.models.common import MessageResult
 from servodesk.models.params import Param, ParamWriteResult
@@ -132,12 +133,17 @@ class ParamService:
                 f"{was}{written.value}"
             )
         if self._publish is not None:
-            was = f"{old} → " if old is not None else ""
             self._publish(
                 tool_write(
                     node,
-                    f"set {parameter.name} ({where(index, subindex)}) of node {node}: "
-                    f"{was}{written.value}",
+                    say(
+                        "event.param_set" if old is None else "event.param_set_was",
+                        name=parameter.name,
+                        where=where(index, subindex),
+                        node=node,
+                        value=str(written.value),
+                        **({} if old is None else {"old": old}),
+                    ),
                     "param",
                     name=parameter.name,
                     index=index,
@@ -164,7 +170,7 @@ class ParamService:
             )
         data = SAVE_SIGNATURE.to_bytes(4, "little")
         await self._access.session(node).download(STORE_PARAMETERS, SAVE_ALL, data)
-        self._command(node, "store", STORE_PARAMETERS, "parameters stored (1010h:01h)")
+        self._command(node, "store", STORE_PARAMETERS, "event.stored")
         return MessageResult(
             message='parameters stored (1010h:01 = "save"): the drive keeps them over a reset '
             "or power cycle"
@@ -177,19 +183,16 @@ class ParamService:
             )
         data = LOAD_SIGNATURE.to_bytes(4, "little")
         await self._access.session(node).download(RESTORE_DEFAULTS, SAVE_ALL, data)
-        self._command(
-            node, "restore-defaults", RESTORE_DEFAULTS, "default parameters restored (1011h:01h)"
-        )
+        self._command(node, "restore-defaults", RESTORE_DEFAULTS, "event.defaults_restored")
         return MessageResult(
             message='default parameters restored (1011h:01 = "load"); takes effect after reset: '
             "reset the node"
         )
 
-    def _command(self, node: int, action: str, index: int, text: str) -> None:
+    def _command(self, node: int, action: str, index: int, message_id: str) -> None:
         if self._publish is not None:
-            self._publish(
-                tool_write(node, f"node {node}: {text}", action, index=index, subindex=SAVE_ALL)
-            )
+            said = say(message_id, node=node)
+            self._publish(tool_write(node, said, action, index=index, subindex=SAVE_ALL))
 
     async def _old_value(self, node: int, parameter: Parameter) -> int | None:
         """The value before a write, for the timeline (best effort: None when unreadable)."""

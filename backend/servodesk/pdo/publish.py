@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from servodesk.events.texts import say
 from servodesk.events.tool_writes import Publish, tool_write
 from servodesk.pdo.model import PdoConfig
 
@@ -21,9 +22,9 @@ def pdo_applied(
     old = {pdo_name(p): p for p in before or ()}
     changed = [pdo_name(p) for p in after if old.get(pdo_name(p)) != p]
     if before is None:
-        text = f"applied the PDOs of node {node}"
+        said = say("event.pdos_applied", node=node)
     elif changed:
-        text = f"applied PDOs of node {node}: {', '.join(changed)} changed"
+        said = say("event.pdos_changed", node=node, pdos=", ".join(changed))
     else:
-        text = f"applied PDOs of node {node}: nothing changed"
-    publish(tool_write(node, text, "pdo-apply", pdos=changed, known_before=before is not None))
+        said = say("event.pdos_unchanged", node=node)
+    publish(tool_write(node, said, "pdo-apply", pdos=changed, known_before=before is not None))

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from servodesk.bounded import TEXT_LIMIT, shorten
 from servodesk.events.bus import EventBus, EventKind, event
+from servodesk.events.texts import say
 from servodesk.models.sdo import SdoValue
 from servodesk.nodes.access import NodeAccess
 from servodesk.sdo.service import SdoService, WriteListener, where
@@ -42,12 +43,12 @@ class PublishingSdoService(SdoService):
         try:
             result = await super().write(node, index, subindex, value, size, confirm=confirm)
         except Exception as error:
-            data["error"] = shorten(str(error), TEXT_LIMIT)
-            message = f"write {place} = {shown} failed: {data['error']}"
-            self._events.publish(event(EventKind.TOOL_WRITE, node, message, data))
+            failure = shorten(str(error), TEXT_LIMIT)
+            data["error"] = failure
+            said = say("event.write_failed", where=place, value=str(shown), error=failure)
+            self._events.publish(event(EventKind.TOOL_WRITE, node, said, data))
             raise
         data["value"] = result.value
-        self._events.publish(
-            event(EventKind.TOOL_WRITE, node, f"wrote {place} = {result.text}", data)
-        )
+        said = say("event.wrote", where=place, value=result.text)
+        self._events.publish(event(EventKind.TOOL_WRITE, node, said, data))
         return result

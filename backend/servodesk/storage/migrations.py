@@ -81,6 +81,23 @@ MIGRATIONS: tuple[tuple[int, str], ...] = (
         ALTER TABLE faults ADD COLUMN name_zh_source TEXT;
         """,
     ),
+    (
+        6,
+        # an event's words as a message id and its parameters (JSON), for the page's catalogue
+        # (servodesk.events.texts); NULL for events stored before, and for English-only words
+        """
+        ALTER TABLE events ADD COLUMN message_id TEXT;
+        ALTER TABLE events ADD COLUMN params TEXT;
+        """,
+    ),
+    (
+        7,
+        # a fault's cause and what to check in Chinese (the API's `check_zh`, beside `check`);
+        # NULL for rows stored before
+        """
+        ALTER TABLE faults ADD COLUMN check_zh TEXT;
+        """,
+    ),
 )
 LATEST = MIGRATIONS[-1][0]
 

@@ -22,7 +22,7 @@ import sqlite3
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -45,6 +45,7 @@ FAULT_COLUMNS = (
     "name_zh",
     "name_zh_source",
     "check",
+    "check_zh",
     "error_register",
     "manufacturer_hex",
     "raw_hex",
@@ -56,10 +57,12 @@ _FAULT_INSERT = (
     f"INSERT INTO faults ({_QUOTED}, bus) VALUES ({', '.join('?' * (len(FAULT_COLUMNS) + 1))})"
 )
 _EVENT_INSERT = (
-    "INSERT INTO events (id, time, kind, node, message, data, bus) VALUES (?, ?, ?, ?, ?, ?, ?)"
+    "INSERT INTO events (id, time, kind, node, message, data, bus, message_id, params)"
+    " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)"
 )
 _EVENT_INSERT_NEW_ID = (
-    "INSERT INTO events (time, kind, node, message, data, bus) VALUES (?, ?, ?, ?, ?, ?)"
+    "INSERT INTO events (time, kind, node, message, data, bus, message_id, params)"
+    " VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
 )
 
 
@@ -68,6 +71,23 @@ class Retention:
     max_events: int = 200_000
     max_days: float = 30.0
     max_faults: int = 50_000
+
+
+def _params(stored: str | None) -> dict[str, str | int]:
+    loaded = json.loads(stored) if stored else {}
+    return loaded if isinstance(loaded, dict) else {}
+
+
+def _params_json(item: BusEvent) -> str | None:
+    """An event's message parameters as stored: short values (ids, numbers, object
+    addresses); a long one is cut like the message."""
+    if item.message_id is None:
+        return None
+    params = {
+        key: shorten(value, TEXT_LIMIT) if isinstance(value, str) else value
+        for key, value in item.params.items()
+    }
+    return json.dumps(params, ensure_ascii=False)
 
 
 @dataclass(frozen=True)
@@ -79,6 +99,8 @@ class StoredEvent:
     message: str
     data: dict[str, Any]
     bus: str | None = None  # the bus it came from (None: stored before buses were recorded)
+    message_id: str | None = None  # the words by id (events/texts.py); None: English only
+    params: dict[str, str | int] = field(default_factory=dict)
 
 
 def _connect(path: Path) -> sqlite3.Connection:
@@ -182,7 +204,7 @@ class Storage:
         self._queue(
             self._events,
             (event_id, item.time, item.kind.value, item.node, shorten(item.message, TEXT_LIMIT),
-             data, self._bus_of()),
+             data, self._bus_of(), item.message_id, _params_json(item)),
         )  # fmt: skip
 
     def bus(self) -> str | None:
@@ -310,12 +332,15 @@ class Storage:
                 where.append(clause)
                 args.append(value)
         order = "ASC" if since is not None else "DESC"
-        sql = "SELECT id, time, kind, node, message, data, bus FROM events"
+        sql = "SELECT id, time, kind, node, message, data, bus, message_id, params FROM events"
         if where:
             sql += " WHERE " + " AND ".join(where)
         sql += f" ORDER BY id {order} LIMIT ?"
         rows = await self._read(sql, (*args, limit))
-        return [StoredEvent(r[0], r[1], r[2], r[3], r[4], json.loads(r[5]), r[6]) for r in rows]
+        return [
+            StoredEvent(r[0], r[1], r[2], r[3], r[4], json.loads(r[5]), r[6], r[7], _params(r[8]))
+            for r in rows
+        ]
 
     async def faults(
         self, node: int | None, limit: int, *, bus: str | None = None

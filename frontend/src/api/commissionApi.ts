@@ -1,6 +1,7 @@
 // The commissioning routes (docs/api.md, "Commissioning"), one function each: the Commission
 // tab's, and the record list the Network page's node list reads. A step run that finds the axis
 // held by another client comes back as HeldByOtherError, which names the holder.
+import type { Language } from "../i18n";
 import { api, call } from "./client";
 import type {
   CommissioningRecord,
@@ -61,7 +62,8 @@ export function runStep(id: number, key: StepKey, body: StepRun = {}): Promise<C
   );
 }
 
-/** The report route as a plain link (the browser opens or downloads it). */
-export function reportUrl(id: number, format: ReportFormat): string {
-  return `/api/commissioning/${id}/report?format=${format}`;
+/** The report route as a plain link (the browser opens or downloads it), its own words in
+ * `lang` (the records' data stays as stored). */
+export function reportUrl(id: number, format: ReportFormat, lang: Language): string {
+  return `/api/commissioning/${id}/report?format=${format}&lang=${lang}`;
 }

@@ -1,6 +1,7 @@
 // One error type for every failed API call, built from the backend's single error shape
 // (docs/api.md, "Errors"): {error: kind, message, abort_code?, ...}.
 import { i18n } from "../i18n";
+import { abortMeaning, serverText, type ServerText, type TextParams } from "../lib/serverText";
 
 export type ApiErrorKind =
   | "sdo_abort"
@@ -55,6 +56,8 @@ export class ApiError extends Error {
   readonly node: number | null;
   /** Seconds to wait before trying again (a rate-limited login). */
   readonly retryAfterS: number | null;
+  /** The message by id, for the page's language (lib/serverText.ts). */
+  readonly said: Pick<ServerText, "message_id" | "params"> | null;
 
   constructor(
     status: number,
@@ -63,6 +66,7 @@ export class ApiError extends Error {
     abortCode: string | null,
     node: number | null = null,
     retryAfterS: number | null = null,
+    said: Pick<ServerText, "message_id" | "params"> | null = null,
   ) {
     super(message);
     this.name = "ApiError";
@@ -71,12 +75,19 @@ export class ApiError extends Error {
     this.abortCode = abortCode;
     this.node = node;
     this.retryAfterS = retryAfterS;
+    this.said = said;
+  }
+
+  /** The message in the page's language (the server's English without an id it knows). */
+  text(): string {
+    if (this.abortCode) return abortMeaning(this.abortCode, this.message);
+    return serverText({ message: this.message, ...this.said });
   }
 
   /** What the user reads: an SDO abort shows its raw code beside the meaning. */
   describe(): string {
-    if (this.abortCode) return `${formatAbortCode(this.abortCode)} — ${this.message}`;
-    return this.message;
+    if (this.abortCode) return `${formatAbortCode(this.abortCode)} — ${this.text()}`;
+    return this.text();
   }
 }
 
@@ -126,7 +137,11 @@ export function toApiError(status: number, body: unknown, statusText = ""): ApiE
       const abort = typeof body.abort_code === "string" ? body.abort_code : null;
       const node = typeof body.node === "number" ? body.node : null;
       const retry = typeof body.retry_after_s === "number" ? body.retry_after_s : null;
-      return new ApiError(status, kind, message, abort, node, retry);
+      const said =
+        typeof body.message_id === "string" && isRecord(body.params)
+          ? { message_id: body.message_id, params: body.params as TextParams }
+          : null;
+      return new ApiError(status, kind, message, abort, node, retry, said);
     }
     if ("detail" in body) {
       return new ApiError(status, "validation_error", describeValidation(body.detail), null);

@@ -251,7 +251,8 @@ export interface paths {
         };
         /**
          * Record Report
-         * @description The axis's hand-over report as HTML or PDF, or its bundle (zip).
+         * @description The axis's hand-over report as HTML or PDF, or its bundle (zip), in English or
+         *     Chinese (`lang`).
          */
         get: operations["record_report_api_commissioning__record_id__report_get"];
         put?: never;
@@ -2294,8 +2295,14 @@ export interface components {
         DeviceHistoryCleared: {
             /** Message */
             message: string;
+            /** Message Id */
+            message_id?: string | null;
             /** Node */
             node: number;
+            /** Params */
+            params?: {
+                [key: string]: string | number;
+            };
         };
         /** DeviceHistoryEntry */
         DeviceHistoryEntry: {
@@ -2385,6 +2392,12 @@ export interface components {
             };
             /** Last Transition */
             last_transition: string | null;
+            /** Last Transition Id */
+            last_transition_id?: string | null;
+            /** Last Transition Params */
+            last_transition_params?: {
+                [key: string]: string | number;
+            };
             limits: components["schemas"]["MotionLimits"];
             /** Mode */
             mode: string | null;
@@ -2465,8 +2478,14 @@ export interface components {
             index?: number | null;
             /** Message */
             message: string;
+            /** Message Id */
+            message_id?: string | null;
             /** Node */
             node?: number | null;
+            /** Params */
+            params?: {
+                [key: string]: string | number;
+            } | null;
             /** Problems */
             problems?: components["schemas"]["PdoProblem"][] | null;
             /** Required */
@@ -2535,6 +2554,11 @@ export interface components {
             bus?: string | null;
             /** Check */
             check?: string | null;
+            /**
+             * Check Zh
+             * @description the same parts as `check`, in Chinese (labels 原因：, 检查：, CiA 类别：, CiA 代码 XXXXh：, 错误寄存器 XXh：, 来源：); ServoDesk's translation except MDi-S1-C causes, which are the manual's own; null when `check` is null or a part has no Chinese
+             */
+            check_zh?: string | null;
             /** Code */
             code: number;
             /** Code Hex */
@@ -2573,10 +2597,16 @@ export interface components {
             code_hex: string;
             /** Name */
             name?: string | null;
+            /** Name Zh */
+            name_zh?: string | null;
             /** Source */
             source?: string | null;
+            /** Source Zh */
+            source_zh?: string | null;
             /** Text */
             text?: string | null;
+            /** Text Zh */
+            text_zh?: string | null;
         };
         /**
          * FaultMessage
@@ -2601,10 +2631,16 @@ export interface components {
             active: components["schemas"]["Fault"] | null;
             /** Message */
             message: string;
+            /** Message Id */
+            message_id?: string | null;
             /** Node */
             node: number;
             /** Ok */
             ok: boolean;
+            /** Params */
+            params?: {
+                [key: string]: string | number;
+            };
             /** State After */
             state_after: string;
             /** State Before */
@@ -3063,10 +3099,19 @@ export interface components {
             /** Message */
             message: string;
             /**
+             * Message Id
+             * @default null
+             */
+            message_id: string | null;
+            /**
              * Node
              * @default null
              */
             node: number | null;
+            /** Params */
+            params?: {
+                [key: string]: string | number;
+            };
             /** Time */
             time: number;
         };
@@ -3234,8 +3279,14 @@ export interface components {
             jog?: components["schemas"]["JogInfo"] | null;
             /** Message */
             message: string;
+            /** Message Id */
+            message_id?: string | null;
             /** Node */
             node?: number | null;
+            /** Params */
+            params?: {
+                [key: string]: string | number;
+            } | null;
             /** Problems */
             problems?: components["schemas"]["PdoProblem"][] | null;
             /** Reasons */
@@ -4114,8 +4165,14 @@ export interface components {
             kind: string;
             /** Message */
             message: string;
+            /** Message Id */
+            message_id?: string | null;
             /** Node */
             node: number | null;
+            /** Params */
+            params?: {
+                [key: string]: string | number;
+            };
             /** Time */
             time: number;
         };
@@ -4954,6 +5011,8 @@ export interface operations {
                 ids?: string | null;
                 /** @description 1,2,3 */
                 nodes?: string | null;
+                /** @description the report's own words: en (default) or zh-CN; data stays as stored */
+                lang?: "en" | "zh-CN";
             };
             header?: never;
             path?: never;
@@ -5055,6 +5114,8 @@ export interface operations {
         parameters: {
             query?: {
                 format?: "html" | "pdf" | "zip";
+                /** @description the report's own words: en (default) or zh-CN; data stays as stored */
+                lang?: "en" | "zh-CN";
             };
             header?: never;
             path: {

@@ -1,7 +1,7 @@
 import type { ReactNode } from "react";
 
 import type { NmtStateName } from "../api/types";
-import { useTranslation, type MessageKey } from "../i18n";
+import { i18n, useTranslation, type MessageKey } from "../i18n";
 
 export const NMT_LABELS: Readonly<Record<NmtStateName, MessageKey>> = {
   operational: "nmt.state.operational",
@@ -10,6 +10,13 @@ export const NMT_LABELS: Readonly<Record<NmtStateName, MessageKey>> = {
   initialising: "nmt.state.initialising",
   unknown: "nmt.state.unknown",
 };
+
+/** An NMT state as the API names it ("pre-operational") in the page's language; an unknown
+ * name as sent. */
+export function nmtStateText(state: string): string {
+  const key = NMT_LABELS[state as NmtStateName] as MessageKey | undefined;
+  return key ? i18n.t(key) : state;
+}
 
 /** Colored dot for a node's NMT state; the state's name is its accessible label. */
 export function NmtDot({ state, online }: { state: NmtStateName; online: boolean }): ReactNode {

@@ -4,6 +4,7 @@ import type { Fault } from "../api/faults";
 import {
   bannerText,
   checkParts,
+  faultCheckParts,
   errorCodeParts,
   errorRegisterText,
   errorRegisterWords,
@@ -117,21 +118,21 @@ describe("checkParts", () => {
   it.each([
     [null, []],
     ["", []],
-    ["Check the wiring.", [{ label: "", text: "Check the wiring." }]],
+    ["Check the wiring.", [{ label: "", key: "", text: "Check the wiring." }]],
     [
       "Cause: position deviation too large. Check: gain, load, 6065h. CiA code 8611h: Following error. Source: MDi-S1-C CANopen manual §4.1.",
       [
-        { label: "Cause", text: "position deviation too large." },
-        { label: "Check", text: "gain, load, 6065h." },
-        { label: "CiA code 8611h", text: "Following error." },
-        { label: "Source", text: "MDi-S1-C CANopen manual §4.1." },
+        { label: "Cause", key: "cause", text: "position deviation too large." },
+        { label: "Check", key: "check", text: "gain, load, 6065h." },
+        { label: "CiA code 8611h", key: "", text: "Following error." },
+        { label: "Source", key: "source", text: "MDi-S1-C CANopen manual §4.1." },
       ],
     ],
     [
       "CiA class: Monitoring. Error register 21h: generic, device profile.",
       [
-        { label: "CiA class", text: "Monitoring." },
-        { label: "Error register 21h", text: "generic, device profile." },
+        { label: "CiA class", key: "", text: "Monitoring." },
+        { label: "Error register 21h", key: "", text: "generic, device profile." },
       ],
     ],
     [
@@ -139,14 +140,29 @@ describe("checkParts", () => {
       [
         {
           label: "Cause",
+          key: "cause",
           text: "x. The EMCY carries only the low 16 bits of 603Fh (12320h, 22320h share them): read 603Fh.",
         },
-        { label: "Check", text: "a." },
-        { label: "Check", text: "b." },
+        { label: "Check", key: "check", text: "a." },
+        { label: "Check", key: "check", text: "b." },
       ],
     ],
   ])("%#", (check, parts) => {
     expect(checkParts(check)).toEqual(parts);
+  });
+
+  it("splits the server's Chinese text at its Chinese labels, in Chinese only", () => {
+    const fault = {
+      check: "Cause: x. Source: Kinco servo CANopen manual §8.",
+      check_zh: "原因：位置误差过大。 CiA 代码 8611h：跟随误差。 来源：步科伺服 CANopen 手册 §8。",
+    };
+    expect(faultCheckParts(fault, "zh-CN")).toEqual([
+      { label: "原因", key: "cause", text: "位置误差过大。" },
+      { label: "CiA 代码 8611h", key: "", text: "跟随误差。" },
+      { label: "来源", key: "source", text: "步科伺服 CANopen 手册 §8。" },
+    ]);
+    expect(faultCheckParts(fault, "en").map((part) => part.key)).toEqual(["cause", "source"]);
+    expect(faultCheckParts({ ...fault, check_zh: null }, "zh-CN")[0]?.label).toBe("Cause");
   });
 });
 
@@ -214,9 +230,9 @@ describe("fault names", () => {
   it("shows the manual's Chinese in both languages, a translation only in Chinese", () => {
     const mdi = fault({ name_zh_source: "manual" });
     expect(faultName(mdi, "en")).toBe("位置超差 Following error");
-    expect(faultName(mdi, "zh-CN")).toBe("位置超差 Following error");
+    expect(faultName(mdi, "zh-CN")).toBe("位置超差");
     expect(faultName(kinco, "en")).toBe("Following error too high");
-    expect(faultName(kinco, "zh-CN")).toBe("跟随误差过大 Following error too high");
+    expect(faultName(kinco, "zh-CN")).toBe("跟随误差过大");
     expect(faultName(fault({ name_zh: null }), "zh-CN")).toBe("Following error");
     // stored before the source was recorded: only the MDi's manual had Chinese then
     expect(faultName(fault({ name_zh_source: null }), "en")).toBe("位置超差 Following error");

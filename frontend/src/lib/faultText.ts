@@ -74,17 +74,25 @@ export function showsChineseName(
   return language === "zh-CN" || !isTranslatedName(fault);
 }
 
-/** "位置超差 Following error": the Chinese name first, then the source's English one; in English
- * a name ServoDesk translated shows its English alone. */
+/** In Chinese the Chinese name alone ("位置超差"; the source's words stay on the Faults tab's
+ * details); in English "位置超差 Following error" for a manual's own Chinese name, the English
+ * alone for a name ServoDesk translated. */
 export function faultName(fault: FaultNames, language: Language = currentLanguage()): string {
-  return showsChineseName(fault, language) ? `${fault.name_zh} ${fault.name_en}` : fault.name_en;
+  if (!showsChineseName(fault, language)) return fault.name_en;
+  return language === "zh-CN" ? (fault.name_zh ?? "") : `${fault.name_zh} ${fault.name_en}`;
 }
 
 /** The table a name comes from, for the translation marker's title: the "Source" of the check
- * text (the drive's manual), else the CiA table. */
-export function nameSource(fault: Pick<Fault, "check" | "source">): string {
-  const source = checkParts(fault.check).find((part) => part.label === "Source")?.text;
-  const table = source?.split(";")[0]?.replace(/\.$/, "").trim();
+ * text (the drive's manual), else the CiA table; in the page's language. */
+export function nameSource(
+  fault: Pick<Fault, "check" | "check_zh" | "source">,
+  language: Language = currentLanguage(),
+): string {
+  const source = faultCheckParts(fault, language).find((part) => part.key === "source")?.text;
+  const table = source
+    ?.split(/[;；]/)[0]
+    ?.replace(/[.。]$/, "")
+    .trim();
   return table || sourceLabel(fault.source);
 }
 
@@ -99,31 +107,55 @@ export function bannerText(fault: Fault): string {
 }
 
 export interface CheckPart {
-  /** "Cause", "Check", "CiA code 8611h", "Source"; "" for text before any label. */
+  /** "Cause", "Check", "CiA code 8611h", "Source" (原因, 检查, CiA 代码 8611h, 来源 in the
+   * Chinese text); "" for text before any label. */
   label: string;
+  /** What the label says whatever the language: "source" for Source and 来源. */
+  key: string;
   text: string;
 }
 
 const CHECK_LABEL =
   /(?:^|\s)(Cause|Check|Source|CiA class|CiA code [0-9A-F]+h|Error register [0-9A-F]+h):\s/g;
+// the server's check_zh: the same parts with Chinese labels and full-width colons
+const CHECK_LABEL_ZH =
+  /(?:^|\s)(原因|检查|来源|CiA 类别|CiA 代码 [0-9A-F]+h|错误寄存器 [0-9A-F]+h)：/g;
+const LABEL_KEYS: Record<string, string> = {
+  Cause: "cause",
+  原因: "cause",
+  Check: "check",
+  检查: "check",
+  Source: "source",
+  来源: "source",
+};
+
+/** The fault's "what to check" parts in the page's language: the server's Chinese `check_zh`
+ * in Chinese when it has one, else its English `check`. */
+export function faultCheckParts(
+  fault: Pick<Fault, "check" | "check_zh">,
+  language: Language = currentLanguage(),
+): CheckPart[] {
+  if (language === "zh-CN" && fault.check_zh) return checkParts(fault.check_zh, CHECK_LABEL_ZH);
+  return checkParts(fault.check);
+}
 
 /**
  * The server's "what to check" text, split at its labels ("Cause: … Check: … Source: …") so the
  * page can show it as a list; text without labels comes back as one unlabelled part.
  */
-export function checkParts(check: string | null | undefined): CheckPart[] {
+export function checkParts(check: string | null | undefined, labels = CHECK_LABEL): CheckPart[] {
   if (!check?.trim()) return [];
-  const marks = [...check.matchAll(CHECK_LABEL)].map((m) => ({
+  const marks = [...check.matchAll(labels)].map((m) => ({
     label: m[1] ?? "",
     start: m.index,
     textStart: m.index + m[0].length,
   }));
   const parts: CheckPart[] = [];
   const lead = check.slice(0, marks[0]?.start ?? check.length).trim();
-  if (lead) parts.push({ label: "", text: lead });
+  if (lead) parts.push({ label: "", key: "", text: lead });
   marks.forEach((mark, i) => {
     const text = check.slice(mark.textStart, marks[i + 1]?.start ?? check.length).trim();
-    if (text) parts.push({ label: mark.label, text });
+    if (text) parts.push({ label: mark.label, key: LABEL_KEYS[mark.label] ?? "", text });
   });
   return parts;
 }

@@ -4,14 +4,62 @@
 // (a newer server) or none at all: the server's own words.
 import { currentLanguage, i18n, type MessageKey } from "../i18n";
 
+export type TextParams = Record<string, string | number>;
+
 export interface ServerText {
   message: string;
   message_id?: string | null;
-  params?: Record<string, string | number>;
+  params?: TextParams;
 }
 
-export function serverText(text: ServerText): string {
+/** "pre-operational" → "preOperational": the catalogue's NMT keys. */
+function camel(word: string): string {
+  return word.replace(/-(\w)/g, (_, c: string) => c.toUpperCase());
+}
+
+/** A word the server sends as a parameter, in the page's language; unknown words as sent. */
+function word(key: string, value: string): string {
+  return i18n.t(key, { defaultValue: value });
+}
+
+const stateKey = (v: string): string => `drive.state.${v.toLowerCase().replace(/ /g, "_")}`;
+const nmtStateKey = (v: string): string => `nmt.state.${camel(v)}`;
+
+// Parameters that are words of a fixed set (servodesk.events.texts): translated here; every
+// other parameter (numbers, object addresses, names, a bus's own error text) shows as sent.
+const PARAM_WORDS: Record<string, (value: string) => string> = {
+  nmt_command: (v) => word(`nmt.command.${camel(v)}`, v),
+  nmt_state: (v) => word(nmtStateKey(v), v),
+  nmt: (v) => word(nmtStateKey(v), v),
+  state: (v) => word(stateKey(v), v),
+  was: (v) => word(stateKey(v), v),
+};
+
+/** An SDO abort's meaning by its code ("0x06020000"), in the page's language. */
+export function abortMeaning(code: string, english: string): string {
+  const hex = code.replace(/^0x/i, "").toUpperCase().padStart(8, "0");
+  if (currentLanguage() === "en") return english;
+  const key = `server.abort.${hex}`;
+  return i18n.t(key, { defaultValue: english });
+}
+
+function localParams(params: TextParams): TextParams {
+  const local: TextParams = {};
+  for (const [name, value] of Object.entries(params)) {
+    const translate = PARAM_WORDS[name];
+    local[name] = translate && typeof value === "string" ? translate(value) : value;
+  }
+  if (typeof params.abort_code === "string" && typeof params.meaning === "string") {
+    local.meaning = abortMeaning(params.abort_code, params.meaning);
+  }
+  return local;
+}
+
+/** `text` in the page's language; `overrides` replace parameters the page words itself (a
+ * fault's name from the fault it carries). */
+export function serverText(text: ServerText, overrides: TextParams = {}): string {
   if (currentLanguage() === "en" || !text.message_id) return text.message;
   const key = `server.${text.message_id}` as MessageKey;
-  return i18n.t(key, { ...text.params, defaultValue: text.message });
+  const params = { ...localParams(text.params ?? {}), ...overrides };
+  return i18n.t(key, { ...params, defaultValue: text.message });
 }

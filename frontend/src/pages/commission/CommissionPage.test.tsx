@@ -236,13 +236,13 @@ describe("CommissionPage", () => {
 
     expect(await screen.findByRole("heading", { name: "Record #2: after repair" })).toBeTruthy();
     expect(screen.getByRole("link", { name: "Report (HTML)" }).getAttribute("href")).toBe(
-      "/api/commissioning/2/report?format=html",
+      "/api/commissioning/2/report?format=html&lang=en",
     );
     expect(screen.getByRole("link", { name: "PDF" }).getAttribute("href")).toBe(
-      "/api/commissioning/2/report?format=pdf",
+      "/api/commissioning/2/report?format=pdf&lang=en",
     );
     expect(screen.getByRole("link", { name: "Bundle (zip)" }).getAttribute("href")).toBe(
-      "/api/commissioning/2/report?format=zip",
+      "/api/commissioning/2/report?format=zip&lang=en",
     );
     await userEvent.selectOptions(screen.getByRole("combobox", { name: "Choose a record" }), "1");
     expect(await screen.findByRole("heading", { name: "Record #1: first" })).toBeTruthy();

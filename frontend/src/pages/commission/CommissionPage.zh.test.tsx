@@ -376,5 +376,15 @@ describe("CommissionPage in zh-CN", () => {
     );
     expect(within(step(4, "PDO 映射")).getByText(/^（写入 PDO 需要工程师角色/)).toBeTruthy();
     expect(englishLeft(container, ["first"])).toEqual([]);
+    // the report in the page's language
+    expect(screen.getByRole("link", { name: "报告（HTML）" }).getAttribute("href")).toBe(
+      "/api/commissioning/2/report?format=html&lang=zh-CN",
+    );
+    expect(screen.getByRole("link", { name: "PDF" }).getAttribute("href")).toBe(
+      "/api/commissioning/2/report?format=pdf&lang=zh-CN",
+    );
+    expect(screen.getByRole("link", { name: "资料包（zip）" }).getAttribute("href")).toBe(
+      "/api/commissioning/2/report?format=zip&lang=zh-CN",
+    );
   });
 });

@@ -2,7 +2,7 @@ import type { ReactNode } from "react";
 
 import { reportUrl } from "../../api/commissionApi";
 import { RecordChip } from "../../components/StatusChip";
-import { i18n, useTranslation, type MessageKey } from "../../i18n";
+import { currentLanguage, i18n, useTranslation, type MessageKey } from "../../i18n";
 import { hex } from "../../lib/format";
 import { useMay } from "../../session/context";
 import { localDateTime, progress } from "./steps";
@@ -42,6 +42,7 @@ export function RecordHeader({
   onNew: () => void;
 }): ReactNode {
   const { t } = useTranslation();
+  const language = currentLanguage(); // the report in the page's language
   const operate = useMay("operate");
   const { closed, total } = progress(record);
   const id = record.identity;
@@ -110,7 +111,7 @@ export function RecordHeader({
         <span className="group-label">{t("commission.record.report")}</span>
         <a
           className="button-link"
-          href={reportUrl(record.id, "html")}
+          href={reportUrl(record.id, "html", language)}
           target="_blank"
           rel="noopener"
         >
@@ -118,13 +119,13 @@ export function RecordHeader({
         </a>
         <a
           className="button-link"
-          href={reportUrl(record.id, "pdf")}
+          href={reportUrl(record.id, "pdf", language)}
           target="_blank"
           rel="noopener"
         >
           PDF
         </a>
-        <a className="button-link" href={reportUrl(record.id, "zip")} download>
+        <a className="button-link" href={reportUrl(record.id, "zip", language)} download>
           {t("commission.record.bundle")}
         </a>
       </div>

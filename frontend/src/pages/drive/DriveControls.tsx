@@ -12,6 +12,7 @@ import { asApiError } from "../../api/errors";
 import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { useTranslation } from "../../i18n";
+import { faultInWords } from "./motionWords";
 import { useMay } from "../../session/context";
 import { COMMANDS, stateLabel, transitionsFor, type CommandInfo } from "./stateMachine";
 import type { DriveState } from "./types";
@@ -30,6 +31,7 @@ interface Props {
 export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: Props): ReactNode {
   const { t } = useTranslation();
   const operate = useMay("operate");
+  const fault = drive.fault ? faultInWords(drive.fault) : null;
   const [busy, setBusy] = useState<string | null>(null);
   const [error, setError] = useState<ApiError | null>(null);
   const [blocked, setBlocked] = useState<EnableBlockedError | null>(null);
@@ -155,14 +157,14 @@ export function DriveControls({ node, drive, show, mayCommand, onHeldByOther }: 
           );
         })}
       </div>
-      {drive.fault && (
+      {fault && (
         <div className="drive-fault" role="alert">
           <strong>
-            {t("drive.controls.fault", { code: drive.fault.code_hex })}
-            {drive.fault.name ? ` · ${drive.fault.name}` : ""}
+            {t("drive.controls.fault", { code: fault.code_hex })}
+            {fault.name ? ` · ${fault.name}` : ""}
           </strong>
-          {drive.fault.text && <p>{drive.fault.text}</p>}
-          {drive.fault.source && <p className="muted small">{drive.fault.source}</p>}
+          {fault.text && <p>{fault.text}</p>}
+          {fault.source && <p className="muted small">{fault.source}</p>}
         </div>
       )}
     </div>

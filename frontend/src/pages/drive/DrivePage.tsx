@@ -2,9 +2,11 @@ import { useState, type ReactNode } from "react";
 
 import type { HeldByOtherError } from "../../api/driveApi";
 import { ErrorText } from "../../components/ErrorText";
+import { nmtStateText } from "../../components/NmtDot";
 import { QuickStopButton } from "../../components/QuickStopButton";
 import { Spinner } from "../../components/Spinner";
 import { useTranslation } from "../../i18n";
+import { serverText } from "../../lib/serverText";
 import { useLive } from "../../live/context";
 import { ControllerBar } from "./ControllerBar";
 import { DriveControls } from "./DriveControls";
@@ -39,7 +41,7 @@ export function DrivePage({ node }: { node: number }): ReactNode {
         )}
         {drive && drive.nmt_state !== "operational" && (
           <span className="badge drive-warn">
-            {t("drive.page.nmtWarn", { state: drive.nmt_state })}
+            {t("drive.page.nmtWarn", { state: nmtStateText(drive.nmt_state) })}
           </span>
         )}
         <span className="spacer" />
@@ -67,7 +69,13 @@ export function DrivePage({ node }: { node: number }): ReactNode {
               <StateDiagram state={drive.state} lastTransition={drive.last_transition} />
               {drive.last_transition && (
                 <p className="muted small">
-                  {t("drive.page.lastTransition", { transition: drive.last_transition })}
+                  {t("drive.page.lastTransition", {
+                    transition: serverText({
+                      message: drive.last_transition,
+                      message_id: drive.last_transition_id,
+                      params: drive.last_transition_params,
+                    }),
+                  })}
                 </p>
               )}
               <DriveControls

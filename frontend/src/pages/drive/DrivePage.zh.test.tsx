@@ -127,7 +127,7 @@ describe("DrivePage in zh-CN", () => {
         .getAllByRole("listitem")
         .map((li) => li.textContent),
     ).toEqual([
-      "节点处于 NMT pre-operational，不是操作状态：它不理会控制 PDO——请启动它（NMT 启动）",
+      "节点处于 NMT 预操作，不是操作状态：它不理会控制 PDO——请启动它（NMT 启动）",
       "状态字位 4（电压使能）为 0：功率级主电源已断开",
       "words of a newer server",
     ]);

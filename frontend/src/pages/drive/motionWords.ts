@@ -1,6 +1,6 @@
 // What the Drive page says about motion, from the drive state (pure): the last PP move, where
 // the travel ends, and ServoDesk's travel limits proposed inside the limit switches.
-import { i18n } from "../../i18n";
+import { currentLanguage, i18n } from "../../i18n";
 import { stateLabel } from "./stateMachine";
 import type { DriveState, MotionLimits, TravelEnds } from "./types";
 import { formatInc, formatRev } from "./units";
@@ -82,11 +82,22 @@ export function travelRows(drive: DriveState): TravelRow[] {
     source: ends.source,
     note: ends.note,
   });
+  // the server's source and note are fixed words for these two (servodesk.motion.axis
+  // travel_info): the page says them in its own language
   if (travel?.switches) {
-    rows.push(row("switches", i18n.t("drive.travel.switches"), travel.switches));
+    rows.push({
+      ...row("switches", i18n.t("drive.travel.switches"), travel.switches),
+      source: i18n.t("drive.travel.switchesSource"),
+      note: i18n.t("drive.travel.switchesNote"),
+    });
   }
   if (travel?.software_limit) {
-    rows.push(row("software_limit", i18n.t("drive.travel.softwareLimit"), travel.software_limit));
+    const ends = travel.software_limit;
+    rows.push({
+      ...row("software_limit", i18n.t("drive.travel.softwareLimit"), ends),
+      source: i18n.t("drive.travel.softwareLimitSource"),
+      note: ends.note ? i18n.t("drive.travel.softwareLimitOff") : "",
+    });
   }
   const { min_position_rev: min, max_position_rev: max } = drive.limits;
   const none = min == null && max == null;
@@ -114,4 +125,20 @@ export function limitsInsideSwitches(drive: DriveState): MotionLimits | null {
   const max = ends.max_rev == null ? null : round(ends.max_rev - margin);
   if (min !== null && max !== null && min >= max) return null;
   return { ...drive.limits, min_position_rev: min, max_position_rev: max };
+}
+
+type DriveFault = NonNullable<DriveState["fault"]>;
+
+/** The drive's active fault (603Fh decoded) in the page's language: in Chinese the table's
+ * Chinese where it has it (the MDi-S1-C manual's own, else ServoDesk's translation). */
+export function faultInWords(
+  fault: DriveFault,
+): Pick<DriveFault, "code_hex" | "name" | "text" | "source"> {
+  if (currentLanguage() !== "zh-CN") return fault;
+  return {
+    code_hex: fault.code_hex,
+    name: fault.name_zh ?? fault.name,
+    text: fault.text_zh ?? fault.text,
+    source: fault.source_zh ?? fault.source,
+  };
 }

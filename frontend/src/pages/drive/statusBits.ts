@@ -61,6 +61,21 @@ export interface Lamp {
   tone: LampTone;
 }
 
+// The server's own bit names that say more than the table's (servodesk.motion.words), in the
+// page's language; another name the server sends shows as sent.
+const SERVER_NAMES: Readonly<Record<string, MessageKey>> = {
+  "reference found": "drive.bit.server.referenceFound",
+  "target position ignored": "drive.bit.server.targetPositionIgnored",
+  "max slippage error": "drive.bit.server.maxSlippageError",
+  "speed (0 = standstill)": "drive.bit.server.speedStandstill",
+};
+
+function serverName(name: string): string {
+  if (currentLanguage() === "en") return name;
+  const key = SERVER_NAMES[name.trim().toLowerCase()];
+  return key ? i18n.t(key) : name;
+}
+
 /** Whether the server's name for a bit is shown: in English always (as the drive names it),
  * in another language only where it says more than the table's English name (any case), which
  * is then shown translated. */
@@ -83,7 +98,7 @@ export function statusLamps(
     const server = serverBits.find((b) => b.bit === def.bit);
     return {
       bit: def.bit,
-      name: server && ownName(server.name, def.name) ? server.name : i18n.t(def.name),
+      name: server && ownName(server.name, def.name) ? serverName(server.name) : i18n.t(def.name),
       on: ((statusword >> def.bit) & 1) === 1,
       tone: def.tone,
     };

@@ -8,6 +8,7 @@ import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { Trans, useTranslation } from "../../i18n";
 import { errorCodeParts, faultCode, faultName } from "../../lib/faultText";
+import { serverText } from "../../lib/serverText";
 import { useThrottled } from "../../lib/useThrottled";
 import { useAction, useApi } from "../../lib/useApi";
 import { useLiveStore } from "../../live/context";
@@ -74,7 +75,7 @@ export function ActiveFaultCard({
     const answer = await resetFault(node);
     store.setNodeFault(node, answer.active, version);
     setResult(
-      answer.ok ? answer.message : t("faults.active.notReset", { message: answer.message }),
+      answer.ok ? serverText(answer) : t("faults.active.notReset", { message: serverText(answer) }),
     );
   });
   return (

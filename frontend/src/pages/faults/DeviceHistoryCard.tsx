@@ -7,6 +7,7 @@ import { ErrorText } from "../../components/ErrorText";
 import { Spinner } from "../../components/Spinner";
 import { i18n, useTranslation } from "../../i18n";
 import { errorRegisterText, faultCode, faultName, hasNoObject } from "../../lib/faultText";
+import { serverText } from "../../lib/serverText";
 import { useAction, useApi } from "../../lib/useApi";
 import { useMay } from "../../session/context";
 import type { DeviceHistoryEntry } from "./types";
@@ -63,7 +64,7 @@ export function DeviceHistoryCard({ node }: { node: number }): ReactNode {
   const configure = useMay("configure");
   const clear = useAction(async () => {
     const answer = await clearDeviceHistory(node);
-    setMessage(answer.message);
+    setMessage(serverText(answer));
     setAsking(false);
     history.reload();
   });

@@ -1,6 +1,7 @@
-// A fault's name on the Faults tab: in zh-CN the Chinese first and the source's English beside
-// it, a name ServoDesk translated (Kinco's manual and the CiA tables are English only) marked
-// as ServoDesk's, its title naming the source; in English the English as before.
+// A fault on the Faults tab: in zh-CN the Chinese name, cause and what to check, a name
+// ServoDesk translated (Kinco's manual and the CiA tables are English only) marked as
+// ServoDesk's, its title naming the source, and the source's own words under a fold; in English
+// the English as before.
 import { render, screen } from "@testing-library/react";
 import { describe, expect, it } from "vitest";
 
@@ -32,12 +33,14 @@ function meaning(): HTMLElement {
 describe("FaultDetails in zh-CN", () => {
   inChinese();
 
-  it("shows a translated name first, the source's English beside it, marked as ServoDesk's", () => {
+  it("shows a translated name, marked as ServoDesk's, the source's English under a fold", () => {
     render(<FaultDetails fault={kincoFollowing()} />);
     const names = meaning();
-    expect(names.textContent).toBe("跟随误差过大Following error too highServoDesk 译文");
+    expect(names.textContent).toBe("跟随误差过大ServoDesk 译文");
     expect(names.querySelector(".fault-name-first")?.textContent).toBe("跟随误差过大");
-    expect(names.querySelector(".fault-name-source")?.textContent).toBe("Following error too high");
+    const fold = screen.getByText("原文（来源的原话）").closest("details");
+    expect(fold?.open).toBe(false);
+    expect(fold?.querySelector(".fault-name-source")?.textContent).toBe("Following error too high");
     const marker = screen.getByText("ServoDesk 译文");
     expect(marker.getAttribute("title")).toBe(
       "中文由 ServoDesk 译自 Kinco servo CANopen manual §8 的英文原文",
@@ -61,8 +64,38 @@ describe("FaultDetails in zh-CN", () => {
 
   it("shows the MDi manual's own Chinese first too, unmarked", () => {
     render(<FaultDetails fault={mdiAlarm4({ name_zh_source: "manual" })} />);
-    expect(meaning().textContent).toBe("位置超差Following error");
+    expect(meaning().textContent).toBe("位置超差");
     expect(screen.queryByText("ServoDesk 译文")).toBeNull();
+  });
+
+  it("says the cause and what to check in Chinese, the marker naming the Chinese source", () => {
+    render(
+      <FaultDetails
+        fault={kincoFollowing({
+          check_zh:
+            "原因：位置误差超出 6065h。 检查：增益、负载。 来源：步科伺服 CANopen 手册 §8。",
+        })}
+      />,
+    );
+    const items = [...document.querySelectorAll("dd > .fault-check > li")].map(
+      (li) => li.textContent,
+    );
+    expect(items).toEqual([
+      "原因：位置误差超出 6065h。",
+      "检查：增益、负载。",
+      "来源：步科伺服 CANopen 手册 §8。",
+    ]);
+    expect(screen.getByText("ServoDesk 译文").getAttribute("title")).toBe(
+      "中文由 ServoDesk 译自 步科伺服 CANopen 手册 §8 的英文原文",
+    );
+    const english = [...document.querySelectorAll("details .fault-check > li")].map(
+      (li) => li.textContent,
+    );
+    expect(english).toEqual([
+      "Cause: The position error exceeded 6065h.",
+      "Check: gains, load.",
+      "Source: Kinco servo CANopen manual §8.",
+    ]);
   });
 });
 

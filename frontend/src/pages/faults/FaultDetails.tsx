@@ -4,6 +4,7 @@ import { currentLanguage, useTranslation } from "../../i18n";
 import {
   checkParts,
   errorRegisterText,
+  faultCheckParts,
   faultCode,
   formatDateTime,
   isTranslatedName,
@@ -38,9 +39,6 @@ function FaultNames({ fault }: { fault: Fault }): ReactNode {
       <span className="fault-name-first" lang="zh">
         {zh}
       </span>
-      <span className="fault-name-source" lang="en">
-        {fault.name_en}
-      </span>
       {isTranslatedName(fault) && (
         <span
           className="badge fault-name-translation"
@@ -53,10 +51,34 @@ function FaultNames({ fault }: { fault: Fault }): ReactNode {
   );
 }
 
+/** The source's own words (the manual's English, a CiA table's text) under a fold: kept beside
+ * a Chinese text so the engineer can compare it with the manual at hand. */
+function SourceWords({ fault }: { fault: Fault }): ReactNode {
+  const { t } = useTranslation();
+  return (
+    <details className="fault-source-words">
+      <summary>{t("faults.details.sourceWords")}</summary>
+      <p lang="en" className="fault-name-source">
+        {fault.name_en}
+      </p>
+      <ul className="fault-check" lang="en">
+        {checkParts(fault.check).map((part, i) => (
+          <li key={i}>
+            {part.label && <strong>{part.label}: </strong>}
+            {part.text}
+          </li>
+        ))}
+      </ul>
+    </details>
+  );
+}
+
 /** One fault in words: names, source layer, what to check, error register, raw bytes. */
 export function FaultDetails({ fault }: { fault: Fault }): ReactNode {
   const { t } = useTranslation();
-  const parts = checkParts(fault.check);
+  const chinese = currentLanguage() === "zh-CN";
+  const parts = faultCheckParts(fault);
+  const colon = chinese && fault.check_zh ? "：" : ": ";
   return (
     <dl className="facts fault-facts">
       <dt>{t("faults.details.code")}</dt>
@@ -79,11 +101,24 @@ export function FaultDetails({ fault }: { fault: Fault }): ReactNode {
             <ul className="fault-check">
               {parts.map((part, i) => (
                 <li key={i}>
-                  {part.label && <strong>{part.label}: </strong>}
+                  {part.label && (
+                    <strong>
+                      {part.label}
+                      {colon}
+                    </strong>
+                  )}
                   {part.text}
                 </li>
               ))}
             </ul>
+          </dd>
+        </>
+      )}
+      {chinese && (fault.name_zh ?? fault.check_zh) && (
+        <>
+          <dt>{t("faults.details.source")}</dt>
+          <dd>
+            <SourceWords fault={fault} />
           </dd>
         </>
       )}

@@ -38,11 +38,9 @@ describe("FaultsPage in zh-CN", () => {
     });
     const { container } = renderPage(<FaultsPage node={1} />, "/nodes/1/faults");
 
-    expect(
-      await screen.findByRole("heading", { name: "故障中：报警 4 位置超差 Following error" }),
-    ).toBeTruthy();
+    expect(await screen.findByRole("heading", { name: "故障中：报警 4 位置超差" })).toBeTruthy();
     expect(screen.getAllByRole("heading", { level: 2 }).map((h) => h.textContent)).toEqual([
-      "故障中：报警 4 位置超差 Following error",
+      "故障中：报警 4 位置超差",
       "故障历史",
       "驱动器错误历史 1003h",
     ]);

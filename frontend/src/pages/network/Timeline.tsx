@@ -7,6 +7,7 @@ import { ErrorText } from "../../components/ErrorText";
 import { EventList } from "../../components/EventList";
 import { Spinner } from "../../components/Spinner";
 import { useTranslation } from "../../i18n";
+import { eventText } from "../../lib/eventText";
 import { formatClock } from "../../lib/format";
 import { useApi } from "../../lib/useApi";
 import { usePoll } from "../../lib/usePoll";
@@ -236,7 +237,7 @@ function TimelineList({ filter }: { filter: TimelineFilter }): ReactNode {
               ...e,
               kindText: badge ? t(badge) : e.kind,
               // with other buses listed, each event says whose it is
-              text: filter.allBuses && e.bus ? `${e.message} [${e.bus}]` : e.message,
+              text: filter.allBuses && e.bus ? `${eventText(e)} [${e.bus}]` : eventText(e),
             };
           })}
           caption={t("network.timeline.heading")}
