@@ -25,6 +25,7 @@ from servodesk.motion.explain import Observed, explain
 from servodesk.motion.reason_texts import REASON_TEXTS, reason
 from servodesk.motion.units import DriveUnits
 from servodesk.motion.words import TRANSITION_TEXTS
+from servodesk.profiles.match import LABELS
 from servodesk_protocol import sdo_abort
 from servodesk_protocol.cia402 import Cia402State
 
@@ -190,3 +191,10 @@ def test_the_pages_travel_words_are_the_servers() -> None:
         info.software_limit.source,
         info.software_limit.note,
     )
+
+
+def test_the_pages_profile_labels_are_the_servers() -> None:
+    """The page names a shipped profile in its own language by the profile's key; in English
+    as the server labels it (servodesk.profiles.match)."""
+    tree = json.loads((LOCALES / "en.json").read_text(encoding="utf-8"))
+    assert tree["format"]["profile"] == LABELS

@@ -25,7 +25,8 @@ DEVICE_PROFILE_MASK = 0xFFFF
 GENERIC_EDS_PROFILE = "cia402"  # whose EDS the generic profiles borrow
 COMMUNICATION_AREA = (0x1000, 0x1FFF)  # CiA 301 communication profile area
 
-_LABELS = {
+# the labels by profile name (the page has them in its `format.profile` catalogue too)
+LABELS = {
     "mdi-s1c": "MDi-S1-C CAN servo",
     "kinco": "Kinco servo",
     "cia402": "CiA 402 controller (Nanotec style)",
@@ -64,18 +65,18 @@ def match(
             if identity.vendor_id == vendor_id and identity.product_code == product_code:
                 return ProfileMatch(
                     name=data.profile,
-                    label=_LABELS.get(data.profile, identity.description),
+                    label=LABELS.get(data.profile, identity.description),
                     data=data,
                     eds_path=data.eds,
                 )
     generic_eds = servodesk_data.eds_path(GENERIC_EDS_PROFILE)
     if device_type is not None and device_type & DEVICE_PROFILE_MASK == CIA402_DEVICE_PROFILE:
         return ProfileMatch(
-            name=GENERIC_CIA402, label=_LABELS[GENERIC_CIA402], data=None, eds_path=generic_eds
+            name=GENERIC_CIA402, label=LABELS[GENERIC_CIA402], data=None, eds_path=generic_eds
         )
     return ProfileMatch(
         name=GENERIC_CIA301,
-        label=_LABELS[GENERIC_CIA301],
+        label=LABELS[GENERIC_CIA301],
         data=None,
         eds_path=generic_eds,
         index_range=COMMUNICATION_AREA,

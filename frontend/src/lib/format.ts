@@ -1,6 +1,6 @@
 // Small display helpers shared by the pages.
 import type { NodeInfo } from "../api/types";
-import { currentLocale, i18n } from "../i18n";
+import { currentLanguage, currentLocale, i18n } from "../i18n";
 
 /** 0x0000_02A0-style hex of an identity number; "—" when unknown. */
 export function hex(value: number | null | undefined, digits = 8): string {
@@ -94,8 +94,17 @@ export function formatRate(value: number | null | undefined): string {
   return `${tenthsBelowTen(value)}/s`;
 }
 
+/** The label of a profile ServoDesk ships, in the page's language (by its key); in English, or
+ * for a profile the page does not know (a user's), as the server labels it. */
+export function profileLabel(info: Pick<NodeInfo, "profile" | "profile_label">): string {
+  const label = info.profile_label;
+  if (!info.profile || currentLanguage() === "en") return label;
+  const key = `format.profile.${info.profile}`;
+  return i18n.t(key, { defaultValue: label });
+}
+
 /** "1 · MDi-S1-C · DVS_CANOPEN": id, profile, the drive's own name (1008h). */
 export function nodeTitle(node: number, info: NodeInfo | undefined): string {
   if (!info) return i18n.t("format.unknownNode", { node });
-  return [String(node), info.profile_label, info.name].filter(Boolean).join(" · ");
+  return [String(node), profileLabel(info), info.name].filter(Boolean).join(" · ");
 }

@@ -20,6 +20,9 @@ export interface LiveEvent {
   node: number | null;
   kind: LiveEventKind;
   message: string;
+  /** The message by id, for the page's language (lib/serverText.ts). */
+  message_id?: string | null;
+  params?: Record<string, string | number>;
 }
 
 export type ServerMessage =
@@ -69,6 +72,22 @@ function parseNode(value: unknown): LiveNode | null {
   };
 }
 
+/** An event's words by id, when the server sent them (docs/api.md, "Texts in the user's
+ * language"): parameters other than strings and numbers are left out. */
+function parseSaid(value: Record<string, unknown>): {
+  message_id?: string;
+  params?: Record<string, string | number>;
+} {
+  if (typeof value.message_id !== "string") return {};
+  const params: Record<string, string | number> = {};
+  if (isRecord(value.params)) {
+    for (const [name, param] of Object.entries(value.params)) {
+      if (typeof param === "string" || typeof param === "number") params[name] = param;
+    }
+  }
+  return { message_id: value.message_id, params };
+}
+
 function parseEvent(value: unknown): LiveEvent | null {
   if (!isRecord(value) || typeof value.message !== "string") return null;
   return {
@@ -76,6 +95,7 @@ function parseEvent(value: unknown): LiveEvent | null {
     node: typeof value.node === "number" ? value.node : null,
     kind: (typeof value.kind === "string" ? value.kind : "bus") as LiveEventKind,
     message: value.message,
+    ...parseSaid(value),
   };
 }
 
@@ -96,6 +116,7 @@ function parseTimelineEvent(value: unknown): TimelineEvent | null {
     node: typeof value.node === "number" ? value.node : null,
     message: value.message,
     data: isRecord(value.data) ? value.data : {},
+    ...parseSaid(value),
   };
 }
 

@@ -3,7 +3,7 @@ import type { ReactNode } from "react";
 import { reportUrl } from "../../api/commissionApi";
 import { RecordChip } from "../../components/StatusChip";
 import { currentLanguage, i18n, useTranslation, type MessageKey } from "../../i18n";
-import { hex } from "../../lib/format";
+import { hex, profileLabel } from "../../lib/format";
 import { useMay } from "../../session/context";
 import { localDateTime, progress } from "./steps";
 import type { CommissioningRecord, RecordStatus } from "./types";
@@ -67,7 +67,7 @@ export function RecordHeader({
         <div>
           <dt>{t("commission.record.drive")}</dt>
           <dd>
-            {id.name ?? "—"} <span className="muted">({id.profile_label})</span>
+            {id.name ?? "—"} <span className="muted">({profileLabel(id)})</span>
           </dd>
         </div>
         <div>

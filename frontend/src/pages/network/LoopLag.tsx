@@ -14,7 +14,11 @@ const POLL_MS = 5000;
 
 /** Words for the server's event-loop lag over the last minute (pure, table-tested). */
 export function lagWords(lag: Lag): { text: string; busy: boolean } {
-  const figures = `p50 ${lag.p50_ms.toFixed(1)} ms · p99 ${lag.p99_ms.toFixed(1)} ms · max ${lag.max_ms.toFixed(0)} ms`;
+  const figures = i18n.t("network.loopLag.figures", {
+    p50: lag.p50_ms.toFixed(1),
+    p99: lag.p99_ms.toFixed(1),
+    max: lag.max_ms.toFixed(0),
+  });
   const busy = lag.p99_ms > LAG_P99_MS || lag.max_ms > LAG_MAX_MS;
   return {
     text: busy ? i18n.t("network.loopLag.busy", { figures }) : figures,

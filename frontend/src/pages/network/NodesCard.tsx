@@ -9,7 +9,7 @@ import { NmtBadge, NmtDot } from "../../components/NmtDot";
 import { QuickStopAllButton, QuickStopButton } from "../../components/QuickStopButton";
 import { Spinner } from "../../components/Spinner";
 import { Trans, useTranslation } from "../../i18n";
-import { formatAge, hex } from "../../lib/format";
+import { formatAge, hex, profileLabel } from "../../lib/format";
 import { useAction } from "../../lib/useApi";
 import { useLive, useLiveStore } from "../../live/context";
 import { refreshNodes } from "../../live/nodes";
@@ -155,7 +155,7 @@ const NodeRow = memo(function NodeRow({
         <ErrorLamp info={info} />
       </td>
       <td>{info.name ?? "—"}</td>
-      <td>{info.profile_label}</td>
+      <td>{profileLabel(info)}</td>
       <td className="mono small">
         <span className="block" title={t("network.nodes.vendorId")}>
           {hex(info.vendor_id)}

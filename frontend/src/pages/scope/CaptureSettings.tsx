@@ -2,7 +2,7 @@ import { useId, type ReactNode } from "react";
 
 import type { NodeInfo } from "../../api/types";
 import { i18n, useTranslation, type MessageKey } from "../../i18n";
-import { odAddress } from "../../lib/format";
+import { odAddress, profileLabel } from "../../lib/format";
 import {
   CIA402_STATES,
   STATUSWORD,
@@ -76,7 +76,7 @@ export function CaptureSettings({
             {info.profile_label
               ? t("scope.settings.nodeOptionProfile", {
                   node: info.node,
-                  profile: info.profile_label,
+                  profile: profileLabel(info),
                 })
               : t("scope.settings.nodeOption", { node: info.node })}
           </option>
