@@ -21,6 +21,31 @@ ERROR_TEXTS: Mapping[str, str] = MappingProxyType(
         "error.node_stopped": "node {node} is Stopped: SDO is not available in that state — set "
         "it Pre-operational or Operational",
         "error.bus_not_connected": "the CAN bus is not connected",
+        "error.interrupted": "node {node}: the connection to it was renewed (bus reconnected or "
+        "node moved) while the request waited; nothing was sent — send the request again",
+        "error.interrupted_by_stop": "node {node}: a stop went to the drive during '{what}', "
+        "before its first write; nothing was sent — send the request again",
+        # motion (servodesk.motion): limits, a busy axis, another client's control, a jog
+        "error.speed_above_drive": "node {node}: {rpm} rpm is above the drive's own limit "
+        "{limit} rpm; nothing was sent",
+        "error.torque_above_drive": "node {node}: {pct} % is above the drive's max torque "
+        "{limit} % (6072h); nothing was sent",
+        "error.travel_empty": "node {node}: travel limits {low} … {high} rev are empty; nothing "
+        "was sent",
+        "error.speed_beyond": "node {node}: {rpm} rpm is beyond the speed limit of {limit} rpm; "
+        "nothing was sent",
+        "error.torque_beyond": "node {node}: {pct} % is beyond the torque limit of {limit} %; "
+        "nothing was sent",
+        "error.travel_outside": "node {node}: target {target} rev is outside the travel limits "
+        "{low} … {high} rev; nothing was sent",
+        "error.path_too_fast": "node {node}: the path peaks at {rpm} rpm, beyond {limit} rpm; "
+        "nothing was sent",
+        "error.setpoint_held": "node {node}: the drive still holds the previous set-point (bit 12)",
+        "error.no_jog": "node {node}: no jog is running: start one first",
+        "error.controlled_elsewhere": "node {node} is controlled by {holder}: take over control "
+        "first (POST /api/nodes/{node}/drive/controller with take_over)",
+        "error.jog_stopped": "jog {jog_id} on node {node} was stopped ({reason}); start a new "
+        "jog to move again",
     }
 )
 
@@ -100,11 +125,16 @@ class NodeStoppedError(ServodeskError):
 
 
 class RequestInterruptedError(ServodeskError):
-    """A request waited for a node whose connection was renewed (bus reconnect, node moved)."""
+    """A request waited for a node whose connection was renewed (bus reconnect, node moved),
+    or a stop cut in before its first write (`stopped_during`: what the request was)."""
 
-    def __init__(self, node_id: int, reason: str) -> None:
+    def __init__(self, node_id: int, *, stopped_during: str | None = None) -> None:
         self.node_id = node_id
-        super().__init__(f"node {node_id}: {reason}; nothing was sent — send the request again")
+        if stopped_during is None:
+            super().__init__(self.say("error.interrupted", node=node_id))
+        else:
+            said = self.say("error.interrupted_by_stop", node=node_id, what=stopped_during)
+            super().__init__(said)
 
 
 class BusNotConnectedError(ServodeskError):

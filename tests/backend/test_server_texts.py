@@ -23,11 +23,15 @@ from servodesk.motion.axis import travel_info
 from servodesk.motion.drive_io import Travel
 from servodesk.motion.explain import Observed, explain
 from servodesk.motion.reason_texts import REASON_TEXTS, reason
+from servodesk.motion.stop_reasons import STOP_TEXTS, Reason, nested, nested_stop, said, then
 from servodesk.motion.units import DriveUnits
 from servodesk.motion.words import TRANSITION_TEXTS
+from servodesk.pdo_problems import PDO_TEXTS, Owner, owner_params, problem
 from servodesk.profiles.match import LABELS
 from servodesk_protocol import sdo_abort
 from servodesk_protocol.cia402 import Cia402State
+from servodesk_protocol.cob_id import node_services
+from servodesk_protocol.pdo import RESTRICTED_CAN_IDS
 
 LOCALES = Path(__file__).parents[2] / "frontend" / "src" / "i18n" / "locales"
 PLACEHOLDER = re.compile(r"\{\{(\w+)\}\}")
@@ -48,6 +52,13 @@ SERVER_TEXTS = {
     **EVENT_TEXTS,
     **ERROR_TEXTS,
     **TRANSITION_TEXTS,
+    **STOP_TEXTS,
+    **PDO_TEXTS,
+    # the fixed words the server sends as parameters (a service, a CiA 301 reserved range)
+    **{
+        f"word.{re.sub(r'[^a-z0-9]+', '_', word.lower()).strip('_')}": word
+        for word in [*node_services(1).values(), *(use for _, _, use in RESTRICTED_CAN_IDS)]
+    },
     **{f"abort.{code:08X}": meaning for code, meaning in sdo_abort.MEANINGS.items()},
 }
 
@@ -62,9 +73,10 @@ def test_the_chinese_catalogue_has_every_id_and_placeholder() -> None:
     assert chinese.keys() == SERVER_TEXTS.keys()
     for key, template in SERVER_TEXTS.items():
         assert set(PLACEHOLDER.findall(chinese[key])) == set(re.findall(r"\{(\w+)\}", template))
-        # a text of words has Chinese; one of parameters only ("{was} → {state}") has none
-        assert re.search(r"[\u4e00-\u9fff]", chinese[key]) or not re.sub(
-            r"\{\{\w+\}\}|[\s→]", "", chinese[key]
+        # a text of words has Chinese; one of parameters only ("{was} → {state}") or a name
+        # ("SYNC", "EMCY") has none
+        assert re.search(r"[\u4e00-\u9fff]", chinese[key]) or not re.search(
+            r"[a-z]{2,}", PLACEHOLDER.sub("", chinese[key])
         ), key
 
 
@@ -198,3 +210,46 @@ def test_the_pages_profile_labels_are_the_servers() -> None:
     as the server labels it (servodesk.profiles.match)."""
     tree = json.loads((LOCALES / "en.json").read_text(encoding="utf-8"))
     assert tree["format"]["profile"] == LABELS
+
+
+def test_a_stop_reason_is_its_english_words_and_knows_its_id() -> None:
+    first = Reason("stop.keepalive", ms=300)
+    assert first == "keep-alive missed for 300 ms"
+    assert said(first) == ("stop.keepalive", {"ms": 300})
+    later = then(first, "stop.then_unread", error="no answer")
+    assert later == (
+        "keep-alive missed for 300 ms; the speed could not be read while stopping (no answer)"
+    )
+    assert said(later) == (
+        "stop.then_unread",
+        {
+            "reason": "keep-alive missed for 300 ms",
+            "reason_id": "stop.keepalive",
+            "reason_ms": 300,
+            "error": "no answer",
+        },
+    )
+    assert said("a plain reason") == (None, {})
+    stored = nested_stop("quick stop", "stop.quick_stop", {})
+    assert stored == nested("reason", Reason("stop.quick_stop"))
+
+
+def test_a_pdo_problem_names_who_uses_the_can_id_by_id_too() -> None:
+    owner = Owner("owner.node_service", node=2, service="EMCY")
+    assert owner == "node 2 EMCY"
+    found = problem(
+        "tpdo", 1, "pdo.can_id_used", 0x1800, 1, pdo="TPDO1", can_id="82", **owner_params(owner)
+    )
+    assert found.message == "TPDO1 CAN id 82h is already used by node 2 EMCY"
+    assert (found.message_id, found.params) == (
+        "pdo.can_id_used",
+        {
+            "pdo": "TPDO1",
+            "can_id": "82",
+            "owner": "node 2 EMCY",
+            "owner_id": "owner.node_service",
+            "owner_node": 2,
+            "owner_service": "EMCY",
+        },
+    )
+    assert owner_params("SYNC") == {"owner": "SYNC"}  # words without an id: shown as sent

@@ -33,6 +33,7 @@ from servodesk.models.safety import (
     TakeControlRequest,
 )
 from servodesk.motion.lease import Client
+from servodesk.motion.stop_reasons import Reason
 
 router = APIRouter(tags=["drive"], responses=MOTION_ERRORS, route_class=AuditedRoute)
 
@@ -74,7 +75,7 @@ async def enable(node: NodeId, client: ClientDep, services: ServicesDep) -> Driv
 @router.post("/nodes/{node}/drive/disable")
 async def disable(node: NodeId, client: ClientDep, services: ServicesDep) -> DriveState:
     await services.safety.authorize(node, client)
-    services.safety.jogs.stop_node(node, "drive disabled")
+    services.safety.jogs.stop_node(node, Reason("stop.drive_disabled"))
     return await services.motion.disable(node)
 
 

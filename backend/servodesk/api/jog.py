@@ -10,6 +10,7 @@ from servodesk.api.deps import NodeId, ServicesDep
 from servodesk.api.drive import ClientDep
 from servodesk.api.errors import JOG_ERRORS, MOTION_ERRORS
 from servodesk.models.safety import JogInfo, JogRequest
+from servodesk.motion.stop_reasons import Reason
 
 router = APIRouter(tags=["jog"], route_class=AuditedRoute)
 
@@ -41,4 +42,4 @@ async def keepalive(jog_id: str, client: ClientDep, services: ServicesDep) -> Jo
 async def stop_jog(jog_id: str, services: ServicesDep) -> JogInfo:
     """Stop the jog (anyone may); answers once the stop was sent to the drive, with state
     "stopping" until the axis is at rest."""
-    return await services.safety.jogs.stop(jog_id, "stopped by the user")
+    return await services.safety.jogs.stop(jog_id, Reason("stop.user"))

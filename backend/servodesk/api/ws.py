@@ -39,6 +39,7 @@ from servodesk.models.live import (
 )
 from servodesk.motion.jog import JogStoppedError
 from servodesk.motion.lease import Client
+from servodesk.motion.stop_reasons import Reason
 from servodesk.services import Services
 
 router = APIRouter()
@@ -158,7 +159,7 @@ async def _handle(services: Services, client: LiveClient, raw: Any) -> dict[str,
                 async with services.audit.entry(
                     "jog-stop", None, f"stop jog {jog_id} (live channel)", outcome_of, wait=False
                 ):
-                    await safety.jogs.stop(jog_id, "stopped by the user")
+                    await safety.jogs.stop(jog_id, Reason("stop.user"))
             case PageHiddenMessage():
                 if not client.client.anonymous:
                     safety.page_hidden(client.client.id)

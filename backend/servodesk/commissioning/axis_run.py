@@ -28,6 +28,7 @@ from servodesk.models.scope import Capture, CaptureRequest, ScopeSignalRequest
 from servodesk.motion.jog import JogStoppedError
 from servodesk.motion.lease import Client
 from servodesk.motion.safety import MotionSafety
+from servodesk.motion.stop_reasons import Reason
 from servodesk.nodes.access import NodeAccess
 from servodesk.scope.samples import read_samples
 from servodesk.scope.service import ScopeService
@@ -91,7 +92,7 @@ class AxisRun:
         safety, node = self.safety, self.node
         for capture_id in self.captures:  # a capture the step did not get to end
             await self._attempt("end the capture", self.scope.stop(capture_id))
-        safety.jogs.stop_node(node, "the commissioning step ended", by_tool=True)
+        safety.jogs.stop_node(node, Reason("stop.step_ended"), by_tool=True)
         with contextlib.suppress(ServodeskError):
             if abs(await safety.motion.velocity_rpm(node)) >= self.rest_rpm:
                 await safety.quick_stop(node)

@@ -21,6 +21,7 @@ from servodesk.commissioning.evidence import Outcome
 from servodesk.commissioning.reads import read_listed
 from servodesk.models.motion import MoveRequest
 from servodesk.models.safety import JogRequest
+from servodesk.motion.stop_reasons import Reason
 from servodesk.scope.units import drive_units
 from servodesk_protocol.cia402 import STATUSWORD
 
@@ -54,7 +55,7 @@ async def _jog(run: AxisRun, mode: str) -> dict[str, Any]:
         while loop.time() < until and safety.jogs.get(jog.jog_id).state == "running":
             peak = max(peak, abs(await safety.motion.velocity_rpm(node)))
             await asyncio.sleep(POLL_S)
-    info = await safety.jogs.stop(jog.jog_id, "the commissioning test jog ended")
+    info = await safety.jogs.stop(jog.jog_id, Reason("stop.test_jog_ended"))
     info = await run.wait_jog_stopped(jog.jog_id, 15.0)
     at_rest = abs(await safety.motion.velocity_rpm(node)) < run.rest_rpm
     return {

@@ -75,6 +75,10 @@ class PdoProblem(BaseModel):
     # None when the problem is not about one object
     index: int | None = None
     subindex: int | None = None
+    # the message in the page's catalogue (`server.<message_id>` with `params`, docs/api.md
+    # "Texts in the user's language"); null: only the English message exists
+    message_id: str | None = None
+    params: dict[str, str | int] = Field(default_factory=dict)
 
 
 class PdoRules(BaseModel):

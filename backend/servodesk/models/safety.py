@@ -78,6 +78,9 @@ class JogInfo(BaseModel):
     keepalive_ms: int
     state: JogStateName
     stop_reason: str | None = None  # why it stopped: keep-alive missed, socket closed, EMCY …
+    # the same words by id for the page's catalogue (docs/api.md "Texts in the user's language")
+    stop_reason_id: str | None = None
+    stop_reason_params: dict[str, str | int] = Field(default_factory=dict)
     # the deceleration the stop uses (rpm/s): never below ServoDesk's floor, whatever the ramp
     stop_deceleration_rpm_s: float | None = None
     velocity_rpm: float | None = None  # the last speed read while it ran or stopped

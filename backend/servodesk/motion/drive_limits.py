@@ -49,18 +49,20 @@ class Limits:
         if limits.max_velocity_rpm > drive.max_velocity_rpm:
             raise LimitError(
                 node,
-                f"{limits.max_velocity_rpm} rpm is above the drive's own limit "
-                f"{drive.max_velocity_rpm:g} rpm",
+                "error.speed_above_drive",
+                rpm=str(limits.max_velocity_rpm),
+                limit=f"{drive.max_velocity_rpm:g}",
             )
         if limits.max_torque_pct > drive.max_torque_pct:
             raise LimitError(
                 node,
-                f"{limits.max_torque_pct} % is above the drive's max torque "
-                f"{drive.max_torque_pct:g} % (6072h)",
+                "error.torque_above_drive",
+                pct=str(limits.max_torque_pct),
+                limit=f"{drive.max_torque_pct:g}",
             )
         low, high = limits.min_position_rev, limits.max_position_rev
         if low is not None and high is not None and low >= high:
-            raise LimitError(node, f"travel limits {low} … {high} rev are empty")
+            raise LimitError(node, "error.travel_empty", low=str(low), high=str(high))
         self._drive.axis(node).chosen_limits = limits
         self._follow_drive(node)
         return self._drive.axis(node).limits
@@ -196,7 +198,7 @@ class Limits:
     def check_velocity(self, node: int, rpm: float) -> None:
         limit = self._drive.axis(node).limits.max_velocity_rpm
         if not math.isfinite(rpm) or abs(rpm) > limit:
-            raise LimitError(node, f"{rpm:g} rpm is beyond the speed limit of {limit:g} rpm")
+            raise LimitError(node, "error.speed_beyond", rpm=f"{rpm:g}", limit=f"{limit:g}")
 
     def check_jog(self, node: int, mode: str, value: float) -> None:
         if mode == "pv":
@@ -204,7 +206,7 @@ class Limits:
             return
         limit = self._drive.axis(node).limits.max_torque_pct
         if not math.isfinite(value) or abs(value) > limit:
-            raise LimitError(node, f"{value:g} % is beyond the torque limit of {limit:g} %")
+            raise LimitError(node, "error.torque_beyond", pct=f"{value:g}", limit=f"{limit:g}")
 
     def check_travel(self, node: int, target_rev: float) -> None:
         limits = self._drive.axis(node).limits
@@ -212,6 +214,8 @@ class Limits:
         if (low is not None and target_rev < low) or (high is not None and target_rev > high):
             raise LimitError(
                 node,
-                f"target {target_rev:.4f} rev is outside the travel limits "
-                f"{low if low is not None else '−∞'} … {high if high is not None else '+∞'} rev",
+                "error.travel_outside",
+                target=f"{target_rev:.4f}",
+                low=str(low) if low is not None else "−∞",
+                high=str(high) if high is not None else "+∞",
             )

@@ -28,16 +28,17 @@ class EnableBlockedError(ServodeskError):
 
 
 class LimitError(InvalidValueError):
-    """A command outside the node's motion limits; nothing was sent."""
+    """A command outside the node's motion limits; nothing was sent. Its words by id
+    (servodesk.errors.ERROR_TEXTS, `error.*`), the numbers formatted as the message shows them."""
 
-    def __init__(self, node: int, message: str) -> None:
+    def __init__(self, node: int, message_id: str, **params: str | int) -> None:
         self.node = node
-        super().__init__(f"node {node}: {message}; nothing was sent")
+        super().__init__(self.say(message_id, node=node, **params))
 
 
 class MotionBusyError(ServodeskError):
     """The axis is busy with something that a new command would conflict with."""
 
-    def __init__(self, node: int, message: str) -> None:
+    def __init__(self, node: int, message_id: str) -> None:
         self.node = node
-        super().__init__(f"node {node}: {message}")
+        super().__init__(self.say(message_id, node=node))

@@ -106,8 +106,9 @@ class IpStreams:
         if peak_rpm > axis.limits.max_velocity_rpm:
             raise LimitError(
                 node,
-                f"the path peaks at {peak_rpm:.0f} rpm, "
-                f"beyond {axis.limits.max_velocity_rpm:g} rpm",
+                "error.path_too_fast",
+                rpm=f"{peak_rpm:.0f}",
+                limit=f"{axis.limits.max_velocity_rpm:g}",
             )
         # off the node's worker thread, which a priority stop must find free: the same host
         timing = await asyncio.to_thread(probe, period_ms / 1000)

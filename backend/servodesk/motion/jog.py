@@ -23,13 +23,13 @@ from typing import Literal, Protocol
 
 from servodesk.errors import ServodeskError
 from servodesk.models.safety import JogInfo
+from servodesk.motion.stop_reasons import Params, Reason, nested_stop, said, then
 from servodesk.settings import Settings
 
 log = logging.getLogger(__name__)
 
 KEEP_STOPPED = 50  # stopped jogs remembered, so a late keep-alive learns why it stopped
-KEEPALIVE_MISSED = "keep-alive missed"
-REPLACED = "replaced by a new jog"  # ended without a stop: the new jog drives the axis
+REPLACED = Reason("stop.replaced")  # ended without a stop: the new jog drives the axis
 REST_READINGS = 2  # consecutive readings below jog_rest_rpm: at rest
 STOP_MARGIN = 1.5  # × the time the deceleration should take, before a quick stop follows
 STOP_SLACK = 0.5  # s added to that (the first readings, a drive's own ramp start)
@@ -59,8 +59,12 @@ class JogStoppedError(ServodeskError):
     def __init__(self, info: JogInfo) -> None:
         self.info = info
         super().__init__(
-            f"jog {info.jog_id} on node {info.node} was stopped ({info.stop_reason}); "
-            "start a new jog to move again"
+            self.say(
+                "error.jog_stopped",
+                jog_id=info.jog_id,
+                node=info.node,
+                **nested_stop(info.stop_reason, info.stop_reason_id, info.stop_reason_params),
+            )
         )
 
 
@@ -108,6 +112,7 @@ class _Jog:
     sent: asyncio.Event = field(default_factory=asyncio.Event, repr=False)
     stopping: asyncio.Task[None] | None = field(default=None, repr=False)
     watch: asyncio.Task[None] | None = field(default=None, repr=False)
+    reason: str = ""  # why it stopped: the Reason itself (JogInfo keeps its words and id)
 
 
 Changed = Callable[[JogInfo], None]
@@ -158,7 +163,9 @@ class JogWatchdog:
                 # still watching the last jog slow down: the new one drives the axis now
                 jog.stopping.cancel()
                 self._update(
-                    jog, state="stopped", stop_reason=f"{jog.info.stop_reason}; {REPLACED}"
+                    jog,
+                    state="stopped",
+                    stop_reason=then(jog.reason, "stop.then_replaced"),
                 )
         info = JogInfo(
             jog_id=uuid.uuid4().hex,
@@ -254,7 +261,7 @@ class JogWatchdog:
 
     def _expired(self, jog: _Jog) -> None:
         if jog.info.state == "running":
-            self._stop(jog, f"{KEEPALIVE_MISSED} for {jog.info.keepalive_ms} ms", by_tool=True)
+            self._stop(jog, Reason("stop.keepalive", ms=jog.info.keepalive_ms), by_tool=True)
 
     def _disarm(self, jog: _Jog) -> None:
         if jog.timer is not None:
@@ -265,6 +272,12 @@ class JogWatchdog:
             watch.cancel()
 
     def _update(self, jog: _Jog, **changes: object) -> None:
+        if "stop_reason" in changes:  # the reason's words by id too, for the page
+            reason = changes["stop_reason"]
+            jog.reason = reason if isinstance(reason, str) else ""
+            message_id, params = said(reason if isinstance(reason, str) else None)
+            changes.update(stop_reason=str(reason), stop_reason_id=message_id)
+            changes["stop_reason_params"] = params
         jog.info = jog.info.model_copy(update=changes)
         self._nodes_changed()
         for fn in list(self._listeners):
@@ -296,14 +309,13 @@ class JogWatchdog:
             self._update(
                 jog,
                 state="stopped",
-                stop_reason=f"{reason}; the stop could not be sent: the drive's heartbeat "
-                "consumer is the backstop, check that the axis stands",
+                stop_reason=then(reason, "stop.then_not_sent"),
             )
             return
         note = await self._watch_to_rest(jog, node)
         update: dict[str, object] = {"state": "stopped"}
         if note:
-            update["stop_reason"] = f"{reason}; {note}"
+            update["stop_reason"] = then(reason, note[0], **note[1])
         self._update(jog, **update)
 
     async def _send_stop(self, jog: _Jog, reason: str, by_tool: bool) -> bool:
@@ -328,9 +340,10 @@ class JogWatchdog:
         self.unsent.discard(node)
         return True
 
-    async def _watch_to_rest(self, jog: _Jog, node: int) -> str | None:
+    async def _watch_to_rest(self, jog: _Jog, node: int) -> tuple[str, Params] | None:
         """Read 606Ch until the axis is at rest; a quick stop when it takes longer than its
-        deceleration allows. Returns a note for the stop reason when it did not end plainly."""
+        deceleration allows. Returns a note for the stop reason (its message id, its own
+        parameters) when it did not end plainly."""
         loop = asyncio.get_running_loop()
         decel = jog.info.stop_deceleration_rpm_s or self._floor
         deadline: float | None = None
@@ -340,11 +353,11 @@ class JogWatchdog:
             try:
                 rpm = await self._motion.velocity_rpm(node)
             except ServodeskError as error:
-                return f"the speed could not be read while stopping ({error})"
+                return "stop.then_unread", {"error": str(error)}
             jog.info = jog.info.model_copy(update={"velocity_rpm": rpm})
             still = still + 1 if abs(rpm) < self._rest else 0
             if still >= REST_READINGS:
-                return "quick stop sent: it did not slow down on the halt" if quick_sent else None
+                return ("stop.then_no_slowdown", {}) if quick_sent else None
             now = loop.time()
             if deadline is None:
                 deadline = now + abs(rpm) / decel * STOP_MARGIN + STOP_SLACK
@@ -355,9 +368,10 @@ class JogWatchdog:
                 try:
                     await self._motion.stop(node, reason="not at rest after the halt", quick=True)
                 except ServodeskError as error:
-                    return f"still {rpm:.0f} rpm and the quick stop could not be sent ({error})"
+                    return "stop.then_quick_unsent", {"rpm": f"{rpm:.0f}", "error": str(error)}
             elif now > deadline:
-                return f"still {rpm:.0f} rpm {WATCH_AFTER_QUICK_STOP:g} s after a quick stop"
+                after = f"{WATCH_AFTER_QUICK_STOP:g}"
+                return "stop.then_still_moving", {"rpm": f"{rpm:.0f}", "seconds": after}
             await asyncio.sleep(self._interval)
 
     async def _watch_running(self, jog: _Jog) -> None:

@@ -37,10 +37,7 @@ class HeldByOtherError(ServodeskError):
         self.node = node
         self.holder = holder
         who = holder.name or holder.client_id
-        super().__init__(
-            f"node {node} is controlled by {who}: take over control first "
-            f"(POST /api/nodes/{node}/drive/controller with take_over)"
-        )
+        super().__init__(self.say("error.controlled_elsewhere", node=node, holder=who))
 
 
 Changed = Callable[[int], None]  # node whose holder changed

@@ -132,7 +132,7 @@ class Moves:
                 node, lambda w: not w & SW_MODE_BIT12, self._drive.settings.motion_move_timeout
             )
             if not free:
-                raise MotionBusyError(node, "the drive still holds the previous set-point (bit 12)")
+                raise MotionBusyError(node, "error.setpoint_held")
         await self._drive.controlword(
             node, make_enable_operation(new_setpoint=True, change_immediately=immediately)
         )
@@ -231,7 +231,7 @@ class Moves:
         """A new speed (rpm) or torque (%) for the running jog; limits checked first."""
         axis = self._drive.axis(node)
         if axis.jog is None:
-            raise MotionBusyError(node, "no jog is running: start one first")
+            raise MotionBusyError(node, "error.no_jog")
         self._limits.check_jog(node, axis.jog, value)
         units = self._drive.units(node)
         if axis.jog == "pv":

@@ -7,6 +7,7 @@ from servodesk.events.texts import say
 from servodesk.events.tool_writes import Publish, tool_write
 from servodesk.models.safety import JogInfo
 from servodesk.motion.jog import REPLACED
+from servodesk.motion.stop_reasons import nested_stop
 
 
 def jog_stopped(publish: Publish, jog: JogInfo) -> None:
@@ -16,11 +17,12 @@ def jog_stopped(publish: Publish, jog: JogInfo) -> None:
         return
     # "stopping" when the stop went out, "at rest" once the axis stands: the timeline never
     # says a jog stopped while the axis still runs
+    reason = nested_stop(jog.stop_reason, jog.stop_reason_id, jog.stop_reason_params)
     how = "event.jog_stopping" if jog.state == "stopping" else "event.jog_at_rest"
     publish(
         tool_write(
             jog.node,
-            say(how, node=jog.node, mode=jog.mode.upper(), reason=str(jog.stop_reason)),
+            say(how, node=jog.node, mode=jog.mode.upper(), **reason),
             "jog-stop",
             jog_id=jog.jog_id,
             mode=jog.mode,

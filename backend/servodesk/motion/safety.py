@@ -29,6 +29,7 @@ from servodesk.motion.heartbeat import HeartbeatGuard
 from servodesk.motion.jog import JogWatchdog, ToolRecord
 from servodesk.motion.lease import Client, ControllerLease
 from servodesk.motion.service import MotionService
+from servodesk.motion.stop_reasons import Reason
 from servodesk.nodes.registry import NodeRegistry
 from servodesk.settings import Settings
 from servodesk_protocol.emcy import ERROR_RESET
@@ -85,7 +86,7 @@ class MotionSafety:
     async def close(self) -> None:
         for unsubscribe in self._unsubscribe:
             unsubscribe()
-        why = "ServoDesk is shutting down"
+        why = Reason("stop.shutting_down")
         self.jogs.stop_all(why, by_tool=True)
         await self.jogs.settled()
         for node in self.lease.nodes():
@@ -139,7 +140,7 @@ class MotionSafety:
         previous = self.lease.take(node, client, take_over=take_over)
         if previous is not None:
             who = client.name or client.id
-            self.jogs.stop_node(node, f"control taken over by {who}")
+            self.jogs.stop_node(node, Reason("stop.taken_over", holder=who))
         await self.heartbeat.protect(node)
         return self.controller(node, client)
 
@@ -148,7 +149,7 @@ class MotionSafety:
         self.claim(client)
         if self.lease.holder(node) is not None:
             self.lease.check(node, client)  # only the holder releases
-            await self._release(node, "control released")
+            await self._release(node, Reason("stop.released"))
         return self.controller(node, client)
 
     async def _release(self, node: int, reason: str, *, by_tool: bool = False) -> None:
@@ -271,12 +272,14 @@ class MotionSafety:
             return await self.quick_stop(node)
         await self.authorize(node, client)
         if command in POWER_DOWN:
-            self.jogs.stop_node(node, f"drive command: {command.replace('_', ' ')}")
+            self.jogs.stop_node(
+                node, Reason("stop.drive_command", drive_command=command.replace("_", " "))
+            )
         return await self.motion.command(node, command)
 
     async def quick_stop(self, node: int) -> DriveState:
         """Open to every client, whoever holds the node."""
-        self.jogs.stop_node(node, "quick stop")
+        self.jogs.stop_node(node, Reason("stop.quick_stop"))
         return await self.motion.quick_stop(node)
 
     async def quick_stop_all(self) -> QuickStopResult:
@@ -286,7 +289,7 @@ class MotionSafety:
         stops = asyncio.gather(
             *(self.motion.quick_stop(node) for node in nodes), return_exceptions=True
         )
-        self.jogs.stop_all("quick stop (all drives)")
+        self.jogs.stop_all(Reason("stop.quick_stop_all"))
         outcomes = await stops
         stopped: list[int] = []
         failed: dict[str, str] = {}
@@ -307,7 +310,7 @@ class MotionSafety:
     def socket_closed(self, client_id: str) -> None:
         """A page's socket closed: its jogs stop; the last socket of a client releases the
         drives it holds (nobody is left to keep them, and the drive must not fault later)."""
-        self.jogs.stop_owner(client_id, "the page's connection closed", by_tool=True)
+        self.jogs.stop_owner(client_id, Reason("stop.page_closed"), by_tool=True)
         self._sockets[client_id] -= 1
         if self._sockets[client_id] <= 0:
             del self._sockets[client_id]
@@ -315,7 +318,7 @@ class MotionSafety:
                 self._spawn(self._release(node, "the controlling page closed", by_tool=True))
 
     def page_hidden(self, client_id: str) -> list[JogInfo]:
-        return self.jogs.stop_owner(client_id, "the page was hidden", by_tool=True)
+        return self.jogs.stop_owner(client_id, Reason("stop.page_hidden"), by_tool=True)
 
     def socket_idle(self, client_id: str) -> None:
         """After socket_closed: an id with no socket, no control and no jog is free again."""
@@ -336,12 +339,17 @@ class MotionSafety:
 
     def on_emcy(self, node: int, data: bytes) -> None:
         code = int.from_bytes(data[:2], "little")
-        self.jogs.stop_node(node, f"EMCY {code:04X}h from the drive", by_tool=True)
+        self.jogs.stop_node(node, Reason("stop.emcy", code=f"{code:04X}"), by_tool=True)
 
     def _on_bus(self, status: BusStatus) -> None:
         if status.state is not BusState.CONNECTED:
-            why = f": {status.error}" if status.error else ""
-            self.jogs.stop_all(f"bus {status.state.value}{why}", by_tool=True)
+            state = status.state.value
+            why = (
+                Reason("stop.bus_error", bus_state=state, error=status.error)
+                if status.error
+                else Reason("stop.bus", bus_state=state)
+            )
+            self.jogs.stop_all(why, by_tool=True)
             return
         for node in list(self.jogs.unsent):  # the bus is back: send what could not be sent
             self._spawn(self._stop_again(node))
@@ -359,9 +367,9 @@ class MotionSafety:
         if event.node is None:
             return
         if event.kind is EventKind.NODE_LOST:
-            self.jogs.stop_node(event.node, "heartbeat lost", by_tool=True)
+            self.jogs.stop_node(event.node, Reason("stop.heartbeat_lost"), by_tool=True)
         elif event.kind is EventKind.BOOT_UP:
-            self.jogs.stop_node(event.node, "the drive restarted", by_tool=True)
+            self.jogs.stop_node(event.node, Reason("stop.restarted"), by_tool=True)
             if self.lease.holder(event.node) is not None:
                 # a reset reloads 1016h: set it again for the holder
                 self._spawn(self._reprotect(event.node))

@@ -58,7 +58,6 @@ from servodesk.nodes.write_step import WriteStep, write_step
 T = TypeVar("T")
 
 NO_RESPONSE = "No SDO response received"  # canopen's SdoCommunicationError on a timeout
-CLOSED = "the connection to it was renewed (bus reconnected or node moved) while the request waited"
 
 # The transactions the running task (and the tasks it starts) is inside: their own requests
 # pass the gate that holds everyone else's back. A task that outlives the transaction it was
@@ -295,7 +294,7 @@ class NodeSession:
             return
         async with self._gate:
             if self._closed:
-                raise RequestInterruptedError(self.node_id, CLOSED)
+                raise RequestInterruptedError(self.node_id)
             tx = Transaction(self, actor)
             token = _HELD.set((*_HELD.get(), tx))
             self._transactions.append(tx)
@@ -324,7 +323,7 @@ class NodeSession:
         `command`: a motion command, ahead of the reads queued before it (module docstring).
         """
         if self._closed:
-            raise RequestInterruptedError(self.node_id, CLOSED)
+            raise RequestInterruptedError(self.node_id)
         call = functools.partial(self._call, fn, what, index, subindex)
         if self._inside() or (command and self._held_reading):
             return await self._queue(call, "command" if command else "normal")
@@ -332,7 +331,7 @@ class NodeSession:
         # the gate while the call runs, so requests still pipeline on the worker).
         async with self._gate:
             if self._closed:
-                raise RequestInterruptedError(self.node_id, CLOSED)
+                raise RequestInterruptedError(self.node_id)
             pending = self._queue(call, "command" if command else "normal")
         return await pending
 
@@ -342,7 +341,7 @@ class NodeSession:
         progress finishes first (never two SDO transfers at once). An open transaction is
         marked interrupted (see the module docstring)."""
         if self._closed:
-            raise RequestInterruptedError(self.node_id, CLOSED)
+            raise RequestInterruptedError(self.node_id)
         for tx in self._transactions:
             tx.interrupted = what
         # a stop does not wait for late answers to settle (see _quiet_until)
@@ -410,7 +409,7 @@ class NodeSession:
         dictionary, later ones with the new one. The RemoteNode itself stays (its SDO and PDO
         helpers look the dictionary up when they need it)."""
         if self._closed:
-            raise RequestInterruptedError(self.node_id, CLOSED)
+            raise RequestInterruptedError(self.node_id)
 
         def swap() -> None:
             remote = self.remote
@@ -433,20 +432,18 @@ class NodeSession:
     ) -> T:
         if self._closed:
             # queued before the connection was renewed: its remote is gone, send nothing
-            raise RequestInterruptedError(self.node_id, CLOSED)
+            raise RequestInterruptedError(self.node_id)
         if not urgent:
             self._let_late_answers_pass()
         try:
             return fn(self.remote)
         except StopCutInError:
-            raise RequestInterruptedError(
-                self.node_id, f"a stop went to the drive during '{what}', before its first write"
-            ) from None
+            raise RequestInterruptedError(self.node_id, stopped_during=what) from None
         except SdoAbortedError as abort:
             raise SdoAbortError(int(abort.code), self.node_id, index, subindex) from abort
         except SdoCommunicationError as error:
             if self._closed:  # the answer went to the old connection's listeners
-                raise RequestInterruptedError(self.node_id, CLOSED) from error
+                raise RequestInterruptedError(self.node_id) from error
             self._quiet_until = time.monotonic() + self.remote.sdo.RESPONSE_TIMEOUT
             if str(error) != NO_RESPONSE:
                 # it did answer, out of protocol (toggle bit, command): say so, not "no answer"
@@ -455,7 +452,7 @@ class NodeSession:
         except RuntimeError as error:
             # canopen's "Not connected to CAN bus": the connection closed during the call
             if self._closed or not _on_a_bus(self.remote):
-                raise RequestInterruptedError(self.node_id, CLOSED) from error
+                raise RequestInterruptedError(self.node_id) from error
             raise
         except can.CanError as error:
             # The adapter itself failed (unplugged, bus-off): the bus manager reconnects.

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from servodesk.pdo.model import PdoConfig
-from servodesk.pdo_problems import PdoKind, Problem
+from servodesk.pdo_problems import PdoKind, Problem, problem
 from servodesk_protocol.pdo import SUB_TRANSMISSION, comm_index, is_synchronous, transmission_words
 
 SyncSource = Literal["external"]  # SYNC comes from the machine's controller (PLC)
@@ -39,18 +39,16 @@ class SyncPresence:
         return self.source == EXTERNAL
 
 
-ASK = (
-    "start the SYNC producer, or confirm that SYNC comes from the machine's controller"
-    ' (sync_source "external")'
-)
-LOADED = "written as the parameter set gives it: the machine's controller is to produce SYNC"
+# what to do about a synchronous PDO without SYNC: the warning's message id (pdo_problems)
+ASK = "pdo.sync_missing_ask"
+LOADED = "pdo.sync_missing_loaded"
 
 
 def sync_warnings(
     pdos: Sequence[PdoConfig], sync: SyncPresence, *, then: str = ASK
 ) -> list[Problem]:
     """One warning per valid synchronous PDO while nothing produces SYNC (empty otherwise);
-    `then` says what to do about it."""
+    `then` (ASK, LOADED) says what to do about it."""
     if sync.present:
         return []
     out: list[Problem] = []
@@ -62,12 +60,10 @@ def sync_warnings(
         seen.add(key)
         label = f"{pdo.kind.upper()}{pdo.number}"
         words = transmission_words(pdo.transmission_type, pdo.direction)
-        text = (
-            f"{label} is synchronous ({words}) but no SYNC is produced or heard on the bus: it"
-            f" acts only once SYNC comes; {then}"
-        )
         comm = comm_index(pdo.direction, pdo.number) if pdo.number >= 1 else None
-        out.append(Problem(pdo.kind, pdo.number, text, comm, SUB_TRANSMISSION))
+        # `t`: the page says the transmission type's words in its own language
+        said: dict[str, str | int] = {"pdo": label, "words": words, "t": pdo.transmission_type}
+        out.append(problem(pdo.kind, pdo.number, then, comm, SUB_TRANSMISSION, **said))
     return out
 
 

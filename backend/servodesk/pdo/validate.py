@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from servodesk.od import datatypes as dt
 from servodesk.od.model import ObjectDictionaryModel, OdSub
 from servodesk.pdo.model import MappedObject, PdoConfig
-from servodesk.pdo_problems import PdoKind, Problem
+from servodesk.pdo_problems import Owner, PdoKind, Problem, owner_params, problem
 from servodesk_protocol import cob_id
 from servodesk_protocol.pdo import (
     CAN_ID_MASK,
@@ -72,12 +72,15 @@ def object_label(index: int, subindex: int, name: str | None) -> str:
 
 def used_ids(node: int, pdos: Sequence[PdoConfig]) -> dict[int, str]:
     """The CAN ids node `node` uses: EMCY, SDO, heartbeat and the COB-IDs of its valid PDOs."""
-    ids = {
-        can_id: f"node {node} {service}" for can_id, service in cob_id.node_services(node).items()
+    ids: dict[int, str] = {
+        can_id: Owner("owner.node_service", node=node, service=service)
+        for can_id, service in cob_id.node_services(node).items()
     }
     for pdo in pdos:
         if pdo.valid:
-            ids[pdo.cob_id] = f"node {node} {pdo_label(pdo.kind, pdo.number)}"
+            ids[pdo.cob_id] = Owner(
+                "owner.node_pdo", node=node, pdo=pdo_label(pdo.kind, pdo.number)
+            )
     return ids
 
 
@@ -88,7 +91,7 @@ def validate(pdos: Sequence[PdoConfig], ctx: PdoContext) -> list[Problem]:
     for pdo in pdos:
         key = (pdo.kind, pdo.number)
         if key in seen:
-            problems.append(_problem(pdo, "is given twice", _comm(pdo)))
+            problems.append(_problem(pdo, "pdo.twice", _comm(pdo)))
             continue
         seen.add(key)
         problems += _check_number(pdo, ctx)
@@ -101,11 +104,15 @@ def validate(pdos: Sequence[PdoConfig], ctx: PdoContext) -> list[Problem]:
 
 
 def _problem(
-    pdo: PdoConfig, text: str, index: int | None = None, subindex: int | None = None
+    pdo: PdoConfig,
+    message_id: str,
+    index: int | None = None,
+    subindex: int | None = None,
+    /,
+    **params: str | int,
 ) -> Problem:
-    return Problem(
-        pdo.kind, pdo.number, f"{pdo_label(pdo.kind, pdo.number)} {text}", index, subindex
-    )
+    label = pdo_label(pdo.kind, pdo.number)
+    return problem(pdo.kind, pdo.number, message_id, index, subindex, pdo=label, **params)
 
 
 def _comm(pdo: PdoConfig) -> int:
@@ -120,20 +127,18 @@ def _check_number(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
     count = ctx.rpdo_count if pdo.kind == "rpdo" else ctx.tpdo_count
     if 1 <= pdo.number <= count:
         return []
-    kind = pdo.kind.upper()
-    text = f"does not exist: this drive has {count} {kind}s ({kind}1–{kind}{count})"
-    return [_problem(pdo, text, _comm(pdo))]
+    return [_problem(pdo, "pdo.no_such", _comm(pdo), count=count, kind=pdo.kind.upper())]
 
 
 def _check_mapping(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
     problems = [p for obj in pdo.mapping for p in _check_entry(pdo, obj, ctx)]
     if len(pdo.mapping) > MAX_ENTRIES:
-        text = f"maps {len(pdo.mapping)} objects; a PDO holds at most {MAX_ENTRIES}"
-        problems.append(_problem(pdo, text, _map(pdo), 0))
+        many = {"objects": len(pdo.mapping), "max": MAX_ENTRIES}
+        problems.append(_problem(pdo, "pdo.too_many_objects", _map(pdo), 0, **many))
     bits = sum(obj.bits for obj in pdo.mapping)
     if bits > MAX_PDO_BITS:
-        text = f"maps {bits} bits; one CAN frame carries at most {MAX_PDO_BITS} (8 bytes)"
-        problems.append(_problem(pdo, text, _map(pdo), 0))
+        many = {"bits": bits, "max": MAX_PDO_BITS}
+        problems.append(_problem(pdo, "pdo.too_many_bits", _map(pdo), 0, **many))
     return problems
 
 
@@ -143,46 +148,51 @@ def _check_entry(pdo: PdoConfig, obj: MappedObject, ctx: PdoContext) -> list[Pro
     sub = ctx.od.get(obj.index, obj.subindex)
     what = object_label(obj.index, obj.subindex, sub.name if sub else obj.name)
     if sub is None:
-        return [_entry_problem(pdo, obj, f"{what} is not in this drive's dictionary")]
-    texts: list[str] = []
+        return [_entry_problem(pdo, obj, "pdo.not_in_dictionary", what=what)]
+    found: list[Problem] = []
     if not sub.pdo_mappable:
-        texts.append(f"{what} is not PDO-mappable in this drive's dictionary")
+        found.append(_entry_problem(pdo, obj, "pdo.not_mappable", what=what))
     if pdo.kind == "rpdo" and sub.access not in WRITABLE:
-        texts.append(f"{what} is read-only ({sub.access}); an RPDO writes into it")
+        found.append(_entry_problem(pdo, obj, "pdo.read_only", what=what, access=sub.access))
     if pdo.kind == "tpdo" and sub.access not in READABLE:
-        texts.append(f"{what} is write-only; a TPDO reads it")
+        found.append(_entry_problem(pdo, obj, "pdo.write_only", what=what))
     size_problem = _size_problem(obj, sub, ctx.byte_granular)
     if size_problem:
-        texts.append(f"{what} {size_problem}")
-    return [_entry_problem(pdo, obj, text) for text in texts]
+        message_id, params = size_problem
+        found.append(_entry_problem(pdo, obj, message_id, what=what, **params))
+    return found
 
 
-def _entry_problem(pdo: PdoConfig, obj: MappedObject, text: str) -> Problem:
+def _entry_problem(
+    pdo: PdoConfig, obj: MappedObject, message_id: str, **params: str | int
+) -> Problem:
     label = pdo_label(pdo.kind, pdo.number)
-    return Problem(pdo.kind, pdo.number, f"{label}: {text}", obj.index, obj.subindex)
+    return problem(pdo.kind, pdo.number, message_id, obj.index, obj.subindex, pdo=label, **params)
 
 
-def _size_problem(obj: MappedObject, sub: OdSub, byte_granular: bool) -> str | None:
+def _size_problem(
+    obj: MappedObject, sub: OdSub, byte_granular: bool
+) -> tuple[str, dict[str, str | int]] | None:
     size = dt.bit_size(sub.data_type)
     type_name = _type_name(sub.data_type)
     if size is None:
-        return f"is {type_name}, which has no fixed size and cannot be mapped"
-    allowed = (1, 8) if sub.data_type == dt.DataType.BOOLEAN else (size,)
-    if obj.bits not in allowed:
-        want = " or ".join(str(b) for b in allowed)
-        return f"is {type_name} ({want} bits) but is mapped with {obj.bits} bits"
+        return "pdo.no_fixed_size", {"type": type_name}
+    if sub.data_type == dt.DataType.BOOLEAN and obj.bits not in (1, 8):
+        return "pdo.wrong_bits_boolean", {"type": type_name, "bits": obj.bits}
+    if sub.data_type != dt.DataType.BOOLEAN and obj.bits != size:
+        return "pdo.wrong_bits", {"type": type_name, "want": size, "bits": obj.bits}
     if byte_granular and obj.bits % 8:
-        return f"is mapped with {obj.bits} bits; this drive maps whole bytes only (8, 16, 32 bits)"
+        return "pdo.whole_bytes", {"bits": obj.bits}
     return None
 
 
 def _check_dummy(pdo: PdoConfig, obj: MappedObject, ctx: PdoContext) -> list[Problem]:
-    what = f"dummy entry {obj.index:04X}h ({_type_name(obj.index)})"
+    dummy = {"dummy": f"{obj.index:04X}", "type": _type_name(obj.index)}
     if obj.index not in ctx.od.device.dummy_usage:
-        return [_entry_problem(pdo, obj, f"{what} is not supported by this drive")]
+        return [_entry_problem(pdo, obj, "pdo.dummy_unsupported", **dummy)]
     if obj.bits != DUMMY_BITS[obj.index]:
         want = DUMMY_BITS[obj.index]
-        return [_entry_problem(pdo, obj, f"{what} takes {want} bits, not {obj.bits}")]
+        return [_entry_problem(pdo, obj, "pdo.dummy_bits", **dummy, want=want, bits=obj.bits)]
     return []
 
 
@@ -190,16 +200,14 @@ def _check_transmission(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
     t = pdo.transmission_type
     sub = (_comm(pdo), SUB_TRANSMISSION)
     if not 0 <= t <= MAX_TRANSMISSION_TYPE:
-        return [_problem(pdo, f"transmission type {t} is outside 0–255", *sub)]
+        return [_problem(pdo, "pdo.transmission_range", *sub, t=t)]
     if SYNC_CYCLIC_MAX < t < SYNC_RTR:
-        return [_problem(pdo, f"transmission type {t} is reserved (use 0–240 or 252–255)", *sub)]
+        return [_problem(pdo, "pdo.transmission_reserved", *sub, t=t)]
     if t in (SYNC_RTR, EVENT_RTR):
         if pdo.kind == "rpdo":
-            text = f"transmission type {t} (remote request) is for TPDOs only; use 0–240 or 254/255"
-            return [_problem(pdo, text, *sub)]
+            return [_problem(pdo, "pdo.rtr_rpdo", *sub, t=t)]
         if not ctx.rtr_supported:
-            text = f"transmission type {t} (remote request): this drive has no RTR-triggered PDOs"
-            return [_problem(pdo, text, *sub)]
+            return [_problem(pdo, "pdo.rtr_unsupported", *sub, t=t)]
     # a synchronous PDO without SYNC is a warning, not a problem of the mapping (sync_rule.py)
     return []
 
@@ -208,12 +216,13 @@ def _check_timers(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
     problems: list[Problem] = []
     comm = _comm(pdo)
     for value, limit, sub, what in (
-        (pdo.inhibit_time_100us, MAX_INHIBIT, SUB_INHIBIT, "inhibit time"),
-        (pdo.event_timer_ms, MAX_EVENT_TIMER_MS, SUB_EVENT_TIMER, "event timer"),
-        (pdo.sync_start, MAX_SYNC_START, SUB_SYNC_START, "SYNC start value"),
+        (pdo.inhibit_time_100us, MAX_INHIBIT, SUB_INHIBIT, "inhibit"),
+        (pdo.event_timer_ms, MAX_EVENT_TIMER_MS, SUB_EVENT_TIMER, "event_timer"),
+        (pdo.sync_start, MAX_SYNC_START, SUB_SYNC_START, "sync_start"),
     ):
         if not 0 <= value <= limit:
-            problems.append(_problem(pdo, f"{what} {value} is outside 0–{limit}", comm, sub))
+            range_id = f"pdo.{what}_range"
+            problems.append(_problem(pdo, range_id, comm, sub, value=value, limit=limit))
         # an RPDO ignores these (it receives, it does not send); a TPDO needs the entry
         elif (
             value
@@ -221,8 +230,8 @@ def _check_timers(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
             and comm in ctx.od.objects
             and ctx.od.get(comm, sub) is None
         ):
-            text = f"sets the {what} but this drive has no {comm:04X}h:{sub:02X} {what}"
-            problems.append(_problem(pdo, text, comm, sub))
+            entry = f"{comm:04X}h:{sub:02X}"
+            problems.append(_problem(pdo, f"pdo.{what}_missing", comm, sub, entry=entry))
     return problems
 
 
@@ -230,27 +239,24 @@ def _check_cob_id(pdo: PdoConfig, ctx: PdoContext) -> list[Problem]:
     where = (_comm(pdo), SUB_COB_ID)
     can_id = pdo.cob_id
     if not 0 <= can_id <= CAN_ID_MASK:
-        return [_problem(pdo, f"CAN id {can_id:X}h is not an 11-bit identifier (0–7FFh)", *where)]
+        return [_problem(pdo, "pdo.can_id_range", *where, can_id=f"{can_id:X}")]
     fixed = default_can_id(pdo.direction, pdo.number)
     if fixed is not None and pdo.number <= ctx.fixed_cob_ids and can_id != fixed + ctx.node:
-        text = (
-            f"CAN id {can_id:X}h cannot be set: this drive fixes it at {fixed + ctx.node:X}h"
-            f" ({fixed:X}h + node id); only the valid bit can change"
-        )
-        return [_problem(pdo, text, *where)]
+        at = {"fixed": f"{fixed + ctx.node:X}", "base": f"{fixed:X}"}
+        return [_problem(pdo, "pdo.can_id_fixed", *where, can_id=f"{can_id:X}", **at)]
     if pdo.valid and restricted_can_id(can_id):
-        text = f"CAN id {can_id:X}h is reserved by CiA 301 ({restricted_use(can_id)})"
-        return [_problem(pdo, text, *where)]
+        use = restricted_use(can_id)
+        return [_problem(pdo, "pdo.can_id_reserved", *where, can_id=f"{can_id:X}", use=use)]
     return []
 
 
 def _check_collisions(pdos: Sequence[PdoConfig], ctx: PdoContext) -> list[Problem]:
     users: dict[int, str] = dict(ctx.other_ids)
     if ctx.sync_producing:
-        users.setdefault(cob_id.SYNC, "SYNC")  # the default COB-ID of 1005h
+        users.setdefault(cob_id.SYNC, Owner("owner.sync"))  # the default COB-ID of 1005h
     if 1 <= ctx.node <= cob_id.MAX_NODE_ID:
         for can_id, service in cob_id.node_services(ctx.node).items():
-            users.setdefault(can_id, f"this node's {service}")
+            users.setdefault(can_id, Owner("owner.this_node", service=service))
     problems: list[Problem] = []
     seen: set[tuple[PdoKind, int]] = set()
     for pdo in pdos:
@@ -259,10 +265,11 @@ def _check_collisions(pdos: Sequence[PdoConfig], ctx: PdoContext) -> list[Proble
         seen.add((pdo.kind, pdo.number))
         user = users.get(pdo.cob_id)
         if user is not None:
-            text = f"CAN id {pdo.cob_id:X}h is already used by {user}"
-            problems.append(_problem(pdo, text, _comm(pdo), SUB_COB_ID))
+            where = (_comm(pdo), SUB_COB_ID)
+            used = {"can_id": f"{pdo.cob_id:X}", **owner_params(user)}
+            problems.append(_problem(pdo, "pdo.can_id_used", *where, **used))
         else:
-            users[pdo.cob_id] = pdo_label(pdo.kind, pdo.number)
+            users[pdo.cob_id] = Owner("owner.pdo", pdo=pdo_label(pdo.kind, pdo.number))
     return problems
 
 

@@ -36,8 +36,13 @@ export class EnableBlockedError extends ApiError {
 
 export class HeldByOtherError extends ApiError {
   readonly holder: ControllerHolder | null;
-  constructor(status: number, message: string, holder: ControllerHolder | null) {
-    super(status, "error", message, null);
+  constructor(
+    status: number,
+    message: string,
+    holder: ControllerHolder | null,
+    said: ApiError["said"] = null,
+  ) {
+    super(status, "error", message, null, null, null, said);
     this.name = "HeldByOtherError";
     this.holder = holder;
   }
@@ -69,7 +74,11 @@ export function motionError(status: number, body: unknown, statusText = ""): Api
     const holder = isRecord(body.holder) ? (body.holder as unknown as ControllerHolder) : null;
     const message =
       typeof body.message === "string" ? body.message : "Another client controls this node";
-    return new HeldByOtherError(status, message, holder);
+    const said =
+      typeof body.message_id === "string" && isRecord(body.params)
+        ? { message_id: body.message_id, params: body.params as Record<string, string | number> }
+        : null;
+    return new HeldByOtherError(status, message, holder, said);
   }
   return toApiError(status, body, statusText);
 }

@@ -2944,6 +2944,12 @@ export interface components {
             stop_deceleration_rpm_s?: number | null;
             /** Stop Reason */
             stop_reason?: string | null;
+            /** Stop Reason Id */
+            stop_reason_id?: string | null;
+            /** Stop Reason Params */
+            stop_reason_params?: {
+                [key: string]: string | number;
+            };
             /** Torque Slope Pct S */
             torque_slope_pct_s?: number | null;
             /** Value */
@@ -3798,8 +3804,14 @@ export interface components {
             kind: "rpdo" | "tpdo";
             /** Message */
             message: string;
+            /** Message Id */
+            message_id?: string | null;
             /** Number */
             number: number;
+            /** Params */
+            params?: {
+                [key: string]: string | number;
+            };
             /** Subindex */
             subindex?: number | null;
         };

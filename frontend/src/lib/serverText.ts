@@ -22,6 +22,12 @@ function word(key: string, value: string): string {
   return i18n.t(key, { defaultValue: value });
 }
 
+/** "SDO response" → server.word.sdo_response: the server's fixed words (service names). */
+const serverWordKey = (v: string): string =>
+  `server.word.${v
+    .toLowerCase()
+    .replace(/[^a-z0-9]+/g, "_")
+    .replace(/^_|_$/g, "")}`;
 const stateKey = (v: string): string => `drive.state.${v.toLowerCase().replace(/ /g, "_")}`;
 const nmtStateKey = (v: string): string => `nmt.state.${camel(v)}`;
 
@@ -33,6 +39,10 @@ const PARAM_WORDS: Record<string, (value: string) => string> = {
   nmt: (v) => word(nmtStateKey(v), v),
   state: (v) => word(stateKey(v), v),
   was: (v) => word(stateKey(v), v),
+  bus_state: (v) => word(`network.bus.state.${v}`, v),
+  service: (v) => word(serverWordKey(v), v),
+  use: (v) => word(serverWordKey(v), v),
+  drive_command: (v) => word(`drive.command.${v.replace(/ /g, "_")}`, v),
 };
 
 /** An SDO abort's meaning by its code ("0x06020000"), in the page's language. */
@@ -43,6 +53,25 @@ export function abortMeaning(code: string, english: string): string {
   return i18n.t(key, { defaultValue: english });
 }
 
+// Parameters that are texts of their own: a jog's stop reason inside "jog stopped (…)", who
+// uses a CAN id inside a PDO problem
+const NESTED = ["reason", "owner"] as const;
+
+/** A text that names another carries that one's id as `<name>_id` and its parameters as
+ * `<name>_<param>`: said in the page's language too; null when it has no id. */
+function nested(params: TextParams, name: string): string | null {
+  const id = params[`${name}_id`];
+  if (typeof id !== "string") return null;
+  const prefix = `${name}_`;
+  const inner: TextParams = {};
+  for (const [param, value] of Object.entries(params)) {
+    if (param.startsWith(prefix) && param !== `${name}_id`)
+      inner[param.slice(prefix.length)] = value;
+  }
+  const key = `server.${id}`;
+  return i18n.t(key, { ...localParams(inner), defaultValue: String(params[name] ?? "") });
+}
+
 function localParams(params: TextParams): TextParams {
   const local: TextParams = {};
   for (const [name, value] of Object.entries(params)) {
@@ -51,6 +80,10 @@ function localParams(params: TextParams): TextParams {
   }
   if (typeof params.abort_code === "string" && typeof params.meaning === "string") {
     local.meaning = abortMeaning(params.abort_code, params.meaning);
+  }
+  for (const name of NESTED) {
+    const text = nested(params, name);
+    if (text !== null) local[name] = text;
   }
   return local;
 }

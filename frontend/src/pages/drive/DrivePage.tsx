@@ -49,7 +49,7 @@ export function DrivePage({ node }: { node: number }): ReactNode {
       </div>
       {heldBy && (
         <p className="error-text" role="alert">
-          {heldBy.message}{" "}
+          {heldBy.text()}{" "}
           <button type="button" className="small" onClick={() => setHeldBy(null)}>
             {t("drive.page.dismiss")}
           </button>

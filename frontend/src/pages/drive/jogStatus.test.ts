@@ -1,5 +1,6 @@
 import { describe, expect, it } from "vitest";
 
+import { inChinese } from "../../test/inChinese";
 import { jogStatus } from "./jogStatus";
 import type { JogInfo } from "./types";
 
@@ -82,5 +83,48 @@ describe("jogStatus", () => {
     ["idle", 0, { positive_limit: true }, "Stopped"],
   ] as const)("%s at %s rpm on %o → %s", (phase, rpm, inputs, text) => {
     expect(jogStatus(phase, rpm, null, inputs)).toEqual({ text, stopping: false, reason: null });
+  });
+});
+
+describe("jogStatus in zh-CN", () => {
+  inChinese();
+
+  it("says why the jog stopped in Chinese, a reason that adds to another one too", () => {
+    const last: JogInfo = {
+      ...jog("stopped", "keep-alive missed for 300 ms; the stop could not be sent: …"),
+      stop_reason_id: "stop.then_not_sent",
+      stop_reason_params: {
+        reason: "keep-alive missed for 300 ms",
+        reason_id: "stop.keepalive",
+        reason_ms: 300,
+      },
+    };
+    expect(jogStatus("idle", 0, last).reason).toBe(
+      "300 ms 内未收到保活信号；停止命令无法发送：驱动器的心跳消费者是最后保障，请确认轴已停住",
+    );
+  });
+
+  it("names the bus state and the drive command in Chinese", () => {
+    const bus: JogInfo = {
+      ...jog("stopped", "bus disconnected"),
+      stop_reason_id: "stop.bus",
+      stop_reason_params: { bus_state: "disconnected" },
+    };
+    expect(jogStatus("idle", 0, bus).reason).toBe("总线未连接");
+    const command: JogInfo = {
+      ...jog("stopped", "drive command: disable voltage"),
+      stop_reason_id: "stop.drive_command",
+      stop_reason_params: { drive_command: "disable voltage" },
+    };
+    expect(jogStatus("idle", 0, command).reason).toBe("驱动器命令：断开电压");
+  });
+
+  it("keeps quiet about a stop the user made, by its id", () => {
+    const user: JogInfo = {
+      ...jog("stopped", "stopped by the user"),
+      stop_reason_id: "stop.user",
+      stop_reason_params: {},
+    };
+    expect(jogStatus("idle", 0, user).reason).toBeNull();
   });
 });

@@ -3,14 +3,21 @@
 // The page never says "Stopped" while the axis moves: a released torque jog, or a stop on a
 // slow ramp, reads "Stopping" until the speed is at rest.
 import { i18n, type MessageKey } from "../../i18n";
+import { serverText } from "../../lib/serverText";
 import type { HoldPhase } from "./holdToRun";
 import type { JogInfo } from "./types";
 
 /** Below this the axis counts as at rest (the server's jog_rest_rpm). */
 export const REST_RPM = 5;
 
-/** Stops the user made: not worth repeating on the page. */
-const PLAIN_STOPS = new Set(["stopped by the user", "replaced by a new jog"]);
+/** Stops the user made (by the reason's id; its English for an older server): not worth
+ * repeating on the page. */
+const PLAIN_STOPS = new Set([
+  "stop.user",
+  "stop.replaced",
+  "stopped by the user",
+  "replaced by a new jog",
+]);
 
 export interface JogStatus {
   text: string;
@@ -46,7 +53,15 @@ export function jogStatus(
   if (phase === "starting")
     return { text: i18n.t("drive.hold.starting"), stopping: false, reason: null };
   const why = last?.stop_reason ?? null;
-  const reason = why !== null && !PLAIN_STOPS.has(why) ? why : null;
+  const plain = PLAIN_STOPS.has(last?.stop_reason_id ?? why ?? "");
+  const reason =
+    why !== null && !plain
+      ? serverText({
+          message: why,
+          message_id: last?.stop_reason_id,
+          params: last?.stop_reason_params,
+        })
+      : null;
   const moving = Math.abs(velocityRpm ?? 0) >= REST_RPM;
   if (moving || last?.state === "stopping") {
     return { text: i18n.t("drive.hold.stopping"), stopping: true, reason };

@@ -8,6 +8,7 @@ import {
   inhibitMs,
   parseCobId,
   pdoLabel,
+  problemText,
   transmissionWords,
   type CommField,
   type FitRules,
@@ -245,7 +246,7 @@ export function CommEditor({
           {[...problems].map(([field, list]) => (
             <li key={field} id={`${id}-${field}`} className="error-text">
               <strong>{t("pdo.comm.fieldProblems", { field: fieldLabel(field) })}</strong>{" "}
-              {list.map((p) => p.message).join(" ")}
+              {list.map(problemText).join(" ")}
             </li>
           ))}
         </ul>

@@ -12,6 +12,7 @@ import {
   pdoLabel,
   pdoObjects,
   placeProblems,
+  problemText,
   sameMapping,
   type FitRules,
   type Lookup,
@@ -63,7 +64,7 @@ export const PdoCard = memo(function PdoCard({
       ![...inFrame.values()].some((list) => list.includes(p)) &&
       !(draft && [...placed.atField.values()].some((list) => list.includes(p))),
   );
-  const frameNotes = new Map([...inFrame].map(([k, list]) => [k, list.map((p) => p.message)]));
+  const frameNotes = new Map([...inFrame].map(([k, list]) => [k, list.map(problemText)]));
   const classes = ["card", "pdo-card", pdo.valid ? "" : "invalid", changes.length ? "changed" : ""];
 
   return (
@@ -109,7 +110,7 @@ export const PdoCard = memo(function PdoCard({
               {p.index != null && (
                 <span className="mono">{odAddress(p.index, p.subindex ?? 0)}: </span>
               )}
-              {p.message}
+              {problemText(p)}
             </li>
           ))}
         </ul>

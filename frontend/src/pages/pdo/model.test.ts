@@ -16,11 +16,13 @@ import {
   moveEntry,
   parseCobId,
   placeProblems,
+  problemText,
   sortPdos,
   transmissionWords,
   typeBits,
   type ObjectInfo,
 } from "./model";
+import { inChinese } from "../../test/inChinese";
 import type { MappedObject, Pdo, PdoRules, Problem } from "./types";
 
 function object(over: Partial<ObjectInfo> = {}): ObjectInfo {
@@ -399,5 +401,47 @@ describe("draft helpers", () => {
       "rpdo5",
       "tpdo1",
     ]);
+  });
+});
+
+describe("problemText in zh-CN", () => {
+  inChinese();
+
+  it("says a problem of the server's in Chinese, who uses the CAN id too", () => {
+    const used: Problem = {
+      kind: "tpdo",
+      number: 1,
+      message: "TPDO1 CAN id 182h is already used by node 2 EMCY",
+      index: 0x1800,
+      subindex: 1,
+      message_id: "pdo.can_id_used",
+      params: {
+        pdo: "TPDO1",
+        can_id: "182",
+        owner: "node 2 EMCY",
+        owner_id: "owner.node_service",
+        owner_node: 2,
+        owner_service: "EMCY",
+      },
+    };
+    expect(problemText(used)).toBe("TPDO1 的 CAN ID 182h 已被 节点 2 的 EMCY 占用");
+  });
+
+  it("names a synchronous PDO's transmission type in the page's own words", () => {
+    const warning: Problem = {
+      kind: "tpdo",
+      number: 1,
+      message: "TPDO1 is synchronous (every SYNC) but no SYNC …",
+      index: 0x1800,
+      subindex: 2,
+      message_id: "pdo.sync_missing_ask",
+      params: { pdo: "TPDO1", words: "every SYNC", t: 1 },
+    };
+    expect(problemText(warning)).toMatch(/^TPDO1 为同步传输（每个 SYNC），/);
+  });
+
+  it("shows the server's English for a problem without an id", () => {
+    const plain: Problem = { kind: "rpdo", number: 2, message: "RPDO2 something new", params: {} };
+    expect(problemText(plain)).toBe("RPDO2 something new");
   });
 });

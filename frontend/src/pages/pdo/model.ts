@@ -3,6 +3,7 @@
 import { i18n } from "../../i18n";
 import { integerType } from "../../lib/dataTypes";
 import { formatCobId, formatPercent, formatRate, odAddress } from "../../lib/format";
+import { serverText, type TextParams } from "../../lib/serverText";
 import type { MappedObject, Pdo, PdoKind, PdoRules, Problem } from "./types";
 
 // In lib/format.ts (the Scope page and components/LoadBar.tsx use them too); re-exported here
@@ -72,6 +73,15 @@ function ordinal(n: number): string {
       ? "th"
       : (({ 1: "st", 2: "nd", 3: "rd" } as const)[n % 10] ?? "th");
   return i18n.t(ORDINALS[suffix], { n });
+}
+
+/** A problem (or SYNC warning) of the server's in the page's language; a synchronous PDO's
+ * transmission type in the page's own words. */
+export function problemText(problem: Problem): string {
+  const t = problem.params?.t;
+  const words: TextParams =
+    typeof t === "number" ? { words: transmissionWords(t, problem.kind) } : {};
+  return serverText(problem, words);
 }
 
 /** A transmission type in words (CiA 301 §7.5.2.35), used when the server sends none. */
