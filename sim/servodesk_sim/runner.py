@@ -37,6 +37,14 @@ RECV_ERROR_PAUSE = 0.001
 # bus.send waits at most this long for room in the TX queue: a full queue (nobody acknowledging
 # on a real bus) drops frames instead of freezing every drive's clock.
 SEND_TIMEOUT = 0.001
+# How long a frame occupies the simulated wire: 500 kbit/s, 47 bits of frame around the data
+# (bit stuffing left out). python-can's virtual bus stamps a frame when the sending thread gets
+# to send it, so a busy interpreter spreads one burst of TPDOs over several SYNC periods, which
+# a real adapter's hardware time stamps never show; a bus opened with `preserve_timestamps`
+# (servodesk.bus.simulated) keeps the time a frame had on the wire instead: right after the
+# frame it answers, back to back.
+WIRE_BIT_S = 1 / 500_000
+FRAME_OVERHEAD_BITS = 47
 
 
 class SimNode(Protocol):
@@ -165,6 +173,8 @@ class SimBus:
         self._thread: threading.Thread | None = None
         self._failure: BaseException | None = None
         self._recv_error_streak = 0
+        self._wire = 0.0  # UNIX time at which the wire is free for this segment's next frame
+        self._earliest = 0.0  # UNIX time the frames being sent now were made at
 
     # ------------------------------------------------------------------------ public API
 
@@ -248,6 +258,7 @@ class SimBus:
             self._booted.set()
 
     def _boot(self) -> None:
+        self._earliest = time.time()
         for node in self.nodes:
             self._emit(self._guarded(node, node.boot, self._clock()), node)
 
@@ -268,6 +279,7 @@ class SimBus:
             result = schedule.take(now)
             if result is None:
                 continue
+            self._earliest = time.time()  # what the timers send goes out now
             stats = self._stats
             stats.ticks += 1
             stats.max_lateness = max(stats.max_lateness, result.lateness)
@@ -298,6 +310,7 @@ class SimBus:
             self._stats.frames_ignored += 1
             return
         self._stats.frames_in += 1
+        self._earliest = msg.timestamp  # the answers follow the frame on the wire
         self._tap(frame, self.bus)
         self._deliver(frame, exclude=None)
 
@@ -308,6 +321,7 @@ class SimBus:
             except queue.Empty:
                 return
             self._stats.frames_injected += 1
+            self._earliest = time.time()
             self._send(frame)
             self._tap(frame, origin)
             self._deliver(frame, exclude=None)
@@ -348,8 +362,12 @@ class SimBus:
             return []
 
     def _send(self, frame: Frame) -> None:
+        msg = frame_to_message(frame)
+        # on the wire once it is made and the frame before it has gone
+        msg.timestamp = max(self._wire, self._earliest)
+        self._wire = msg.timestamp + (FRAME_OVERHEAD_BITS + 8 * len(frame.data)) * WIRE_BIT_S
         try:
-            self.bus.send(frame_to_message(frame), timeout=SEND_TIMEOUT)
+            self.bus.send(msg, timeout=SEND_TIMEOUT)
         except can.CanError:
             self._stats.send_errors += 1
             log.warning("could not send %s", frame, exc_info=True)

@@ -144,3 +144,27 @@ def test_frame_watch_ignores_remote_error_and_extended_frames() -> None:
     ):
         watch.on_message_received(msg)
     assert watch.beats == {}
+
+
+@pytest.mark.parametrize(
+    ("stamp", "seen_at"),
+    [
+        (999.5, 4.5),  # taken 0.5 s late by a busy notifier thread: when it was on the bus
+        (1000.05, 5.0),  # a simulated burst stamped a little ahead: now
+        (998.0, 3.0),  # 2 s late: still trusted
+        (990.0, 5.0),  # an adapter stamping on an epoch of its own: now
+        (1001.0, 5.0),
+        (0.0, 5.0),  # no time stamp at all
+    ],
+)
+def test_frame_watch_dates_a_frame_by_its_time_stamp_where_that_is_plausible(
+    stamp: float, seen_at: float
+) -> None:
+    """A boot-up sent before an NMT stop but handed over after it must not count as newer
+    than the stop: the adapter's time stamp does not move with the notifier thread."""
+    watch = FrameWatch(FakeClock(), wall=lambda: 1000.0)
+    msg = can.Message(arbitration_id=0x701, data=b"\x00", is_extended_id=False, timestamp=stamp)
+    watch.on_message_received(msg)
+    when, state = watch.beats[1]
+    assert when == pytest.approx(seen_at)
+    assert state == 0

@@ -496,3 +496,49 @@ def test_run_drives_boots_real_drives(drive_bus: can.BusABC, master: can.BusABC)
         boot = [recv_frame(master, 0x700 + node) for node in (4, 5, 6)]
         assert [bytes(m.data) for m in boot] == [b"\x00"] * 3  # CiA 301 boot-up
     assert not sim.running
+
+
+class BurstNode(EchoNode):
+    """Answers a SYNC with two 8-byte TPDOs, as a drive's synchronous TPDOs do."""
+
+    def on_frame(self, f: Frame, now: float) -> list[Frame]:
+        if f.can_id == 0x080:
+            return [Frame(0x180 + self.node_id, bytes(8)), Frame(0x280 + self.node_id, bytes(8))]
+        return super().on_frame(f, now)
+
+
+def sent_frame(bus: FlakyBus, can_id: int) -> can.Message:
+    deadline = time.monotonic() + WAIT
+    while (left := deadline - time.monotonic()) > 0:
+        try:
+            msg = bus.sent.get(timeout=left)
+        except queue.Empty:
+            break
+        if msg.arbitration_id == can_id:
+            return msg
+    pytest.fail(f"no frame {can_id:03X} sent within {WAIT} s")
+
+
+def test_a_burst_keeps_its_time_on_the_wire_however_late_the_worker_takes_the_sync(
+    make_sim: Callable[..., SimBus],
+) -> None:
+    """A real adapter stamps the TPDOs answering a SYNC right after it, back to back: the
+    frames keep that time however late the worker thread got to the SYNC."""
+    bus = FlakyBus()
+    make_sim([BurstNode(5)], bus=bus)
+    time.sleep(0.01)  # the boot-up is off the wire
+    sync_at = time.time()
+    time.sleep(0.05)  # the SYNC waited in the queue: the worker takes it 50 ms late
+    bus.rx.put(can.Message(arbitration_id=0x080, is_extended_id=False, timestamp=sync_at))
+    first, second = sent_frame(bus, 0x185), sent_frame(bus, 0x285)
+    frame_time = (47 + 64) / 500_000  # an 8-byte frame at 500 kbit/s
+    assert first.timestamp == pytest.approx(sync_at, abs=1e-9)
+    assert second.timestamp == pytest.approx(sync_at + frame_time, abs=1e-9)
+
+
+def test_what_the_timers_send_is_stamped_when_it_goes_out(make_sim: Callable[..., SimBus]) -> None:
+    bus = FlakyBus()
+    before = time.time()
+    make_sim([PeriodicNode(6, every=5)], bus=bus)
+    beat = sent_frame(bus, 0x706)
+    assert before <= beat.timestamp <= time.time()

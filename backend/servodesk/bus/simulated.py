@@ -48,7 +48,8 @@ def prepare_simulated_drives(
     """The drives on a fresh private channel, still powered off: the tool joins the channel
     first and then calls `start()`, so it sees their boot-ups as it would on a real bus."""
     channel = f"servodesk-sim-{uuid.uuid4().hex[:12]}"
-    bus = can.Bus(interface=SIM_INTERFACE, channel=channel)
+    # the drives stamp their frames with their time on the simulated wire (servodesk_sim.runner)
+    bus = can.Bus(interface=SIM_INTERFACE, channel=channel, preserve_timestamps=True)
     try:
         sim = build_drives(bus, drives)
     except BaseException:

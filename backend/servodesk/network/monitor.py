@@ -35,13 +35,19 @@ TICK = 0.2  # s between health evaluations (the WebSocket sends node states at 5
 SIGNS_OF_LIFE = frozenset({cob_id.EMCY, *cob_id.TPDOS, cob_id.SDO_TX})
 
 Clock = Callable[[], float]
+# A frame's adapter time stamp (UNIX time) is trusted when it lies this close to the wall clock:
+# up to STAMP_PAST_S before now (the notifier thread took it late), up to STAMP_AHEAD_S after
+# (a simulated burst stamped back to back). Outside that, an adapter with its own epoch: now.
+STAMP_PAST_S = 2.0
+STAMP_AHEAD_S = 0.1
 
 
 class FrameWatch(can.Listener):
     """Notifier-thread recorder of heartbeats, boot-ups and other frames, per node."""
 
-    def __init__(self, clock: Clock = time.monotonic) -> None:
+    def __init__(self, clock: Clock = time.monotonic, wall: Clock = time.time) -> None:
         self._clock = clock
+        self._wall = wall
         self.beats: dict[int, tuple[float, int]] = {}  # node -> (time, state byte)
         self.activity: dict[int, float] = {}  # node -> time of its last non-heartbeat frame
         self.on_boot: Callable[[int, float], None] | None = None  # must not block
@@ -55,14 +61,25 @@ class FrameWatch(can.Listener):
         if function == cob_id.HEARTBEAT:
             if not msg.data:
                 return
-            now = self._clock()
+            now = self._arrival(msg)
             state = msg.data[0] & 0x7F  # bit 7 is the node-guarding toggle
             self.beats[node] = (now, state)
             callback = self.on_boot
             if state == BOOT_UP and callback is not None:
                 callback(node, now)
         elif function in SIGNS_OF_LIFE:
-            self.activity[node] = self._clock()
+            self.activity[node] = self._arrival(msg)
+
+    def _arrival(self, msg: can.Message) -> float:
+        """When the frame was on the bus, in this watch's clock. A busy interpreter hands the
+        notifier's frames over late: a boot-up sent before an NMT stop but taken after it
+        must not count as newer than the stop (network.health.reported_state). The adapter's
+        time stamp does not move with the thread, so it decides where it is plausible."""
+        now = self._clock()
+        age = self._wall() - msg.timestamp
+        if -STAMP_AHEAD_S <= age <= STAMP_PAST_S:
+            return now - max(age, 0.0)
+        return now
 
     def forget(self) -> None:
         # new dicts rather than clear(): the notifier thread may be writing to the old ones
@@ -106,7 +123,7 @@ class NodeMonitor:
         self._on_boot_hook = on_boot
         self._clock = clock
         self._wall = wall
-        self.watch = FrameWatch(clock)
+        self.watch = FrameWatch(clock, wall)
         self.watch.on_boot = self._boot_from_thread
         self._nodes: dict[int, _Tracked] = {}
         self._waiters: dict[int, list[_BootWaiter]] = {}
