@@ -17,6 +17,7 @@ from typing import TypeVar
 
 from servodesk_data.fault_kind import FaultKind
 from servodesk_data.model import (
+    CJK,
     BitrateCode,
     DriveData,
     EmcyFormat,
@@ -35,7 +36,6 @@ from servodesk_data.model import (
 E = TypeVar("E", bound=Enum)
 
 _REF = re.compile(r"([0-9A-Fa-f]{4}):([0-9A-Fa-f]{2})")
-_CJK = re.compile(r"[\u3400-\u9fff]")  # a Chinese character: a name_zh is Chinese
 _U32 = 0xFFFFFFFF
 # 1001h bit 0 (generic) is set with every error, bit 6 is reserved (CiA 301 §7.5.2.2)
 _ER_GENERIC = 0x01
@@ -361,17 +361,17 @@ def _check_fault(t: _Table, entry: FaultEntry, seen: list[FaultEntry], quirks: Q
     if len(set(entry.kinds)) != len(entry.kinds):
         raise t.error("kinds", "a kind is listed twice")
     if entry.name_zh is not None:
-        if _CJK.search(entry.name) is not None:
+        if entry.manual_chinese:
             raise t.error(
                 "name_zh", "the manual's name is Chinese already: no translation beside it"
             )
-        if _CJK.search(entry.name_zh) is None:
+        if CJK.search(entry.name_zh) is None:
             raise t.error("name_zh", f"{entry.name_zh!r} is not Chinese")
     for key, text in (
         ("description_zh", entry.description_zh),
         ("what_to_check_zh", entry.what_to_check_zh),
     ):
-        if text is not None and _CJK.search(text) is None:
+        if text is not None and CJK.search(text) is None:
             raise t.error(key, f"{text!r} is not Chinese")
 
 

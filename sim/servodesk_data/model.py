@@ -6,6 +6,7 @@ String-valued TOML keys become `StrEnum`s: typed for the code, equal to the TOML
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
@@ -66,6 +67,9 @@ class TakesEffect(StrEnum):
     IMMEDIATELY = "immediately"
     AFTER_RESET = "after_reset"
     AFTER_STORE_AND_RESET = "after_store_and_reset"
+
+
+CJK = re.compile(r"[\u3400-\u9fff]")  # Chinese characters (the MDi-S1-C manual's names)
 
 
 @dataclass(frozen=True)
@@ -153,6 +157,16 @@ class FaultEntry:
     # profile may leave them out (None), and its faults then have no Chinese check text
     description_zh: str | None = None
     what_to_check_zh: str | None = None
+
+    @property
+    def manual_chinese(self) -> bool:
+        """Whether `name` is the manual's own Chinese (MDi-S1-C) rather than its English."""
+        return bool(CJK.search(self.name))
+
+    @property
+    def chinese_name(self) -> str | None:
+        """The Chinese name: the manual's own, else ServoDesk's translation (None: neither)."""
+        return self.name if self.manual_chinese else self.name_zh
 
 
 @dataclass(frozen=True)

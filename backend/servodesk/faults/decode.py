@@ -19,7 +19,6 @@ is unknown: the CiA 301 format is assumed) and an EMCY's data bytes; the caller 
 
 from __future__ import annotations
 
-import re
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -29,7 +28,6 @@ from servodesk_protocol import emcy_codes
 from servodesk_protocol.emcy import FRAME_LENGTH
 from servodesk_protocol.emcy_codes import CodeSource, is_reset
 
-_CJK = re.compile(r"[\u3400-\u9fff]")
 # where each shipped profile's fault table comes from, by profile name
 _MANUALS = {
     "mdi-s1c": "MDi-S1-C CANopen manual §4.1",
@@ -272,7 +270,7 @@ def _zh(entries: list[FaultEntry]) -> tuple[str, str] | None:
     """The Chinese name of table entries and where it comes from: the manual's own Chinese
     name (MDi), else ServoDesk's translations (Kinco, CiA 402: all of them, or none)."""
     first = entries[0]
-    if _CJK.search(first.name):
+    if first.manual_chinese:
         return first.name, ZH_MANUAL
     translated = [e.name_zh for e in entries if e.name_zh]
     if len(translated) != len(entries):

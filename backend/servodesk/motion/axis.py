@@ -4,7 +4,6 @@ DriveState the API returns from a reading (`build_state`)."""
 from __future__ import annotations
 
 import asyncio
-import re
 import time
 from dataclasses import dataclass, field
 from typing import Literal
@@ -121,9 +120,6 @@ def units_of(statics: Statics | None, data: DriveData | None) -> DriveUnits:
     return DriveUnits.of(statics.counts_per_rev, statics.gear, velocity_actual_rpm=data is not None)
 
 
-_CJK = re.compile(r"[\u3400-\u9fff]")  # a fault table's `name` in the manual's own Chinese (MDi)
-
-
 def fault_info(
     code: int | None,
     faulted: bool,
@@ -146,7 +142,7 @@ def fault_info(
         name=entry.name_en if entry else None,
         text=entry.what_to_check if entry else None,
         source=source if entry else None,
-        name_zh=(entry.name if _CJK.search(entry.name) else entry.name_zh) if entry else None,
+        name_zh=entry.chinese_name if entry else None,
         text_zh=entry.what_to_check_zh if entry else None,
         source_zh=source_zh if entry else None,
     )

@@ -1,6 +1,7 @@
 // Faults in words for the banner, the Faults tab and the history table. Pure, table-tested.
 import type { Fault } from "../api/faults";
 import { currentLanguage, i18n, type Language, type MessageKey } from "../i18n";
+import { stateWords } from "./serverText";
 
 /** CiA 301 error register 1001h, bit 0 first. */
 const ERROR_REGISTER_BITS: readonly MessageKey[] = [
@@ -192,17 +193,16 @@ export function errorCodeParts(
   return { hex: hexText, words };
 }
 
-/** A CiA 402 state as the server names it ("Operation enabled") in the page's language. */
-function stateWords(state: string | null | undefined): string {
-  if (!state) return i18n.t("faults.words.notSeen");
-  const key = `drive.state.${state.toLowerCase().replace(/ /g, "_")}`;
-  return i18n.t(key, { defaultValue: state });
+/** A state the fault record holds in the page's language; one ServoDesk did not see reads
+ * "not seen". */
+function seenState(state: string | null | undefined): string {
+  return state ? stateWords(state) : i18n.t("faults.words.notSeen");
 }
 
 /** "Operation enabled → Fault"; a state ServoDesk did not see reads "not seen". */
 export function stateChange(fault: Pick<Fault, "state_before" | "state_after">): string {
   if (!fault.state_before && !fault.state_after) return "—";
-  return `${stateWords(fault.state_before)} → ${stateWords(fault.state_after)}`;
+  return `${seenState(fault.state_before)} → ${seenState(fault.state_after)}`;
 }
 
 /** SDO aborts meaning "the drive has no such object": 06020000h, 06090011h. */

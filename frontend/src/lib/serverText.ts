@@ -29,6 +29,11 @@ const serverWordKey = (v: string): string =>
     .replace(/[^a-z0-9]+/g, "_")
     .replace(/^_|_$/g, "")}`;
 const stateKey = (v: string): string => `drive.state.${v.toLowerCase().replace(/ /g, "_")}`;
+/** A CiA 402 state as the server names it ("Operation enabled") in the page's language. */
+export function stateWords(state: string): string {
+  return word(stateKey(state), state);
+}
+
 const nmtStateKey = (v: string): string => `nmt.state.${camel(v)}`;
 
 // Parameters that are words of a fixed set (servodesk.events.texts): translated here; every
@@ -37,8 +42,8 @@ const PARAM_WORDS: Record<string, (value: string) => string> = {
   nmt_command: (v) => word(`nmt.command.${camel(v)}`, v),
   nmt_state: (v) => word(nmtStateKey(v), v),
   nmt: (v) => word(nmtStateKey(v), v),
-  state: (v) => word(stateKey(v), v),
-  was: (v) => word(stateKey(v), v),
+  state: stateWords,
+  was: stateWords,
   bus_state: (v) => word(`network.bus.state.${v}`, v),
   service: (v) => word(serverWordKey(v), v),
   use: (v) => word(serverWordKey(v), v),
