@@ -12,7 +12,8 @@ CHROMIUM := /usr/bin/chromium
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: run test install lint typecheck pytest pytest-pool pytest-fuzz pytest-serial frontend \
-	frontend-check api-check system-deps bench sim clean
+	frontend-check api-check system-deps bench sim clean \
+	pytest-realtime pytest-browser
 
 # uv installs the pinned ranges of pyproject.toml into the venv (the same resolution as pip, in
 # seconds instead of most of a minute); uv itself comes from PyPI into the venv first.
@@ -74,11 +75,12 @@ api-check: install
 frontend-check: install
 	npm run --silent test
 
-# The Python tests in three streams. The pool: pytest-xdist, a worker per core, a test file per
-# worker, for the tests that keep no real time of their own; beside it, the schema fuzzing in a
-# process of its own (under xdist, schemathesis would run its operations as one item). Then,
-# alone on the machine, the `serial` tests: the browser tests and those that keep millisecond
-# time in the test process (tests/conftest.py says which).
+# The Python tests. The pool: pytest-xdist, a worker per core, a test file per worker, for the
+# tests that keep no real time of their own; beside it, the schema fuzzing in a process of its
+# own (under xdist, schemathesis would run its operations as one item). Then the `realtime`
+# tests alone on the machine (they keep millisecond time in the test process), then the
+# browser tests two files at a time (each file its own server, drives and Chromium; a test
+# waits on the page far more than it computes). tests/conftest.py says which test is which.
 pytest: install system-deps $(STATIC)
 	$(MAKE) --no-print-directory -j2 --output-sync=target pytest-pool pytest-fuzz
 	$(MAKE) --no-print-directory pytest-serial
@@ -89,15 +91,23 @@ pytest-pool: install system-deps $(STATIC)
 pytest-fuzz: install
 	$(BIN)/pytest -p no:xdist -m fuzz tests/backend/test_schemathesis.py
 
-pytest-serial: install
-	$(BIN)/pytest -p no:xdist -m serial
+pytest-serial: pytest-realtime pytest-browser
 
-# The checks two at a time (api-check alone before them: it rewrites the generated client that
-# the type check reads), then the Python tests.
+pytest-realtime: install
+	$(BIN)/pytest -p no:xdist -m "serial and not browser"
+
+pytest-browser: install system-deps $(STATIC)
+	$(BIN)/pytest -n 2 --dist loadfile -m browser
+
+# api-check first, alone: it rewrites the generated client that the type check reads. Then the
+# checks (eslint, tsc, mypy, Vitest: each one core at most) run beside the pool and the fuzzing,
+# whose tests spend much of their time waiting on the simulated drives: together they keep both
+# cores busy. Then the serial tests, with the machine to themselves.
 test: install
 	$(MAKE) --no-print-directory api-check
-	$(MAKE) --no-print-directory -j2 --output-sync=target lint typecheck frontend-check
-	$(MAKE) --no-print-directory pytest
+	$(MAKE) --no-print-directory -j5 --output-sync=target \
+		lint typecheck frontend-check pytest-pool pytest-fuzz
+	$(MAKE) --no-print-directory pytest-serial
 
 bench: install
 	$(BIN)/python bench/sim_realtime.py

@@ -19,10 +19,14 @@ E2E = Path(__file__).parent / "e2e"
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     """`make pytest` runs the tests that keep no real time of their own in a pool of workers and
-    then, alone on the machine, the `serial` ones: a browser walking the real app (a page, a
-    server and the drives' clock in three processes) and every `realtime` test."""
+    then the `serial` ones: every `realtime` test alone on the machine, then the `browser` tests
+    (a page, a server and the drives' clock in three processes per test file), two files at a
+    time."""
     for item in items:
-        if item.path.is_relative_to(E2E) or item.get_closest_marker("realtime") is not None:
+        if item.path.is_relative_to(E2E):
+            item.add_marker(pytest.mark.browser)
+            item.add_marker(pytest.mark.serial)
+        elif item.get_closest_marker("realtime") is not None:
             item.add_marker(pytest.mark.serial)
 
 

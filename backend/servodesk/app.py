@@ -10,39 +10,17 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 from typing import Any
 
-from fastapi import APIRouter, FastAPI
-from fastapi.routing import APIRoute, APIWebSocketRoute
+from fastapi import FastAPI
 from starlette.types import Message
 
 from servodesk import __version__
 from servodesk.access.guard import Access, AccessGuard
 from servodesk.access.sessions import LoginLimiter
 from servodesk.access.tokens import TokenTable
-from servodesk.api import (
-    access,
-    audit,
-    bus,
-    commissioning,
-    drive,
-    faults,
-    health,
-    jog,
-    logs,
-    nodes,
-    od,
-    params,
-    paramsets,
-    pdos,
-    recording,
-    rerun_proxy,
-    scope,
-    sdo,
-    ws,
-)
-from servodesk.api import events as events_api
+from servodesk.api import rerun_proxy, ws
 from servodesk.api.audited import outcome_of
-from servodesk.api.body_limits import SaysLimit, route_body_limit
 from servodesk.api.errors import install_error_handlers
+from servodesk.api.route_table import add_api_routes
 from servodesk.api.schema import install_schema
 from servodesk.api.security import FramingGuard, HostGuard, SameOriginGuard, ServedHosts
 from servodesk.api.static import mount_frontend
@@ -70,71 +48,6 @@ LAZY_IMPORTS = (
 )
 for _name in LAZY_IMPORTS:
     importlib.import_module(_name)
-
-
-def api_routers() -> list[APIRouter]:
-    """The API's routers, in the order their routes are matched (and listed in the schema).
-    SDO first: live views poll its reads (each route tried before costs a match), and no
-    other route matches its paths, so the order changes no answer."""
-    modules = (sdo, health, access, bus, nodes, od, params, paramsets, pdos, drive, jog)
-    routers = [module.router for module in modules]
-    routers += [bus.sync_router, pdos.bus_router, ws.router]
-    routers.append(rerun_proxy.router)  # /api/scope/viewer
-    routers += [m.router for m in (faults, events_api, logs, recording, scope, audit)]
-    routers.append(commissioning.router)
-    return routers
-
-
-def add_api_routes(app: FastAPI, settings: Settings, prefix: str = "/api") -> None:
-    """Every API route on the app's own router, under `prefix`.
-
-    Copied, not included: FastAPI keeps an included router as one route that matches its
-    routes again on each request, level by level, and /api → resource is two levels: 0.1–0.2
-    ms of every request went to finding its route. Flat, a request is matched once; the
-    routes and the schema are the same (frontend/openapi.json). Each route takes a body up to
-    its limit (api/body_limits.py), refused with 413 before it is parsed."""
-    for router in api_routers():
-        for route in router.routes:
-            if isinstance(route, APIWebSocketRoute):
-                app.router.add_api_websocket_route(
-                    prefix + route.path, route.endpoint, route.name, dependencies=route.dependencies
-                )
-                continue
-            if not isinstance(route, APIRoute):
-                raise TypeError(f"{route!r}: an API router holds API routes only")
-            limit = route_body_limit(route, settings)
-            app.router.add_api_route(
-                prefix + route.path,
-                route.endpoint,
-                response_model=route.response_model,
-                status_code=route.status_code,
-                tags=route.tags,
-                dependencies=route.dependencies,
-                summary=route.summary,
-                description=route.description,
-                response_description=route.response_description,
-                responses=route.responses,
-                deprecated=route.deprecated,
-                methods=route.methods,
-                operation_id=route.operation_id,
-                response_model_include=route.response_model_include,
-                response_model_exclude=route.response_model_exclude,
-                response_model_by_alias=route.response_model_by_alias,
-                response_model_exclude_unset=route.response_model_exclude_unset,
-                response_model_exclude_defaults=route.response_model_exclude_defaults,
-                response_model_exclude_none=route.response_model_exclude_none,
-                include_in_schema=route.include_in_schema,
-                response_class=route.response_class,
-                name=route.name,
-                route_class_override=type(route),
-                callbacks=route.callbacks,
-                openapi_extra=route.openapi_extra,
-                generate_unique_id_function=route.generate_unique_id_function,
-                max_body_size=limit.size,
-            )
-            added = app.router.routes[-1]
-            if isinstance(added, APIRoute):  # it is: the 413 in the API's own words
-                added.app = SaysLimit(added.app, limit)
 
 
 def create_app(

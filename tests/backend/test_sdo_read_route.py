@@ -14,7 +14,8 @@ from fastapi.routing import APIRoute, APIWebSocketRoute
 from fastapi.testclient import TestClient
 
 from servodesk.api.deps import get_services
-from servodesk.app import api_routers, create_app
+from servodesk.api.route_table import api_routers
+from servodesk.app import create_app
 from servodesk.settings import Settings
 
 PATHS = [

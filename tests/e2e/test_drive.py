@@ -27,6 +27,13 @@ def drive_state(server: str, node: int) -> dict[str, object]:
         return state
 
 
+def jogs(server: str, node: int) -> list[str]:
+    """The node's last audit entries (a jog start, and a stop with its reason and by whom)."""
+    with urllib.request.urlopen(f"{server}/api/audit?node={node}", timeout=5) as answer:
+        entries: list[dict[str, object]] = json.load(answer)
+    return [f"{e['user']}: {e['what']} ({e['result']})" for e in entries[:6]]
+
+
 def velocity(server: str, node: int) -> float:
     """606Ch read from the drive now (rpm on the three profiles): the Drive page's shared
     reading may hold a value read in turn up to a few readings ago."""
@@ -74,8 +81,12 @@ def test_enable_jog_pv_and_home_node_1(page: Page, server: str) -> None:
     expect(page.get_by_test_id("jog-pv-status")).to_contain_text("Moving")
     page.wait_for_timeout(1000)
     moving = velocity(server, 1)
+    status = page.get_by_test_id("jog-pv-status").text_content()
     page.mouse.up()
-    assert moving > 50, f"the axis should turn while held (velocity {moving} rpm)"
+    assert moving > 50, (
+        f"the axis should turn while held (velocity {moving} rpm); the page said {status!r}; "
+        f"the server's jogs: {jogs(server, 1)}"
+    )
     deadline = time.monotonic() + 5
     while abs(velocity(server, 1)) > 0.5 and time.monotonic() < deadline:
         time.sleep(0.1)

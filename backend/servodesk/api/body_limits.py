@@ -57,9 +57,10 @@ def log_upload_limit(settings: Settings) -> BodyLimit:
     )
 
 
-def route_body_limit(route: APIRoute, settings: Settings) -> BodyLimit:
+def route_body_limit(route: APIRoute, log_limit: BodyLimit) -> BodyLimit:
+    """The route's limit; `log_limit` (log_upload_limit of the settings) for the log upload."""
     if route.endpoint is logs.decode_log:
-        return log_upload_limit(settings)
+        return log_limit
     if route.endpoint is commissioning.check_record:
         return BUNDLE_LIMIT
     if any(isinstance(param.field_info, params.File) for param in route.dependant.body_params):

@@ -34,6 +34,10 @@ REST_READINGS = 2  # consecutive readings below jog_rest_rpm: at rest
 STOP_MARGIN = 1.5  # × the time the deceleration should take, before a quick stop follows
 STOP_SLACK = 0.5  # s added to that (the first readings, a drive's own ramp start)
 WATCH_AFTER_QUICK_STOP = 10.0  # s: how long a quick-stopped axis is watched before giving up
+# A keep-alive timer that fires this late found the loop busy past the deadline: keep-alives
+# the page sent in time may wait unread in its socket (read a turn or two of the loop later).
+LATE_S = 0.05
+LISTEN_S = 0.05  # then the loop listens this long before the jog is stopped (once per deadline)
 
 
 class JogNotFoundError(ServodeskError):
@@ -109,6 +113,7 @@ class _Jog:
     info: JogInfo
     principal: str  # who started it (the login's user): only they keep it alive
     timer: asyncio.TimerHandle | None = None
+    deadline: float = 0.0  # loop time by which the next keep-alive is due
     sent: asyncio.Event = field(default_factory=asyncio.Event, repr=False)
     stopping: asyncio.Task[None] | None = field(default=None, repr=False)
     watch: asyncio.Task[None] | None = field(default=None, repr=False)
@@ -257,11 +262,20 @@ class JogWatchdog:
         if jog.timer is not None:
             jog.timer.cancel()
         loop = asyncio.get_running_loop()
-        jog.timer = loop.call_later(jog.info.keepalive_ms / 1000, self._expired, jog)
+        jog.deadline = loop.time() + jog.info.keepalive_ms / 1000
+        jog.timer = loop.call_later(jog.info.keepalive_ms / 1000, self._expired, jog, False)
 
-    def _expired(self, jog: _Jog) -> None:
-        if jog.info.state == "running":
-            self._stop(jog, Reason("stop.keepalive", ms=jog.info.keepalive_ms), by_tool=True)
+    def _expired(self, jog: _Jog, listened: bool) -> None:
+        if jog.info.state != "running":
+            return
+        loop = asyncio.get_running_loop()
+        if not listened and loop.time() - jog.deadline > LATE_S:
+            # The server, not the page, was late: a stall of the loop (a busy host) would
+            # otherwise stop an axis whose keep-alives all came in time. Bounded: the axis
+            # stops at most LISTEN_S after the stall when none is there.
+            jog.timer = loop.call_later(LISTEN_S, self._expired, jog, True)
+            return
+        self._stop(jog, Reason("stop.keepalive", ms=jog.info.keepalive_ms), by_tool=True)
 
     def _disarm(self, jog: _Jog) -> None:
         if jog.timer is not None:
