@@ -85,8 +85,11 @@ pytest: install system-deps $(STATIC)
 	$(MAKE) --no-print-directory -j2 --output-sync=target pytest-pool pytest-fuzz
 	$(MAKE) --no-print-directory pytest-serial
 
+# One worker more than cores: a pool test waits on its simulated drives much of its time.
+POOL_WORKERS ?= $(shell echo $$(( $$(nproc) + 1 )))
+
 pytest-pool: install system-deps $(STATIC)
-	$(BIN)/pytest -n logical --dist loadfile -m "not serial and not fuzz"
+	$(BIN)/pytest -n $(POOL_WORKERS) --dist loadfile -m "not serial and not fuzz"
 
 pytest-fuzz: install
 	$(BIN)/pytest -p no:xdist -m fuzz tests/backend/test_schemathesis.py
@@ -97,7 +100,7 @@ pytest-realtime: install
 	$(BIN)/pytest -p no:xdist -m "serial and not browser"
 
 pytest-browser: install system-deps $(STATIC)
-	$(BIN)/pytest -n 2 --dist loadfile -m browser
+	$(BIN)/pytest -n 2 --dist loadfile tests/e2e
 
 # api-check first, alone: it rewrites the generated client that the type check reads. Then the
 # checks (eslint, tsc, mypy, Vitest: each one core at most) run beside the pool and the fuzzing,

@@ -60,6 +60,9 @@ export default defineConfig({
           environment: "jsdom",
           include: ["src/**/*.test.tsx", ...BROWSER_GLOBALS],
           setupFiles: ["src/test/setup.ts"],
+          // One jsdom window per worker, not per file (its set-up was half the run's time):
+          // setup.ts cleans up what one test leaves (the tree, the language, the storage)
+          isolate: false,
         },
       },
     ],

@@ -15,6 +15,10 @@ from can.interfaces import virtual
 os.environ.setdefault("SERVODESK_ALLOWED_HOSTS", "testserver")
 
 E2E = Path(__file__).parent / "e2e"
+# The longest browser test files (about 45–50 s each here), started first: `make pytest-browser`
+# hands a file to whichever of its two workers is free, and a long file taken last would run
+# on alone at the end.
+LONG_BROWSER_FILES = ("test_commissioning_drives.py", "test_scope.py", "test_commissioning.py")
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
@@ -28,6 +32,12 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
             item.add_marker(pytest.mark.serial)
         elif item.get_closest_marker("realtime") is not None:
             item.add_marker(pytest.mark.serial)
+    long_first = {name: rank for rank, name in enumerate(LONG_BROWSER_FILES)}
+    items.sort(  # stable: every other test keeps its place
+        key=lambda item: (
+            long_first.get(item.path.name, len(long_first)) if item.path.is_relative_to(E2E) else -1
+        )
+    )
 
 
 @pytest.fixture(autouse=True)
