@@ -102,11 +102,13 @@ pytest-realtime: install
 pytest-browser: install system-deps $(STATIC)
 	$(BIN)/pytest -n 2 --dist loadfile tests/e2e
 
-# api-check first, alone: it rewrites the generated client that the type check reads. Then the
-# checks (eslint, tsc, mypy, Vitest: each one core at most) run beside the pool and the fuzzing,
-# whose tests spend much of their time waiting on the simulated drives: together they keep both
-# cores busy. Then the serial tests, with the machine to themselves.
-test: install
+# The Python and npm installs (and the page's build) side by side; then api-check, alone: it
+# rewrites the generated client that the type check reads. Then the checks (eslint, tsc, mypy,
+# Vitest: each one core at most) run beside the pool and the fuzzing, whose tests spend much of
+# their time waiting on the simulated drives: together they keep both cores busy. Then the
+# serial tests: the realtime ones alone, then the browser tests.
+test:
+	$(MAKE) --no-print-directory -j3 --output-sync=target install system-deps $(STATIC)
 	$(MAKE) --no-print-directory api-check
 	$(MAKE) --no-print-directory -j5 --output-sync=target \
 		lint typecheck frontend-check pytest-pool pytest-fuzz
