@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
+from functools import lru_cache
+from pathlib import Path
 
 import canopen
 
@@ -58,7 +60,7 @@ class SimDrive:
             raise ValueError(f"node id {node_id} is outside 1–127")
         self.data = data
         self.config: DriveConfig = drive_config(data)
-        od = canopen.import_od(str(servodesk_data.eds_path(data.identity.name)), node_id)
+        od = _dictionary(_file_key(servodesk_data.eds_path(data.identity.name)), node_id)
         self.store = ObjectStore(od, node_id, length_check=self.config.length_check)
         self._commission_node_id(node_id)
         self._node_id = node_id
@@ -411,4 +413,26 @@ def create_drive(node_id: int, profile: str, *, bus_bitrate: int | None = None) 
     if profile not in servodesk_data.PROFILE_NAMES:
         known = ", ".join(servodesk_data.PROFILE_NAMES)
         raise ValueError(f"unknown drive profile {profile!r}; known: {known}")
-    return SimDrive(servodesk_data.load(profile), node_id, bus_bitrate=bus_bitrate)
+    data = _drive_data(_file_key(servodesk_data.data_dir(profile) / "profile.toml"))
+    return SimDrive(data, node_id, bus_bitrate=bus_bitrate)
+
+
+# A drive's EDS and profile.toml are read once per process (per file version): a drive only
+# reads its dictionary (the values live in its ObjectStore) and DriveData is frozen. Importing
+# the EDS was most of the time simulated drives took to start, and tests start hundreds.
+_FileKey = tuple[str, int, int]
+
+
+def _file_key(path: Path) -> _FileKey:
+    stat = path.stat()
+    return str(path), stat.st_mtime_ns, stat.st_size
+
+
+@lru_cache(maxsize=32)
+def _dictionary(file: _FileKey, node_id: int) -> canopen.ObjectDictionary:
+    return canopen.import_od(file[0], node_id)
+
+
+@lru_cache(maxsize=16)
+def _drive_data(file: _FileKey) -> DriveData:
+    return servodesk_data.load_path(Path(file[0]))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import selectors
 import signal
 import socket
@@ -431,20 +432,30 @@ def test_stop_disconnects_clients_and_frees_the_port(
 def read_line_with(
     proc: subprocess.Popen[str], prefix: str, lines: list[str], timeout: float = 20.0
 ) -> str:
-    """The first stdout line starting with `prefix`; every line read is added to `lines`."""
+    """The first stdout line starting with `prefix`; every line read is added to `lines`.
+
+    Read from the pipe itself, not through the text wrapper: its `readline()` may take two
+    lines that came in one piece into its buffer, and the selector, which sees only the pipe,
+    would then wait for the second one in vain (a busy host writes both before the test reads)."""
     assert proc.stdout is not None
+    fd = proc.stdout.fileno()
+    pending = ""
     deadline = time.monotonic() + timeout
     with selectors.DefaultSelector() as sel:
-        sel.register(proc.stdout, selectors.EVENT_READ)
+        sel.register(fd, selectors.EVENT_READ)
         while (left := deadline - time.monotonic()) > 0:
             if not sel.select(left):
                 continue
-            line = proc.stdout.readline()
-            if not line:
+            chunk = os.read(fd, 65536)
+            if not chunk:
                 pytest.fail(f"the simulator exited before printing {prefix!r}")
-            lines.append(line)
-            if line.startswith(prefix):
-                return line.strip()
+            *complete, pending = (pending + chunk.decode()).split("\n")
+            for line in complete:
+                lines.append(line + "\n")
+            found = [line for line in complete if line.startswith(prefix)]
+            if found:
+                lines.append(pending)  # a line still being written: kept, not lost
+                return found[0].strip()
     pytest.fail(f"no {prefix!r} line within {timeout} s")
 
 
