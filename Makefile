@@ -77,10 +77,11 @@ frontend-check: install
 
 # The Python tests. The pool: pytest-xdist, a worker per core, a test file per worker, for the
 # tests that keep no real time of their own; beside it, the schema fuzzing in a process of its
-# own (under xdist, schemathesis would run its operations as one item). Then the `realtime`
-# tests alone on the machine (they keep millisecond time in the test process), then the
-# browser tests two files at a time (each file its own server, drives and Chromium; a test
-# waits on the page far more than it computes). tests/conftest.py says which test is which.
+# own (under xdist, schemathesis would run its operations as one item). Then, alone on the
+# machine, the `realtime` tests (they keep millisecond time in the test process) and the
+# browser tests (a page, a server and the drives' clock in three processes; two files at a
+# time, beside two busy processes, starved the app's heartbeat). tests/conftest.py says which
+# test is which.
 pytest: install system-deps $(STATIC)
 	$(MAKE) --no-print-directory -j2 --output-sync=target pytest-pool pytest-fuzz
 	$(MAKE) --no-print-directory pytest-serial
@@ -100,7 +101,7 @@ pytest-realtime: install
 	$(BIN)/pytest -p no:xdist -m "serial and not browser"
 
 pytest-browser: install system-deps $(STATIC)
-	$(BIN)/pytest -n 2 --dist loadfile tests/e2e
+	$(BIN)/pytest -p no:xdist tests/e2e
 
 # The Python and npm installs (and the page's build) side by side; then api-check, alone: it
 # rewrites the generated client that the type check reads. Then the checks (eslint, tsc, mypy,

@@ -15,29 +15,18 @@ from can.interfaces import virtual
 os.environ.setdefault("SERVODESK_ALLOWED_HOSTS", "testserver")
 
 E2E = Path(__file__).parent / "e2e"
-# The longest browser test files (about 45–50 s each here), started first: `make pytest-browser`
-# hands a file to whichever of its two workers is free, and a long file taken last would run
-# on alone at the end.
-LONG_BROWSER_FILES = ("test_commissioning_drives.py", "test_scope.py", "test_commissioning.py")
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     """`make pytest` runs the tests that keep no real time of their own in a pool of workers and
-    then the `serial` ones: every `realtime` test alone on the machine, then the `browser` tests
-    (a page, a server and the drives' clock in three processes per test file), two files at a
-    time."""
+    then, alone on the machine, the `serial` ones: every `realtime` test, then the `browser`
+    tests (a page, a server and the drives' clock in three processes per test file)."""
     for item in items:
         if item.path.is_relative_to(E2E):
             item.add_marker(pytest.mark.browser)
             item.add_marker(pytest.mark.serial)
         elif item.get_closest_marker("realtime") is not None:
             item.add_marker(pytest.mark.serial)
-    long_first = {name: rank for rank, name in enumerate(LONG_BROWSER_FILES)}
-    items.sort(  # stable: every other test keeps its place
-        key=lambda item: (
-            long_first.get(item.path.name, len(long_first)) if item.path.is_relative_to(E2E) else -1
-        )
-    )
 
 
 @pytest.fixture(autouse=True)
