@@ -95,7 +95,10 @@ pytest-pool: install system-deps $(STATIC)
 pytest-fuzz: install
 	$(BIN)/pytest -p no:xdist -m fuzz tests/backend/test_schemathesis.py
 
-pytest-serial: pytest-realtime pytest-browser
+# one after the other even under `make -j`: each needs the machine to itself
+pytest-serial: install
+	$(MAKE) --no-print-directory pytest-realtime
+	$(MAKE) --no-print-directory pytest-browser
 
 pytest-realtime: install
 	$(BIN)/pytest -p no:xdist -m "serial and not browser"
